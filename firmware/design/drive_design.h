@@ -1,0 +1,72 @@
+/*
+ * drive_design.h - derives every drive coefficient from the motor, the
+ * sample time and the design bounds, in double precision on the host (or at
+ * build time for an MCU image). The firmware blocks themselves never see a
+ * physical constant that was not folded here, which is what lets the same
+ * blocks run in fixed point. Each gain's derivation (conditions (22), (51),
+ * (57) of paper 000) is documented in drive_design.c.
+ */
+#ifndef DESIGN_DRIVE_DESIGN_H
+#define DESIGN_DRIVE_DESIGN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "drive/drive.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define DRIVE_DESIGN_MAX_SEGMENTS TRAJECTORY_MAX_SEGMENTS
+
+/* Motor model the drive believes in (paper 000 section 5.3 for the rig). */
+typedef struct {
+    double L_H, R_ohm, K_Nm_per_A, J_kgm2, fv_Nms_per_rad;
+    int n_p;
+} drive_motor_si_t;
+
+/* One rest-to-rest move of eq. (70): from wherever the previous segment
+ * ended (0 for the first) to theta_to_rad, starting at t_start_s. */
+typedef struct {
+    double t_start_s, duration_s, theta_to_rad;
+} drive_segment_si_t;
+
+/* Optional gain overrides: a value <= 0 means "derive it". */
+typedef struct {
+    double emf_alpha_A_s2, emf_lambda, emf_l_per_s;
+    double mech_alpha_rad_s3, mech_lambda, mech_l_per_s;
+    double cur_alpha_A_s2, cur_lambda;
+    double k_surface_per_s, tw_lambda_m_rad_s3, tw_lambda_M_rad_s3;
+    double injection_filter_s, blend_tau_s;
+} drive_gain_override_t;
+
+typedef struct {
+    drive_motor_si_t motor;
+    double ts_s;               /* sample period (1e-4 in the paper) */
+    double v_max_V, i_max_A, i_trip_A, omega_lim_rad_s;
+    /* Bounds the gains are derived from (Section 3.1.1, 3.2, 4.1.2): */
+    double bound_accel_rad_s2;       /* |omega_dot|max */
+    double bound_speed_rad_s;        /* |omega|max */
+    double bound_delta_omega_rad_s;  /* |omega - omega_r|max in closed loop */
+    double bound_load_Nm;            /* |C_r|max incl. Coulomb friction */
+    double bound_load_rate_Nm_s;     /* |dC_r/dt|max */
+    double bound_model_error_V;      /* voltage-equivalent model error, errata (57) */
+    drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
+    int n_segments;
+    drive_gain_override_t override;
+} drive_design_input_t;
+
+/* Fills the bounds and overrides with the documented defaults for the
+ * paper-000 rig (motor and segments are left to the caller). */
+void drive_design_defaults(drive_design_input_t *in);
+
+/* Derives cfg from in. Returns false and writes a one-line reason naming
+ * the offending field into err (if err_len > 0) when in is non-physical. */
+bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err, size_t err_len);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DESIGN_DRIVE_DESIGN_H */

@@ -1,0 +1,277 @@
+/*
+ * drive.c - the paper-000 drive state machine (see drive.h).
+ *
+ * Order inside one sample k (currents sampled at t_k, voltages held over
+ * [t_k, t_k + Ts)):
+ *   1. reference theta_r[k], theta_r[k+1] (eq. 70) and the (f-g) frame (6)-(8);
+ *   2. observer correction (25) and estimates (29)-(32), (71), (33)-(37);
+ *   3. mode: open loop (68) below omega_lim, closed loop (46)-(54) above;
+ *   4. voltage back to the phases at the mid-sample angle, limited;
+ *   5. observer prediction to k+1 with the voltage actually applied.
+ *
+ * At the open/closed switch (not specified by the paper) the jump counter
+ * takes the branch of theta_est closest to the open-loop position estimate,
+ * the super-twisting integral restarts at 0, and the difference between the
+ * last and the new (f-g) voltage is added as an offset that decays with
+ * tau_blend, so the applied voltage has no step.
+ */
+#include "drive/drive.h"
+
+#include "math/frame_fg.h"
+
+static void drive_zero_output(drive_t *d, mc_t *v_a_V, mc_t *v_b_V)
+{
+    *v_a_V = MC_ZERO;
+    *v_b_V = MC_ZERO;
+    d->tlm.v_a_V = MC_ZERO;
+    d->tlm.v_b_V = MC_ZERO;
+    d->tlm.v_f_V = MC_ZERO;
+    d->tlm.v_g_V = MC_ZERO;
+    d->tlm.mode = DRIVE_MODE_FAULT;
+    d->tlm.fault = d->fault;
+}
+
+static void drive_set_fault(drive_t *d, drive_fault_t f)
+{
+    d->mode = DRIVE_MODE_FAULT;
+    if (d->fault == DRIVE_FAULT_NONE) {
+        d->fault = f;
+    }
+}
+
+static bool drive_config_ok(const drive_config_t *c)
+{
+    return c->n_p >= 1 && c->fs_hz > 0 && c->R_ohm >= MC_ZERO && c->L_H > MC_ZERO && c->K_V_s > MC_ZERO &&
+           c->v_max_V > MC_ZERO && c->i_max_A > MC_ZERO && c->i_trip_A >= c->i_max_A &&
+           c->omega_lim_rad_s > MC_ZERO && c->blend_decay >= MC_ZERO && c->blend_decay < MC_ONE &&
+           c->pos_ctrl.lambda_M >= c->pos_ctrl.lambda_m && c->pos_ctrl.lambda_m >= MC_ZERO &&
+           c->cur.lambda >= MC_ZERO && c->cur.alpha_ts >= MC_ZERO && c->emf.alpha_V >= MC_ZERO &&
+           c->emf.lpf_coeff > MC_ZERO && c->emf.lpf_coeff <= MC_ONE;
+}
+
+bool drive_init(drive_t *d, const drive_config_t *cfg)
+{
+    d->cfg = *cfg;
+    d->mode = DRIVE_MODE_OPEN_LOOP;
+    d->fault = DRIVE_FAULT_NONE;
+    d->tick = 0;
+    d->theta_offset_ol_rad = MC_ZERO;
+    d->blend_f_V = MC_ZERO;
+    d->blend_g_V = MC_ZERO;
+    d->v_f_prev_V = MC_ZERO;
+    d->v_g_prev_V = MC_ZERO;
+    d->sat_prev = false;
+    emf_observer_init(&d->emf, &cfg->emf);
+    position_estimator_init(&d->pos, &cfg->pos);
+    mech_observer_init(&d->mech, &cfg->mech);
+    super_twisting_init(&d->cur, &cfg->cur);
+    twisting_init(&d->pos_ctrl, &cfg->pos_ctrl);
+    const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
+    d->tlm = (drive_telemetry_t){0};
+    if (!drive_config_ok(cfg) || !traj_ok) {
+        drive_set_fault(d, DRIVE_FAULT_BAD_INPUT);
+        return false;
+    }
+    trajectory_eval(&d->traj, 0, &d->ref);
+    trajectory_eval(&d->traj, 1, &d->ref_next);
+    return true;
+}
+
+/* Reference currents and voltages of the flat outputs, eqs. (38)-(39):
+ * i_g,r = (J theta_r'' + f_v theta_r')/K, and the voltages from the
+ * reference model (38) with i_f,r constant. */
+static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_fr, mc_t *v_gr)
+{
+    const drive_config_t *c = &d->cfg;
+    const trajectory_point_t *r = &d->ref;
+    *i_fr = c->i_f_ref_A;
+    const mc_t i_g = mc_add(mc_mul(c->J_over_K_A_s2, r->accel_rad_s2), mc_mul(c->fv_over_K_A_s, r->omega_rad_s));
+    *i_gr = mc_clamp(i_g, mc_neg(c->i_max_A), c->i_max_A);
+    const mc_t di_gr = mc_add(mc_mul(c->J_over_K_A_s2, r->jerk_rad_s3), mc_mul(c->fv_over_K_A_s, r->accel_rad_s2));
+    const mc_t npLw = mc_mul(c->npL_ohm_s, r->omega_rad_s);
+    /* L di_f,r/dt = v_f,r - R i_f,r + n_p L w_r i_g,r   (38), di_f,r/dt = 0 */
+    *v_fr = mc_sub(mc_mul(c->R_ohm, *i_fr), mc_mul(npLw, *i_gr));
+    /* L di_g,r/dt = v_g,r - R i_g,r - n_p L w_r i_f,r - K w_r   (38) */
+    *v_gr = mc_add(mc_add(mc_mul(c->L_H, di_gr), mc_mul(c->R_ohm, *i_gr)),
+                   mc_add(mc_mul(npLw, *i_fr), mc_mul(c->K_V_s, r->omega_rad_s)));
+}
+
+/* Closed-loop law: eq. (44) errors, (48) super-twisting on xi_f, (52)-(54)
+ * twisting on S_theta; returns v in the (f-g) frame. */
+static void drive_closed_loop(drive_t *d, mc_t i_f, mc_t i_g, mc_t *v_f, mc_t *v_g)
+{
+    const drive_config_t *c = &d->cfg;
+    drive_telemetry_t *t = &d->tlm;
+    mc_t i_fr, i_gr, v_fr, v_gr;
+    drive_references(d, &i_fr, &i_gr, &v_fr, &v_gr);
+    t->i_f_ref_A = i_fr;
+    t->i_g_ref_A = i_gr;
+
+    const mc_t xi_theta = mc_sub(d->pos.theta_est_rad, d->ref.theta_rad);
+    const mc_rot_t u = mc_rot_from_angle(mc_mul_i(xi_theta, c->n_p));
+    mc_t i_d, i_q; /* (44): currents in the estimated rotor frame */
+    mc_rot_fwd(u, i_f, i_g, &i_d, &i_q);
+    const mc_t w_r = d->ref.omega_rad_s;
+    const mc_t xi_f = mc_sub(i_d, i_fr);
+    const mc_t xi_g = mc_sub(i_q, i_gr);
+    /* xi_omega from the mechanical observer's speed: (32) differentiates the
+     * back-EMF angle and is too noisy at low speed; (35) filters it through
+     * the motor's own dynamics without lag from a separate filter */
+    const mc_t xi_w = mc_sub(d->mech.omega_est_rad_s, w_r);
+
+    /* (48): v_f-bar = -L mu_1 + L u_st(xi_f), mu_1 of (45a) */
+    const mc_t cross_f = mc_add(mc_mul(xi_w, mc_add(xi_g, i_gr)), mc_mul(w_r, xi_g));
+    const mc_t u_st = super_twisting_step(&d->cur, xi_f, d->sat_prev);
+    const mc_t vb_f = mc_add(mc_sub(mc_mul(c->R_ohm, xi_f), mc_mul(c->npL_ohm_s, cross_f)), u_st);
+
+    /* (52)-(54): S = k xi_theta + xi_omega, dS/dt from the observed acceleration */
+    const mc_t S = mc_add(mc_mul(c->k_surface_per_s, xi_theta), xi_w);
+    const mc_t S_dot = mc_add(mc_mul(c->k_surface_per_s, xi_w), mc_sub(d->mech.accel_est_rad_s2, d->ref.accel_rad_s2));
+    const mc_t w_tw = twisting_step(&d->pos_ctrl, S, S_dot);
+    /* (JL/K) times (54), with mu_2 of (42) after the errata:
+     * v_g-bar = R xi_g + n_p L (xi_w (xi_f + i_f,r) + w_r xi_f) + K xi_w
+     *           - L (k - f_v/J) xi_g + (L/K)(k - f_v/J) f_v xi_w + (JL/K) w_t */
+    const mc_t cross_g = mc_add(mc_mul(xi_w, mc_add(xi_f, i_fr)), mc_mul(w_r, xi_f));
+    mc_t vb_g = mc_add(mc_mul(c->R_ohm, xi_g), mc_mul(c->npL_ohm_s, cross_g));
+    vb_g = mc_add(vb_g, mc_mul(c->K_V_s, xi_w));
+    vb_g = mc_sub(vb_g, mc_mul(c->v_k_i_V_per_A, xi_g));
+    vb_g = mc_add(vb_g, mc_mul(c->v_k_w_V_s, xi_w));
+    vb_g = mc_add(vb_g, w_tw);
+
+    /* v_dq = v_ref + v-bar, then back to (f-g): v_fg = U(xi_theta)^T v_dq */
+    mc_rot_inv(u, mc_add(v_fr, vb_f), mc_add(v_gr, vb_g), v_f, v_g);
+}
+
+bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
+{
+    const drive_config_t *c = &d->cfg;
+    drive_telemetry_t *t = &d->tlm;
+    t->tick = d->tick;
+    if (d->mode == DRIVE_MODE_FAULT) {
+        drive_zero_output(d, v_a_V, v_b_V);
+        return false;
+    }
+    if (mc_abs(i_a_A) > c->i_trip_A || mc_abs(i_b_A) > c->i_trip_A) {
+        drive_set_fault(d, DRIVE_FAULT_OVERCURRENT);
+        drive_zero_output(d, v_a_V, v_b_V);
+        return false;
+    }
+
+    /* 1. frame of this sample and its rotation over the sample */
+    const mc_t phi_k = mc_elec_angle(d->ref.theta_rad, c->n_p);
+    const mc_t dphi = mc_wrap_pi(mc_sub(mc_elec_angle(d->ref_next.theta_rad, c->n_p), phi_k));
+    const mc_rot_t rot_k = mc_rot_from_angle(phi_k);
+    const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
+    const mc_rot_t rot_mid = mc_rot_from_angle(mc_add(phi_k, mc_div_i(dphi, 2)));
+    mc_t i_f, i_g;
+    mc_rot_fwd(rot_k, i_a_A, i_b_A, &i_f, &i_g); /* eq. (6) */
+
+    /* 2. estimates */
+    emf_observer_correct(&d->emf, i_f, i_g);
+    position_estimator_step(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->emf.z_f_V_s, d->emf.z_g_V_s,
+                            d->ref.theta_rad, d->ref.omega_rad_s);
+
+    /* 3. mode */
+    const bool want_closed = !(mc_abs(d->ref.omega_rad_s) < c->omega_lim_rad_s) && d->pos.valid;
+    bool switched = false;
+    if (d->mode == DRIVE_MODE_OPEN_LOOP && want_closed) {
+        position_estimator_set_branch(&d->pos, d->ref.theta_rad, mc_add(d->ref.theta_rad, d->theta_offset_ol_rad));
+        super_twisting_reset(&d->cur, MC_ZERO);
+        d->mode = DRIVE_MODE_CLOSED_LOOP;
+        switched = true;
+    } else if (d->mode == DRIVE_MODE_CLOSED_LOOP && !want_closed) {
+        /* the open-loop drive pulls the rotor onto theta_r: keep the last
+         * estimate of the offset only as the position estimate's memory */
+        d->theta_offset_ol_rad = MC_ZERO;
+        d->mode = DRIVE_MODE_OPEN_LOOP;
+        switched = true;
+    }
+
+    /* mechanical observer: in closed loop on the (32) estimate; in open
+     * loop the rotor follows the reference, so theta_r' serves as y */
+    const bool closed = d->mode == DRIVE_MODE_CLOSED_LOOP;
+    const mc_t dth_ctrl = closed ? mc_sub(d->pos.theta_est_rad, d->ref.theta_rad)
+                                 : (d->pos.valid ? d->pos.dtheta_est_rad : MC_ZERO);
+    const mc_rot_t u_est = mc_rot_from_angle(mc_mul_i(dth_ctrl, c->n_p));
+    mc_t i_d_est, i_q_est;
+    mc_rot_fwd(u_est, i_f, i_g, &i_d_est, &i_q_est);
+    mech_observer_step(&d->mech, closed ? d->pos.omega_est_rad_s : d->ref.omega_rad_s, i_q_est);
+
+    mc_t v_f, v_g;
+    if (closed) {
+        drive_closed_loop(d, i_f, i_g, &v_f, &v_g);
+    } else {
+        v_f = open_loop_voltage(&c->open_loop, d->ref.omega_rad_s); /* eq. (68) */
+        v_g = MC_ZERO;
+        t->i_f_ref_A = c->i_max_A;
+        t->i_g_ref_A = MC_ZERO;
+    }
+    if (switched) {
+        d->blend_f_V = mc_add(d->blend_f_V, mc_sub(d->v_f_prev_V, v_f));
+        d->blend_g_V = mc_add(d->blend_g_V, mc_sub(d->v_g_prev_V, v_g));
+    }
+    v_f = mc_add(v_f, d->blend_f_V);
+    v_g = mc_add(v_g, d->blend_g_V);
+    d->blend_f_V = mc_mul(c->blend_decay, d->blend_f_V);
+    d->blend_g_V = mc_mul(c->blend_decay, d->blend_g_V);
+
+    /* 4. to the phases at the mid-sample angle (the average (f-g) voltage over
+     * the hold is then the commanded one), limited per phase to +-V_max with
+     * the direction kept */
+    mc_t v_a, v_b;
+    mc_rot_inv(rot_mid, v_f, v_g, &v_a, &v_b);
+    const mc_t v_peak = mc_max(mc_abs(v_a), mc_abs(v_b));
+    const bool sat = v_peak > c->v_max_V;
+    if (sat) {
+        const mc_t scale = mc_div(c->v_max_V, v_peak);
+        v_a = mc_mul(v_a, scale);
+        v_b = mc_mul(v_b, scale);
+        v_f = mc_mul(v_f, scale);
+        v_g = mc_mul(v_g, scale);
+    }
+    d->sat_prev = sat;
+    d->v_f_prev_V = v_f;
+    d->v_g_prev_V = v_g;
+
+    /* 5. observer prediction with the applied voltage in this sample's frame */
+    mc_t v_f_k, v_g_k;
+    mc_rot_fwd(rot_k, v_a, v_b, &v_f_k, &v_g_k);
+    emf_observer_predict(&d->emf, v_f_k, v_g_k, i_f, i_g, rot_half);
+
+    /* telemetry */
+    t->mode = d->mode;
+    t->fault = d->fault;
+    t->theta_ref_rad = d->ref.theta_rad;
+    t->omega_ref_rad_s = d->ref.omega_rad_s;
+    t->accel_ref_rad_s2 = d->ref.accel_rad_s2;
+    t->i_f_A = i_f;
+    t->i_g_A = i_g;
+    t->i_f_hat_A = mc_sub(i_f, d->emf.err_f_A); /* the estimate this sample was corrected with */
+    t->i_g_hat_A = mc_sub(i_g, d->emf.err_g_A);
+    t->e_f_hat_V = d->emf.e_f_hat_V;
+    t->e_g_hat_V = d->emf.e_g_hat_V;
+    t->delta_theta_est_rad = d->pos.dtheta_est_rad;
+    t->jump_count = d->pos.k;
+    if (closed) {
+        t->theta_est_rad = d->pos.theta_est_rad;
+        t->omega_est_rad_s = d->mech.omega_est_rad_s;
+    } else {
+        t->theta_est_rad = mc_add(d->ref.theta_rad, d->theta_offset_ol_rad);
+        t->omega_est_rad_s = d->ref.omega_rad_s;
+    }
+    t->accel_est_rad_s2 = d->mech.accel_est_rad_s2;
+    t->load_est_Nm = d->mech.load_est_Nm;
+    t->v_f_V = v_f;
+    t->v_g_V = v_g;
+    t->v_a_V = v_a;
+    t->v_b_V = v_b;
+    t->v_saturated = sat;
+
+    /* advance the reference */
+    d->tick += 1;
+    d->ref = d->ref_next;
+    trajectory_eval(&d->traj, d->tick + 1, &d->ref_next);
+    *v_a_V = v_a;
+    *v_b_V = v_b;
+    return true;
+}

@@ -1,0 +1,55 @@
+#include "observers/position_estimator.h"
+
+void position_estimator_init(position_estimator_t *p, const position_estimator_config_t *cfg)
+{
+    p->cfg = *cfg;
+    p->dtheta_prev_rad = MC_ZERO;
+    p->k = 0;
+    p->valid = false;
+    p->dtheta_est_rad = MC_ZERO;
+    p->theta_est_rad = MC_ZERO;
+    p->omega_est_rad_s = MC_ZERO;
+    p->omega_abs_rad_s = MC_ZERO;
+}
+
+void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
+                             mc_t theta_r_rad, mc_t omega_r_rad_s)
+{
+    const position_estimator_config_t *c = &p->cfg;
+    const mc_t e2 = mc_add(mc_mul(e_f_V, e_f_V), mc_mul(e_g_V, e_g_V));
+    p->valid = !(e2 < c->e2_min_V2);
+
+    /* eq. (29) (errata form): the sign of the speed is taken from the reference */
+    const bool neg = omega_r_rad_s < MC_ZERO;
+    const mc_t y = neg ? mc_neg(e_f_V) : e_f_V;
+    const mc_t x = neg ? e_g_V : mc_neg(e_g_V);
+    const mc_t dth = p->valid ? mc_div_i(mc_atan2(y, x), c->n_p) : p->dtheta_prev_rad;
+
+    /* eq. (71): a step of more than half a pitch is a wrap of the arctan */
+    const mc_t half_pitch = mc_div_i(c->pitch_rad, 2);
+    const mc_t step = mc_sub(dth, p->dtheta_prev_rad);
+    if (step < mc_neg(half_pitch)) {
+        p->k += 1;
+    } else if (step > half_pitch) {
+        p->k -= 1;
+    }
+    p->dtheta_prev_rad = dth;
+    p->dtheta_est_rad = dth;
+    p->theta_est_rad = mc_add(mc_add(theta_r_rad, dth), mc_mul_i(c->pitch_rad, p->k));
+
+    /* eqs. (30)-(32) */
+    p->omega_abs_rad_s = mc_mul(c->inv_K_rad_s_per_V, mc_sqrt(e2));
+    mc_t dw = MC_ZERO;
+    if (p->valid) {
+        const mc_t num = mc_sub(mc_mul(z_g_V_s, e_f_V), mc_mul(z_f_V_s, e_g_V));
+        dw = mc_div(num, mc_mul_i(e2, c->n_p));
+    }
+    p->omega_est_rad_s = mc_add(omega_r_rad_s, dw);
+}
+
+void position_estimator_set_branch(position_estimator_t *p, mc_t theta_r_rad, mc_t theta_near_rad)
+{
+    const mc_t off = mc_sub(theta_near_rad, mc_add(theta_r_rad, p->dtheta_est_rad));
+    p->k = mc_round_i(mc_div(off, p->cfg.pitch_rad));
+    p->theta_est_rad = mc_add(mc_add(theta_r_rad, p->dtheta_est_rad), mc_mul_i(p->cfg.pitch_rad, p->k));
+}

@@ -1,0 +1,62 @@
+/*
+ * hal.h - the one hardware interface the drive runs on.
+ *
+ * Modelled on NuttX's FOC lower half: the control code registers one
+ * callback that the backend calls at the PWM rate (10 kHz) with the phase
+ * current samples; the callback returns the phase voltages the backend
+ * applies until the next call. Backends are chosen at link time (exactly
+ * one of hal/backends/<name> is linked): the software plant (host tests and
+ * simulator), a dSpace-like DAC/ADC board, an MCU drive. Nothing in
+ * firmware/ includes this header or knows which backend it runs on.
+ * All values are SI (A, V, s) in the firmware numeric type mc_t.
+ */
+#ifndef HAL_HAL_H
+#define HAL_HAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "math/mc_num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One sample of the two phase currents, taken at the start of the period. */
+typedef struct {
+    mc_t i_a_A;
+    mc_t i_b_A;
+    uint32_t tick; /* period counter since hal_start */
+} hal_sample_t;
+
+/* Phase voltages to hold over the next period. */
+typedef struct {
+    mc_t v_a_V;
+    mc_t v_b_V;
+} hal_command_t;
+
+/* Called once per period; must fill *out. Runs in interrupt context on MCUs. */
+typedef void (*hal_control_fn)(void *ctx, const hal_sample_t *in, hal_command_t *out);
+
+/* Period of the control interrupt, in Hz (10000 for every backend here). */
+uint32_t hal_control_rate_hz(void);
+
+/* Registers the callback and enables the power stage. Returns false and
+ * sets hal_last_error() if the backend cannot start. */
+bool hal_start(hal_control_fn fn, void *ctx);
+
+/* Puts the power stage in its safe state (all phases at 0 V / outputs off)
+ * and stops calling the callback. Safe to call from the callback. */
+void hal_safe_state(void);
+
+/* Time since hal_start in microseconds (wraps after 71 minutes). */
+uint32_t hal_time_us(void);
+
+/* Human-readable reason of the last failure, never NULL. */
+const char *hal_last_error(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* HAL_HAL_H */
