@@ -38,6 +38,7 @@ void drive_design_defaults(drive_design_input_t *in)
     in->bound_load_Nm = 0.0752;        /* Coulomb friction of the rig, section 5.3 */
     in->bound_load_rate_Nm_s = 2.0;    /* slow load changes */
     in->bound_model_error_V = 0.05;    /* errata on (57): volts of model error */
+    in->load_feedforward = 1;            /* see drive_design.h */
 }
 
 static bool fail(char *err, size_t n, const char *field, const char *why, double got)
@@ -179,6 +180,12 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->omega_lim_rad_s = mc_from_double(in->omega_lim_rad_s);
     cfg->blend_decay = mc_from_double(exp(-Ts / pick(ov->blend_tau_s, 2e-3)));
     cfg->i_f_ref_A = mc_from_double(0.0);
+    /* current-reference relaxation after the open-to-closed switch: slow
+     * against the current loop (L/R = 3 ms), fast against the motion */
+    const double tau_i = pick(ov->current_blend_tau_s, 10e-3);
+    cfg->ref_blend_decay = mc_from_double(tau_i > 0 ? exp(-Ts / tau_i) : 0.0);
+    cfg->ref_blend_L_over_tau_ohm = mc_from_double(tau_i > 0 ? L / tau_i : 0.0);
+    cfg->load_ff_A_per_Nm = mc_from_double(in->load_feedforward ? 1.0 / K : 0.0);
     cfg->open_loop.R_ohm = cfg->R_ohm;
     cfg->open_loop.npL_ohm_s = cfg->npL_ohm_s;
     cfg->open_loop.K_V_s = cfg->K_V_s;

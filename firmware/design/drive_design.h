@@ -38,7 +38,7 @@ typedef struct {
     double mech_alpha_rad_s3, mech_lambda, mech_l_per_s;
     double cur_alpha_A_s2, cur_lambda;
     double k_surface_per_s, tw_lambda_m_rad_s3, tw_lambda_M_rad_s3;
-    double injection_filter_s, blend_tau_s;
+    double injection_filter_s, blend_tau_s, current_blend_tau_s;
 } drive_gain_override_t;
 
 typedef struct {
@@ -52,6 +52,11 @@ typedef struct {
     double bound_load_Nm;            /* |C_r|max incl. Coulomb friction */
     double bound_load_rate_Nm_s;     /* |dC_r/dt|max */
     double bound_model_error_V;      /* voltage-equivalent model error, errata (57) */
+    /* 1 (default): add the load torque C_r observed by (35) to i_g,r of (39).
+     * The paper leaves C_r to the twisting loop ((56)-(57)); feeding the
+     * estimate forward shrinks the perturbation the twisting must beat
+     * and the torque dip at the open-to-closed switch. 0 = paper as printed. */
+    int load_feedforward;
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;

@@ -58,6 +58,8 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->theta_offset_ol_rad = MC_ZERO;
     d->blend_f_V = MC_ZERO;
     d->blend_g_V = MC_ZERO;
+    d->i_f_off_A = MC_ZERO;
+    d->i_g_off_A = MC_ZERO;
     d->v_f_prev_V = MC_ZERO;
     d->v_g_prev_V = MC_ZERO;
     d->sat_prev = false;
@@ -84,16 +86,21 @@ static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_f
 {
     const drive_config_t *c = &d->cfg;
     const trajectory_point_t *r = &d->ref;
-    *i_fr = c->i_f_ref_A;
-    const mc_t i_g = mc_add(mc_mul(c->J_over_K_A_s2, r->accel_rad_s2), mc_mul(c->fv_over_K_A_s, r->omega_rad_s));
+    /* i_f,r: constant plus the decaying switch offset (a free flat output) */
+    *i_fr = mc_add(c->i_f_ref_A, d->i_f_off_A);
+    const mc_t di_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, d->i_f_off_A)); /* L di_f,r/dt [V] */
+    mc_t i_g = mc_add(mc_mul(c->J_over_K_A_s2, r->accel_rad_s2), mc_mul(c->fv_over_K_A_s, r->omega_rad_s));
+    /* (38) with the load of (9c): J w_r' = K i_g,r - f_v w_r - C_r, C_r from (35) */
+    i_g = mc_add(i_g, mc_mul(c->load_ff_A_per_Nm, d->mech.load_est_Nm));
+    i_g = mc_add(i_g, d->i_g_off_A);
     *i_gr = mc_clamp(i_g, mc_neg(c->i_max_A), c->i_max_A);
-    const mc_t di_gr = mc_add(mc_mul(c->J_over_K_A_s2, r->jerk_rad_s3), mc_mul(c->fv_over_K_A_s, r->accel_rad_s2));
+    mc_t Ldi_gr = mc_mul(c->L_H, mc_add(mc_mul(c->J_over_K_A_s2, r->jerk_rad_s3), mc_mul(c->fv_over_K_A_s, r->accel_rad_s2)));
+    Ldi_gr = mc_sub(Ldi_gr, mc_mul(c->ref_blend_L_over_tau_ohm, d->i_g_off_A));
     const mc_t npLw = mc_mul(c->npL_ohm_s, r->omega_rad_s);
-    /* L di_f,r/dt = v_f,r - R i_f,r + n_p L w_r i_g,r   (38), di_f,r/dt = 0 */
-    *v_fr = mc_sub(mc_mul(c->R_ohm, *i_fr), mc_mul(npLw, *i_gr));
+    /* L di_f,r/dt = v_f,r - R i_f,r + n_p L w_r i_g,r   (38) */
+    *v_fr = mc_add(mc_sub(mc_mul(c->R_ohm, *i_fr), mc_mul(npLw, *i_gr)), di_fr);
     /* L di_g,r/dt = v_g,r - R i_g,r - n_p L w_r i_f,r - K w_r   (38) */
-    *v_gr = mc_add(mc_add(mc_mul(c->L_H, di_gr), mc_mul(c->R_ohm, *i_gr)),
-                   mc_add(mc_mul(npLw, *i_fr), mc_mul(c->K_V_s, r->omega_rad_s)));
+    *v_gr = mc_add(mc_add(Ldi_gr, mc_mul(c->R_ohm, *i_gr)), mc_add(mc_mul(npLw, *i_fr), mc_mul(c->K_V_s, r->omega_rad_s)));
 }
 
 /* Closed-loop law: eq. (44) errors, (48) super-twisting on xi_f, (52)-(54)
@@ -196,6 +203,16 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     mc_t i_d_est, i_q_est;
     mc_rot_fwd(u_est, i_f, i_g, &i_d_est, &i_q_est);
     mech_observer_step(&d->mech, closed ? d->pos.omega_est_rad_s : d->ref.omega_rad_s, i_q_est);
+    if (switched && closed) {
+        /* bumpless in current: the references start at the measured
+         * estimated-frame currents and relax to the flat ones */
+        d->i_f_off_A = MC_ZERO;
+        d->i_g_off_A = MC_ZERO;
+        mc_t i_fr0, i_gr0, v_fr0, v_gr0;
+        drive_references(d, &i_fr0, &i_gr0, &v_fr0, &v_gr0);
+        d->i_f_off_A = mc_sub(i_d_est, i_fr0);
+        d->i_g_off_A = mc_sub(i_q_est, i_gr0);
+    }
 
     mc_t v_f, v_g;
     if (closed) {
@@ -214,6 +231,8 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     v_g = mc_add(v_g, d->blend_g_V);
     d->blend_f_V = mc_mul(c->blend_decay, d->blend_f_V);
     d->blend_g_V = mc_mul(c->blend_decay, d->blend_g_V);
+    d->i_f_off_A = mc_mul(c->ref_blend_decay, d->i_f_off_A);
+    d->i_g_off_A = mc_mul(c->ref_blend_decay, d->i_g_off_A);
 
     /* 4. to the phases at the mid-sample angle (the average (f-g) voltage over
      * the hold is then the commanded one), limited per phase to +-V_max with

@@ -57,8 +57,11 @@ typedef struct {
     mc_t i_max_A;             /* current limit (references, open loop) */
     mc_t i_trip_A;            /* over-current trip on a measured phase */
     mc_t omega_lim_rad_s;     /* open/closed-loop switch speed */
-    mc_t blend_decay;         /* per-sample decay of the switch offset, exp(-Ts/tau) */
+    mc_t blend_decay;         /* per-sample decay of the switch voltage offset, exp(-Ts/tau) */
+    mc_t ref_blend_decay;     /* per-sample decay of the switch current-reference offset */
+    mc_t ref_blend_L_over_tau_ohm; /* L/tau of that decay: its L di_r/dt voltage */
     mc_t i_f_ref_A;           /* flat output i_f,r (0: section 5.2) */
+    mc_t load_ff_A_per_Nm;    /* 1/K to add the observed load C_r to i_g,r; 0 = paper (39) as printed */
     emf_observer_config_t emf;
     position_estimator_config_t pos;
     mech_observer_config_t mech;
@@ -105,6 +108,7 @@ typedef struct {
     trajectory_t traj;
     mc_t theta_offset_ol_rad;  /* theta_est - theta_r carried through open loop */
     mc_t blend_f_V, blend_g_V; /* decaying offset that removes the voltage step at a switch */
+    mc_t i_f_off_A, i_g_off_A; /* decaying current-reference offset that removes the torque step */
     mc_t v_f_prev_V, v_g_prev_V; /* last command in the (f-g) frame */
     bool sat_prev;               /* last command hit the voltage limit */
     trajectory_point_t ref;      /* reference of this sample */
