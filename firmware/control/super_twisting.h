@@ -13,6 +13,10 @@
 
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     mc_t lambda;     /* output per unit of |S|^(1/2) */
     mc_t alpha_ts;   /* alpha * Ts: integral step per sample, output units */
@@ -29,5 +33,9 @@ void super_twisting_reset(super_twisting_t *st, mc_t u1);
 
 /* Returns u for the sliding variable S; hold_integral freezes u_1. */
 mc_t super_twisting_step(super_twisting_t *st, mc_t S, bool hold_integral);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* CONTROL_SUPER_TWISTING_H */

@@ -10,6 +10,10 @@
 
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     mc_t lambda_m; /* gain when S moves toward 0 */
     mc_t lambda_M; /* gain when S moves away from 0, > lambda_m */
@@ -23,5 +27,9 @@ void twisting_init(twisting_t *tw, const twisting_config_t *cfg);
 
 /* The product S*dS is decided from the signs, so it cannot overflow. */
 mc_t twisting_step(const twisting_t *tw, mc_t S, mc_t S_dot);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* CONTROL_TWISTING_H */

@@ -186,6 +186,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->ref_blend_decay = mc_from_double(tau_i > 0 ? exp(-Ts / tau_i) : 0.0);
     cfg->ref_blend_L_over_tau_ohm = mc_from_double(tau_i > 0 ? L / tau_i : 0.0);
     cfg->load_ff_A_per_Nm = mc_from_double(in->load_feedforward ? 1.0 / K : 0.0);
+    cfg->load_ff_max_Nm = mc_from_double(1.5 * in->bound_load_Nm);
     cfg->open_loop.R_ohm = cfg->R_ohm;
     cfg->open_loop.npL_ohm_s = cfg->npL_ohm_s;
     cfg->open_loop.K_V_s = cfg->K_V_s;

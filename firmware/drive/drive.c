@@ -91,7 +91,7 @@ static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_f
     const mc_t di_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, d->i_f_off_A)); /* L di_f,r/dt [V] */
     mc_t i_g = mc_add(mc_mul(c->J_over_K_A_s2, r->accel_rad_s2), mc_mul(c->fv_over_K_A_s, r->omega_rad_s));
     /* (38) with the load of (9c): J w_r' = K i_g,r - f_v w_r - C_r, C_r from (35) */
-    i_g = mc_add(i_g, mc_mul(c->load_ff_A_per_Nm, d->mech.load_est_Nm));
+    i_g = mc_add(i_g, mc_mul(c->load_ff_A_per_Nm, mc_clamp(d->mech.load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm)));
     i_g = mc_add(i_g, d->i_g_off_A);
     *i_gr = mc_clamp(i_g, mc_neg(c->i_max_A), c->i_max_A);
     mc_t Ldi_gr = mc_mul(c->L_H, mc_add(mc_mul(c->J_over_K_A_s2, r->jerk_rad_s3), mc_mul(c->fv_over_K_A_s, r->accel_rad_s2)));
@@ -194,8 +194,9 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
         switched = true;
     }
 
-    /* mechanical observer: in closed loop on the (32) estimate; in open
-     * loop the rotor follows the reference, so theta_r' serves as y */
+    /* Mechanical observer (33)-(37): in closed loop on the (32) estimate;
+     * in open loop the rotor follows the reference, so theta_r' serves as
+     * the measurement and the angle is the observer's once observable. */
     const bool closed = d->mode == DRIVE_MODE_CLOSED_LOOP;
     const mc_t dth_ctrl = closed ? mc_sub(d->pos.theta_est_rad, d->ref.theta_rad)
                                  : (d->pos.valid ? d->pos.dtheta_est_rad : MC_ZERO);
@@ -278,7 +279,7 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
         t->theta_est_rad = mc_add(d->ref.theta_rad, d->theta_offset_ol_rad);
         t->omega_est_rad_s = d->ref.omega_rad_s;
     }
-    t->accel_est_rad_s2 = d->mech.accel_est_rad_s2;
+    t->accel_est_rad_s2 = closed ? d->mech.accel_est_rad_s2 : d->ref.accel_rad_s2;
     t->load_est_Nm = d->mech.load_est_Nm;
     t->v_f_V = v_f;
     t->v_g_V = v_g;

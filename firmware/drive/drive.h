@@ -62,6 +62,7 @@ typedef struct {
     mc_t ref_blend_L_over_tau_ohm; /* L/tau of that decay: its L di_r/dt voltage */
     mc_t i_f_ref_A;           /* flat output i_f,r (0: section 5.2) */
     mc_t load_ff_A_per_Nm;    /* 1/K to add the observed load C_r to i_g,r; 0 = paper (39) as printed */
+    mc_t load_ff_max_Nm;      /* the feed-forward trusts the estimate only up to the design load bound */
     emf_observer_config_t emf;
     position_estimator_config_t pos;
     mech_observer_config_t mech;

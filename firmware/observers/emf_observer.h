@@ -24,6 +24,10 @@
 #include "math/frame_fg.h"
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     mc_t ts_over_L_A_per_V;  /* Ts/L */
     mc_t R_ohm;
@@ -56,5 +60,9 @@ void emf_observer_correct(emf_observer_t *o, mc_t i_f_A, mc_t i_g_A);
  *   i_f_A, i_g_A : measured currents of this sample (resistive drop);
  *   half         : rotation by half the change of n_p theta_r over the sample. */
 void emf_observer_predict(emf_observer_t *o, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A, mc_rot_t half);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* OBSERVERS_EMF_OBSERVER_H */

@@ -15,6 +15,10 @@
 
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     mc_t ts_over_J;        /* Ts/J [rad/s per N m per sample] */
     mc_t inv_J;            /* 1/J [rad/s^2 per N m] */
@@ -40,5 +44,9 @@ void mech_observer_reset(mech_observer_t *m, mc_t omega_rad_s);
 
 /* One sample: y = velocity estimate [rad/s], i_q = torque-producing current [A]. */
 void mech_observer_step(mech_observer_t *m, mc_t omega_meas_rad_s, mc_t i_q_A);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* OBSERVERS_MECH_OBSERVER_H */

@@ -42,7 +42,8 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
     mc_t dw = MC_ZERO;
     if (p->valid) {
         const mc_t num = mc_sub(mc_mul(z_g_V_s, e_f_V), mc_mul(z_f_V_s, e_g_V));
-        dw = mc_div(num, mc_mul_i(e2, c->n_p));
+        /* divide by n_p first: e2 * n_p would leave the fixed-point range at speed */
+        dw = mc_div(mc_div_i(num, c->n_p), e2);
     }
     p->omega_est_rad_s = mc_add(omega_r_rad_s, dw);
 }

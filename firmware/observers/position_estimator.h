@@ -19,6 +19,10 @@
 
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     int32_t n_p;
     mc_t pitch_rad;     /* 2 pi / n_p: one electrical period in mechanical rad */
@@ -47,5 +51,9 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
 /* Chooses the jump count k that puts theta_est closest to theta_near_rad
  * (used at the open-to-closed-loop switch) and updates theta_est. */
 void position_estimator_set_branch(position_estimator_t *p, mc_t theta_r_rad, mc_t theta_near_rad);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* OBSERVERS_POSITION_ESTIMATOR_H */

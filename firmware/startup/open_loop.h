@@ -10,6 +10,10 @@
 
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct {
     mc_t R_ohm;
     mc_t npL_ohm_s;  /* n_p L */
@@ -20,5 +24,9 @@ typedef struct {
 
 /* Voltage magnitude of eq. (68) for the reference speed [V]. */
 mc_t open_loop_voltage(const open_loop_config_t *c, mc_t omega_ref_rad_s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* STARTUP_OPEN_LOOP_H */

@@ -15,6 +15,10 @@
 
 #include "math/mc_num.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define TRAJECTORY_MAX_SEGMENTS 8
 
 typedef struct {
@@ -56,5 +60,9 @@ void trajectory_poly7(mc_t D, mc_t *p, mc_t *dp, mc_t *ddp, mc_t *dddp);
 
 /* Last sample at which the reference still moves (end of the last segment). */
 uint32_t trajectory_end_tick(const trajectory_t *t);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* TRAJECTORY_TRAJECTORY_H */

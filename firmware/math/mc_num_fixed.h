@@ -1,0 +1,412 @@
+/*
+ * mc_num_fixed.h - fixed-point backend of mc_num.h (MC_FIXED_POINT=1).
+ * Included only through mc_num.h. Integer-only: no float or double is
+ * evaluated at run time (MC_C folds at compile time), so the Cortex-M3
+ * build links no soft-float helper (checked by tests/firmware/nofloat).
+ *
+ * ======================================================================
+ * FORMAT: Q14.17 -- mc_t is int32_t, value = raw / 2^17, for every signal.
+ *   MC_FRAC_BITS = 17, LSB = 2^-17 = 7.63e-6, range [-16384, +16384)
+ *   (saturated values are +-MC_MAX = +-(2^31-1)/2^17 = +-16383.99999).
+ *   Products use a 64-bit intermediate, rounded (half up) and saturated;
+ *   add/sub/neg/abs/mul_i/from_i/div saturate instead of wrapping.
+ * ======================================================================
+ *
+ * Why one global Q14.17 and not Q15.16 or Q12.19: the largest signal the
+ * drive carries is an acceleration of 1e4 rad/s^2 (needs 14 integer bits),
+ * and the finest resolution asked for is 1e-5 A on currents (needs 17
+ * fractional bits). Q14.17 is the only 32-bit split that meets both; Q15.16
+ * (1.5e-5) misses the current resolution, Q13.18 and narrower overflow the
+ * acceleration. Per signal, in SI units (base value 1 for all: the drive
+ * computes in SI, not per unit):
+ *
+ *   signal                         operating range   headroom  resolution (rel. at full scale)
+ *   currents i_a, i_b, i_f, i_g    +-10 A            1638x     7.6e-6 A   (7.6e-7)
+ *   voltages v, back-EMF L*d_f     +-60 V            273x      7.6e-6 V   (1.3e-7)
+ *   mechanical angle theta         0..few 100 rad    >= 50x    7.6e-6 rad (4.3e-5 deg)
+ *   electrical angle (wrapped)     [-pi, pi)         5215x     7.6e-6 rad
+ *   speed omega                    +-200 rad/s       82x       7.6e-6 rad/s
+ *   acceleration                   +-1e4 rad/s^2     1.64x     7.6e-6 rad/s^2
+ *   load torque (mech. observer)   +-5 N m           3277x     7.6e-6 N m
+ *   filtered injections            +-3000 V/s        5.5x      7.6e-6
+ *   e_f^2 + e_g^2                  0..3600 V^2       4.5x      7.6e-6 V^2
+ *   per-sample coefficients        1e-3..1e3         16x       rel. error of the stored
+ *                                                              constant <= 3.8e-6/|c|:
+ *                                                              f_v = 2.37e-3 -> 0.16 %,
+ *                                                              Ts/L = 0.0111 -> 0.034 %,
+ *                                                              R = 3.01 -> 1.3e-6
+ *   per-sample increments          1e-3..10          -         <= 0.38 % at 1e-3
+ *
+ * No overflow over the operating range: every row's range is below
+ * 16384 with the headroom shown; products of two in-range signals are
+ * formed in 64 bits (|a*b| < 2^62) and only the rounded result is
+ * saturated, so an intermediate never wraps. The tightest case is the
+ * 1e4 rad/s^2 acceleration (1.64x); beyond 16384 values saturate (clip),
+ * they never wrap sign. A product whose *result* exceeds 16384 (e.g. a
+ * gain of 1e3 times an injection of 3000) is outside the drive's operating
+ * range by construction (coefficients are folded per sample at design
+ * time, see mc_num.h) and clips.
+ * f_v (2.37e-3, the smallest coefficient) is stored with 0.16 % error;
+ * f_v * omega <= 0.47 N m, so the torque error is <= 7.6e-4 N m, 0.015 %
+ * of the 5 N m load bound: a single global format suffices and no separate
+ * small-coefficient multiply is needed. Fold any constant below 1e-3 with a
+ * co-factor at design time rather than storing it alone.
+ * Integrators: an increment below 0.5 LSB (3.8e-6) per sample is lost
+ * (rounding); e.g. theta += Ts*omega keeps omega down to 0.038 rad/s.
+ * float32 is no better there: at 18 rad its ulp is 1.9e-6, at 300 rad 3e-5.
+ *
+ * Angles and wrapping (n_p = 50): mc_elec_angle(theta, n_p) forms the exact
+ * 64-bit product n_p * theta_raw (|.| < 2^37, cannot overflow for any
+ * int32 theta and |n_p| < 2^31) and converts it to a 32-bit binary angle
+ * (2^32 = one electrical turn) with one 64-bit multiply taken modulo 2^64,
+ * which is the wrap; the binary angle is converted back to rad in [-pi, pi).
+ * So theta up to the full +-16384 rad (> 2600 mechanical turns, 130000
+ * electrical turns) wraps with <= 1 LSB error; there is no accumulation of
+ * a rounded 2*pi. The electrical angle's own resolution is n_p * 7.6e-6 =
+ * 3.8e-4 rad (the mechanical angle's LSB, multiplied). mc_sincos and
+ * mc_wrap_pi take any int32 rad value through the same binary-angle path.
+ * Electrical *rates* (n_p * omega, up to 1e4 rad/s) are in range.
+ *
+ * Error bounds (absolute, vs. libm in double; tests/firmware/test_mc_math*
+ * assert them over the whole int32 input range, strided + random + dense
+ * around 0, and print the measured maxima):
+ *   mc_mul           <= 0.5 LSB (exact rounding of the 64-bit product)
+ *   mc_div           <= 1 LSB + 2^-28 |a/b|
+ *   mc_sqrt          <= 0.5 LSB (exactly rounded integer square root)
+ *   mc_sqrt_abs_sgn  <= 0.5 LSB
+ *   mc_hypot         <= 0.5 LSB
+ *   mc_sincos        <= 1.0 LSB = 7.6e-6     (any int32 x)
+ *   mc_atan2         <= 1.0 LSB = 7.6e-6 rad (any int32 y, x; 0 for (0,0))
+ *   mc_wrap_pi       <= 1.0 LSB, exact for x already in [-pi, pi)
+ *   mc_elec_angle    <= 1.0 LSB for |n_p| <= 1024 (the 2^47/(2 pi) constant's
+ *                    rounding adds |n_p theta| 1.6e-12 rad), exact when |n_p theta| < pi
+ * (1 LSB bounds: result rounding 0.5 LSB + polynomial / constant error.)
+ * MC_PI is pi rounded to 17 bits (3.1415939, +1.2e-6): angles are returned
+ * in [-MC_PI, MC_PI).
+ */
+#ifndef MC_NUM_FIXED_H
+#define MC_NUM_FIXED_H
+
+#include <stdint.h>
+
+typedef int32_t mc_t;
+
+#define MC_FIXED 1
+#define MC_FRAC_BITS 17
+#define MC_ONE_RAW ((int32_t)1 << MC_FRAC_BITS)
+#define MC_MAX ((mc_t)INT32_MAX)
+#define MC_LSB_F 7.62939453125e-06 /* 2^-17, for host-side documentation and tests */
+
+/* Compile-time conversion of a literal (double arithmetic folds away; do
+ * not use MC_C on run-time values: that would bring in soft-float code,
+ * which the no-float test rejects). Saturates outside +-16384. */
+#define MC_C(x)                                                                          \
+    ((mc_t)(((double)(x)) >= 16383.99999237060546875                                     \
+                ? (double)INT32_MAX                                                      \
+                : (((double)(x)) <= -16383.99999237060546875                             \
+                       ? -(double)INT32_MAX                                              \
+                       : ((double)(x)) * 131072.0 + ((((double)(x)) >= 0.0) ? 0.5 : -0.5))))
+
+#define MC_ZERO ((mc_t)0)
+#define MC_ONE ((mc_t)MC_ONE_RAW)
+#define MC_PI ((mc_t)411775)      /* round(pi 2^17) */
+#define MC_TWO_PI ((mc_t)823550)  /* round(2 pi 2^17) */
+#define MC_HALF_PI ((mc_t)205887) /* round(pi/2 2^17) */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- internal helpers (mc__ prefix: not part of the API) ---------------- */
+
+static inline mc_t mc__sat64(int64_t v)
+{
+    if (v > (int64_t)INT32_MAX) {
+        return INT32_MAX;
+    }
+    if (v < -(int64_t)INT32_MAX) {
+        return -INT32_MAX;
+    }
+    return (mc_t)v;
+}
+
+static inline uint32_t mc__uabs(int32_t a) { return (a < 0) ? (0u - (uint32_t)a) : (uint32_t)a; }
+
+/* (a * b) >> 30 on signed Q30 values, no rounding (polynomial kernels). */
+static inline int32_t mc__mul30(int32_t a, int32_t b) { return (int32_t)(((int64_t)a * b) >> 30); }
+
+/* ~2^63 / d for d in [2^31, 2^32): one hardware 32-bit divide for 15 bits,
+ * one Newton step for ~30 bits. Never overestimates, never overflows. */
+static inline uint32_t mc__recip(uint32_t d)
+{
+    uint32_t r = (0xFFFFFFFFu / ((d >> 16) + 1u)) << 15;
+    uint64_t e = ((uint64_t)1 << 63) - (uint64_t)d * r;
+    return r + (uint32_t)(((uint64_t)r * (uint32_t)(e >> 32)) >> 31);
+}
+
+/* 1/sqrt(x) for x in [1/4, 1), at cell midpoints of 192 cells, Q15. One
+ * weak definition per translation unit; the linker keeps a single copy. */
+#ifdef __cplusplus
+extern "C" const uint16_t mc__rsqrt_tab[192] __attribute__((weak));
+extern "C" const uint16_t mc__rsqrt_tab[192] __attribute__((weak)) =
+#else
+const uint16_t mc__rsqrt_tab[192] __attribute__((weak));
+const uint16_t mc__rsqrt_tab[192] __attribute__((weak)) =
+#endif
+    {65283, 64783, 64294, 63816, 63348, 62891, 62443, 62005, 61576, 61155, 60743, 60340, 59944, 59556,
+     59175, 58802, 58436, 58076, 57723, 57376, 57036, 56701, 56373, 56049, 55732, 55420, 55113, 54811,
+     54513, 54221, 53933, 53650, 53372, 53097, 52827, 52561, 52299, 52040, 51786, 51535, 51288, 51044,
+     50804, 50567, 50334, 50103, 49876, 49652, 49431, 49212, 48997, 48785, 48575, 48368, 48163, 47961,
+     47762, 47565, 47370, 47178, 46988, 46801, 46615, 46432, 46251, 46072, 45895, 45720, 45547, 45377,
+     45208, 45040, 44875, 44712, 44550, 44390, 44232, 44075, 43920, 43767, 43615, 43465, 43316, 43169,
+     43024, 42880, 42737, 42596, 42456, 42317, 42180, 42044, 41910, 41776, 41644, 41514, 41384, 41256,
+     41129, 41003, 40878, 40754, 40632, 40510, 40390, 40270, 40152, 40035, 39919, 39804, 39689, 39576,
+     39464, 39352, 39242, 39133, 39024, 38916, 38810, 38704, 38599, 38495, 38391, 38289, 38187, 38086,
+     37986, 37887, 37788, 37690, 37593, 37497, 37402, 37307, 37213, 37119, 37027, 36935, 36843, 36753,
+     36663, 36573, 36485, 36397, 36309, 36223, 36136, 36051, 35966, 35882, 35798, 35715, 35632, 35550,
+     35469, 35388, 35307, 35228, 35148, 35070, 34991, 34914, 34837, 34760, 34684, 34608, 34533, 34458,
+     34384, 34311, 34237, 34165, 34092, 34020, 33949, 33878, 33808, 33737, 33668, 33599, 33530, 33461,
+     33394, 33326, 33259, 33192, 33126, 33060, 32994, 32929, 32864, 32800};
+
+/* round(sqrt(n)) for n < 2^63 (exact: the final step checks against n). */
+static inline uint32_t mc__isqrt64(uint64_t n)
+{
+    if (n == 0u) {
+        return 0u;
+    }
+    const uint32_t hi = (uint32_t)(n >> 32);
+    int s = (hi != 0u) ? __builtin_clz(hi) : 32 + __builtin_clz((uint32_t)n);
+    s &= ~1;
+    const uint32_t m = (uint32_t)((n << s) >> 32); /* [2^30, 2^32) */
+    uint32_t r = (uint32_t)mc__rsqrt_tab[(m >> 24) - 64u] << 15; /* Q30 of 1/sqrt(m/2^32) */
+    for (int it = 0; it < 2; ++it) {
+        const uint32_t t = (uint32_t)(((uint64_t)m * r) >> 32); /* Q30: x r   */
+        const uint32_t u = (uint32_t)(((uint64_t)t * r) >> 30); /* Q30: x r^2 */
+        r = (uint32_t)(((uint64_t)r * (0xC0000000u - u)) >> 31);
+    }
+    /* sqrt(m 2^32) = m r / 2^30, then undo the normalisation with rounding */
+    const uint64_t S = ((uint64_t)m * r) >> 30;
+    const int sh = s >> 1;
+    uint64_t y = (sh > 0) ? ((S + ((uint64_t)1 << (sh - 1))) >> sh) : S;
+    /* exact rounding: y = round(sqrt(n)) <=> y^2 - y < n <= y^2 + y */
+    while (n > y * y + y) {
+        ++y;
+    }
+    while (y > 0u && n <= y * y - y) {
+        --y;
+    }
+    return (uint32_t)y;
+}
+
+/* rad (Q17, any int32) -> binary angle (2^32 per turn), via x * 2^47/(2 pi) mod 2^64. */
+#define MC__RAD2BAM_K64 ((uint64_t)22399066950089ull) /* round(2^47 / (2 pi)) */
+static inline uint32_t mc__bam_of_q17_64(int64_t x_raw)
+{
+    return (uint32_t)(((uint64_t)x_raw * MC__RAD2BAM_K64) >> 32);
+}
+
+/* binary angle -> rad Q17 in [-MC_PI, MC_PI) */
+static inline mc_t mc__rad_of_bam(uint32_t u)
+{
+    const int64_t p = (int64_t)(int32_t)u * (int64_t)3373259426ll; /* round(2 pi 2^29) */
+    int32_t r = (int32_t)((p + ((int64_t)1 << 43)) >> 44);
+    if (r >= MC_PI) {
+        r -= MC_TWO_PI;
+    }
+    return r;
+}
+
+/* sin and cos of a binary angle, in Q30 */
+static inline void mc__sincos_bam_q30(uint32_t u, int32_t *s30, int32_t *c30)
+{
+    const uint32_t q = (u + 0x20000000u) >> 30;         /* nearest quadrant */
+    const int32_t t = (int32_t)(u - (q << 30)) * 2;     /* Q30 of r/(pi/4), |t| <= 1 */
+    const int32_t t2 = mc__mul30(t, t);
+    /* minimax, |err| < 5.6e-7 (sin) and 2.8e-8 (cos) on [-pi/4, pi/4] */
+    int32_t ps = 2606085;
+    ps = -86665996 + mc__mul30(t2, ps);
+    ps = 843310638 + mc__mul30(t2, ps);
+    ps = mc__mul30(t, ps);
+    int32_t pc = -342396;
+    pc = 17018717 + mc__mul30(t2, pc);
+    pc = -331168021 + mc__mul30(t2, pc);
+    pc = 1073741794 + mc__mul30(t2, pc);
+    switch (q & 3u) {
+    case 0u: *s30 = ps; *c30 = pc; break;
+    case 1u: *s30 = pc; *c30 = -ps; break;
+    case 2u: *s30 = -ps; *c30 = -pc; break;
+    default: *s30 = -pc; *c30 = ps; break;
+    }
+}
+
+static inline mc_t mc__q30_to_q17(int32_t v) { return (v + (1 << 12)) >> 13; }
+
+/* ---- API of mc_num.h ------------------------------------------------------ */
+
+static inline mc_t mc_add(mc_t a, mc_t b)
+{
+    int32_t r;
+    if (__builtin_add_overflow(a, b, &r)) {
+        r = (a < 0) ? -INT32_MAX : INT32_MAX;
+    }
+    return r;
+}
+
+static inline mc_t mc_sub(mc_t a, mc_t b)
+{
+    int32_t r;
+    if (__builtin_sub_overflow(a, b, &r)) {
+        r = (a < 0) ? -INT32_MAX : INT32_MAX;
+    }
+    return r;
+}
+
+static inline mc_t mc_mul(mc_t a, mc_t b)
+{
+    return mc__sat64((((int64_t)a * b) + ((int64_t)1 << (MC_FRAC_BITS - 1))) >> MC_FRAC_BITS);
+}
+
+/* a / b, rounded to nearest; b == 0 saturates with the sign of a. */
+static inline mc_t mc_div(mc_t a, mc_t b)
+{
+    if (b == 0) {
+        return (a >= 0) ? MC_MAX : -MC_MAX;
+    }
+    const uint32_t ua = mc__uabs(a);
+    const uint32_t ub = mc__uabs(b);
+    const int sh = __builtin_clz(ub);
+    const uint32_t R = mc__recip(ub << sh); /* ~2^63 / (ub 2^sh) */
+    /* q = ua 2^17 / ub = ua R / 2^(46 - sh); ua <= 2^31 so ua R < 2^63 */
+    const int rs = 46 - sh; /* 15..46 */
+    const uint64_t q = (((uint64_t)ua * R) + ((uint64_t)1 << (rs - 1))) >> rs;
+    const int32_t qs = (q > (uint64_t)INT32_MAX) ? INT32_MAX : (int32_t)q;
+    return ((a < 0) != (b < 0)) ? -qs : qs;
+}
+
+static inline mc_t mc_neg(mc_t a) { return (a == INT32_MIN) ? INT32_MAX : -a; }
+static inline mc_t mc_abs(mc_t a) { return (a < 0) ? mc_neg(a) : a; }
+static inline mc_t mc_min(mc_t a, mc_t b) { return (a < b) ? a : b; }
+static inline mc_t mc_max(mc_t a, mc_t b) { return (a > b) ? a : b; }
+static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi) { return (x < lo) ? lo : ((x > hi) ? hi : x); }
+static inline mc_t mc_mul_i(mc_t a, int32_t n) { return mc__sat64((int64_t)a * n); }
+
+/* a / n rounded to nearest (ties away from zero); n == 0 saturates. */
+static inline mc_t mc_div_i(mc_t a, int32_t n)
+{
+    if (n == 0) {
+        return (a >= 0) ? MC_MAX : -MC_MAX;
+    }
+    if (n == -1) {
+        return mc_neg(a);
+    }
+    int32_t q = a / n;
+    const int32_t r = a - q * n;
+    if (2u * mc__uabs(r) >= mc__uabs(n)) {
+        q += ((a < 0) != (n < 0)) ? -1 : 1;
+    }
+    return q;
+}
+
+static inline mc_t mc_from_i(int32_t n) { return mc__sat64((int64_t)n * MC_ONE_RAW); }
+
+/* nearest integer, ties upward (x.5 -> x+1) */
+static inline int32_t mc_round_i(mc_t x) { return (x >> MC_FRAC_BITS) + ((x >> (MC_FRAC_BITS - 1)) & 1); }
+
+static inline mc_t mc_sgn(mc_t x) { return (x > 0) ? MC_ONE : ((x < 0) ? -MC_ONE : 0); }
+
+static inline mc_t mc_sqrt(mc_t x)
+{
+    return (x > 0) ? (mc_t)mc__isqrt64((uint64_t)(uint32_t)x << MC_FRAC_BITS) : 0;
+}
+
+static inline mc_t mc_sqrt_abs_sgn(mc_t x)
+{
+    const mc_t r = (mc_t)mc__isqrt64((uint64_t)mc__uabs(x) << MC_FRAC_BITS);
+    return (x < 0) ? -r : r;
+}
+
+static inline mc_t mc_hypot(mc_t a, mc_t b)
+{
+    const uint64_t ua = mc__uabs(a);
+    const uint64_t ub = mc__uabs(b);
+    const uint32_t r = mc__isqrt64(ua * ua + ub * ub); /* < 2^63 */
+    return (r > (uint32_t)INT32_MAX) ? INT32_MAX : (mc_t)r;
+}
+
+static inline void mc_sincos(mc_t x, mc_t *s, mc_t *c)
+{
+    int32_t s30;
+    int32_t c30;
+    mc__sincos_bam_q30(mc__bam_of_q17_64(x), &s30, &c30);
+    *s = mc__q30_to_q17(s30);
+    *c = mc__q30_to_q17(c30);
+}
+
+/* atan2 in (-pi, pi] (0 for (0, 0)), any int32 scale of (y, x). */
+static inline mc_t mc_atan2(mc_t y, mc_t x)
+{
+    const uint32_t ax = mc__uabs(x);
+    const uint32_t ay = mc__uabs(y);
+    const uint32_t mx = (ax > ay) ? ax : ay;
+    uint32_t mn = (ax > ay) ? ay : ax;
+    if (mx == 0u) {
+        return 0;
+    }
+    const int sh = __builtin_clz(mx);
+    const uint32_t R = mc__recip(mx << sh);
+    mn <<= sh;
+    uint32_t z31 = (uint32_t)(((uint64_t)mn * R) >> 32); /* Q31 of mn/mx in [0, 1] */
+    if (z31 > 0x80000000u) {
+        z31 = 0x80000000u;
+    }
+    const int32_t z = (int32_t)(z31 >> 1); /* Q30 */
+    const int32_t z2 = mc__mul30(z, z);
+    /* minimax odd polynomial of degree 13 on [0, 1], |err| < 2.5e-7 */
+    int32_t p = 7314095;
+    p = -36082222 + mc__mul30(z2, p);
+    p = 85495228 + mc__mul30(z2, p);
+    p = -142091908 + mc__mul30(z2, p);
+    p = 212684795 + mc__mul30(z2, p);
+    p = -357742515 + mc__mul30(z2, p);
+    p = 1073737649 + mc__mul30(z2, p);
+    int32_t a = (mc__mul30(z, p) + 1) >> 1; /* Q29, [0, pi/4] */
+    if (ay > ax) {
+        a = 843314857 - a; /* pi/2 in Q29 */
+    }
+    if (x < 0) {
+        a = 1686629713 - a; /* pi in Q29 */
+    }
+    if (y < 0) {
+        a = -a;
+    }
+    int32_t r = (a + (1 << 11)) >> 12;
+    if (r < -(MC_PI - 1)) {
+        r = -(MC_PI - 1); /* keep (-pi, pi]: -411775 would be below -pi */
+    }
+    return r;
+}
+
+/* x wrapped into [-MC_PI, MC_PI); exact (unchanged) when already there. */
+static inline mc_t mc_wrap_pi(mc_t x)
+{
+    if (x >= -MC_PI && x < MC_PI) {
+        return x;
+    }
+    return mc__rad_of_bam(mc__bam_of_q17_64(x));
+}
+
+/* wrap(n_p theta): exact 64-bit product, then the binary-angle wrap. */
+static inline mc_t mc_elec_angle(mc_t theta_mech_rad, int32_t n_p)
+{
+    const int64_t m = (int64_t)theta_mech_rad * n_p;
+    if (m >= -(int64_t)MC_PI && m < (int64_t)MC_PI) {
+        return (mc_t)m;
+    }
+    return mc__rad_of_bam(mc__bam_of_q17_64(m));
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* MC_NUM_FIXED_H */

@@ -1,0 +1,385 @@
+// Unit tests of the paper-000 firmware blocks against cases worked out by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+extern "C" {
+#include "control/super_twisting.h"
+#include "control/twisting.h"
+#include "math/frame_fg.h"
+#include "math/mc_convert.h"
+#include "observers/emf_observer.h"
+#include "observers/mech_observer.h"
+#include "observers/position_estimator.h"
+#include "startup/open_loop.h"
+#include "trajectory/trajectory.h"
+}
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+mc_t M(double x) { return mc_from_double(x); }
+double D(mc_t x) { return mc_to_double(x); }
+#if MC_FIXED
+constexpr double kTol = 2e-4;  // a few LSB of the fixed format plus fast-math error
+#else
+constexpr double kTol = 1e-5;
+#endif
+}  // namespace
+
+// ---- (f-g) transforms, eqs. (6)-(8) ----
+TEST(FrameFg, RoundTripAndHandValues)
+{
+    for (double x = -7.0; x <= 7.0; x += 0.37) {
+        const mc_rot_t r = mc_rot_from_angle(M(x));
+        mc_t f, g, a, b;
+        mc_rot_fwd(r, M(1.25), M(-0.5), &f, &g);
+        mc_rot_inv(r, f, g, &a, &b);
+        EXPECT_NEAR(D(a), 1.25, 5 * kTol);
+        EXPECT_NEAR(D(b), -0.5, 5 * kTol);
+        // eq. (6): i_f = cos i_a + sin i_b, i_g = -sin i_a + cos i_b
+        EXPECT_NEAR(D(f), std::cos(x) * 1.25 + std::sin(x) * -0.5, 5 * kTol);
+        EXPECT_NEAR(D(g), -std::sin(x) * 1.25 + std::cos(x) * -0.5, 5 * kTol);
+    }
+    // a = 1 A on phase a, frame at 90 deg electrical: i_f = 0, i_g = -1
+    mc_t f, g;
+    mc_rot_fwd(mc_rot_from_angle(M(kPi / 2)), M(1.0), M(0.0), &f, &g);
+    EXPECT_NEAR(D(f), 0.0, 5 * kTol);
+    EXPECT_NEAR(D(g), -1.0, 5 * kTol);
+    // double angle
+    const mc_rot_t d = mc_rot_double(mc_rot_from_angle(M(0.3)));
+    EXPECT_NEAR(D(d.s), std::sin(0.6), 5 * kTol);
+    EXPECT_NEAR(D(d.c), std::cos(0.6), 5 * kTol);
+}
+
+TEST(FrameFg, ElectricalAngleOfLargeMechanicalAngle)
+{
+    // n_p = 50: 18 rad mechanical is 900 rad electrical
+    for (double th : {0.0, 0.01, 1.0, 18.0, -18.0, 123.456}) {
+        const double want = std::remainder(50.0 * th, 2 * kPi);
+        const double got = D(mc_elec_angle(M(th), 50));
+        EXPECT_NEAR(std::remainder(got - want, 2 * kPi), 0.0, 50 * 2e-5) << th;
+    }
+}
+
+// ---- trajectory, eq. (70) ----
+TEST(Trajectory, BoundaryConditionsOfThePolynomial)
+{
+    mc_t p, dp, ddp, dddp;
+    trajectory_poly7(M(0.0), &p, &dp, &ddp, &dddp);
+    EXPECT_NEAR(D(p), 0.0, kTol);
+    EXPECT_NEAR(D(dp), 0.0, kTol);
+    EXPECT_NEAR(D(ddp), 0.0, kTol);
+    EXPECT_NEAR(D(dddp), 0.0, kTol);
+    trajectory_poly7(M(1.0), &p, &dp, &ddp, &dddp);
+    EXPECT_NEAR(D(p), 1.0, 10 * kTol);
+    EXPECT_NEAR(D(dp), 0.0, 10 * kTol);
+    EXPECT_NEAR(D(ddp), 0.0, 10 * kTol);
+    EXPECT_NEAR(D(dddp), 0.0, 100 * kTol);
+    // symmetry: p(1/2) = 1/2, peak speed p'(1/2) = 140/64 = 2.1875
+    trajectory_poly7(M(0.5), &p, &dp, &ddp, &dddp);
+    EXPECT_NEAR(D(p), 0.5, 10 * kTol);
+    EXPECT_NEAR(D(dp), 2.1875, 10 * kTol);
+    EXPECT_NEAR(D(ddp), 0.0, 10 * kTol);
+}
+
+static trajectory_t paper_trajectory()
+{
+    // Section 5.4: 0 -> 18 rad in 2 s, back to 0 in 2 s, at 10 kHz
+    trajectory_config_t c{};
+    c.fs_hz = 10000;
+    c.theta_start_rad = M(0.0);
+    c.n_segments = 2;
+    c.seg[0].start_tick = 0;
+    c.seg[0].duration_ticks = 20000;
+    c.seg[0].theta_to_rad = M(18.0);
+    c.seg[1].start_tick = 20000;
+    c.seg[1].duration_ticks = 20000;
+    c.seg[1].theta_to_rad = M(0.0);
+    trajectory_t t;
+    EXPECT_TRUE(trajectory_init(&t, &c));
+    return t;
+}
+
+TEST(Trajectory, ChainedSegmentsAreContinuousAndConsistent)
+{
+    const trajectory_t t = paper_trajectory();
+    trajectory_point_t a, b;
+    trajectory_eval(&t, 0, &a);
+    EXPECT_NEAR(D(a.theta_rad), 0.0, kTol);
+    trajectory_eval(&t, 10000, &a);  // middle of the first move
+    EXPECT_NEAR(D(a.theta_rad), 9.0, 1e-3);
+    EXPECT_NEAR(D(a.omega_rad_s), 18.0 / 2.0 * 2.1875, 1e-3);
+    trajectory_eval(&t, 20000, &a);  // junction
+    EXPECT_NEAR(D(a.theta_rad), 18.0, 1e-3);
+    EXPECT_NEAR(D(a.omega_rad_s), 0.0, 1e-3);
+    trajectory_eval(&t, 30000, &a);
+    EXPECT_NEAR(D(a.omega_rad_s), -9.0 * 2.1875, 1e-3);
+    trajectory_eval(&t, 40000, &a);
+    trajectory_eval(&t, 45000, &b);  // held after the end
+    EXPECT_NEAR(D(a.theta_rad), 0.0, 1e-3);
+    EXPECT_NEAR(D(b.theta_rad), 0.0, 1e-3);
+    EXPECT_NEAR(D(b.omega_rad_s), 0.0, kTol);
+    // derivatives agree with central differences of the samples
+    for (uint32_t k : {1234u, 7000u, 15000u, 26000u, 38000u}) {
+        trajectory_point_t m, p, c;
+        // +-10 samples: truncation error ~ h^2 theta'''/6 < 1e-4, rounding ~ 1e-3
+        trajectory_eval(&t, k - 10, &m);
+        trajectory_eval(&t, k + 10, &p);
+        trajectory_eval(&t, k, &c);
+        EXPECT_NEAR((D(p.theta_rad) - D(m.theta_rad)) / 2e-3, D(c.omega_rad_s), 5e-3) << k;
+        EXPECT_NEAR((D(p.omega_rad_s) - D(m.omega_rad_s)) / 2e-3, D(c.accel_rad_s2), 2e-2) << k;
+        EXPECT_NEAR((D(p.accel_rad_s2) - D(m.accel_rad_s2)) / 2e-3, D(c.jerk_rad_s3), 0.1) << k;
+    }
+}
+
+TEST(Trajectory, RejectsOverlappingOrEmptySegments)
+{
+    trajectory_config_t c{};
+    c.fs_hz = 10000;
+    c.n_segments = 2;
+    c.seg[0].duration_ticks = 100;
+    c.seg[1].start_tick = 50;
+    c.seg[1].duration_ticks = 100;
+    trajectory_t t;
+    EXPECT_FALSE(trajectory_init(&t, &c));
+    c.seg[1].start_tick = 100;
+    c.seg[1].duration_ticks = 0;
+    EXPECT_FALSE(trajectory_init(&t, &c));
+}
+
+// ---- super-twisting back-EMF observer, eqs. (23)-(28) ----
+// Synthetic plant: the (f-g) model (23) with a constant rotation of the
+// frame and a constant back-EMF, integrated finely between samples.
+TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
+{
+    const double L = 9e-3, R = 3.01, Ts = 1e-4;
+    const double w_e = 50.0 * 10.0;           // n_p * omega_r [rad/s]
+    const double ef = 1.3, eg = -2.4;         // L d_f, L d_g [V]
+    const double alpha = 2e4, lambda = 400.0, l = 1000.0;
+    emf_observer_config_t c{};
+    c.ts_over_L_A_per_V = M(Ts / L);
+    c.R_ohm = M(R);
+    c.lambda_A = M(lambda * Ts);
+    c.l_ts = M(l * Ts);
+    c.alpha_V = M(L * alpha * Ts);
+    c.alpha_V_s = M(L * alpha);
+    c.lpf_coeff = M(0.1);
+    emf_observer_t o;
+    emf_observer_init(&o, &c);
+    double i_f = 0.0, i_g = 0.0;
+    // As in the drive: a constant (f-g) command, put on the phases with the
+    // mid-sample angle and held there over the sample; the observer gets it
+    // expressed in the frame at the start of the sample.
+    const double vf_cmd = 2.0, vg_cmd = 5.0;
+    const double c_h = std::cos(w_e * Ts / 2), s_h = std::sin(w_e * Ts / 2);
+    const double vf = c_h * vf_cmd - s_h * vg_cmd, vg = s_h * vf_cmd + c_h * vg_cmd;
+    const mc_rot_t half = mc_rot_from_angle(M(w_e * Ts / 2));
+    double worst_late = 0.0, mean_f = 0.0, mean_g = 0.0;
+    for (int k = 0; k < 3000; ++k) {
+        emf_observer_correct(&o, M(i_f), M(i_g));
+        if (k >= 2000) {
+            worst_late = std::fmax(worst_late, std::fabs(D(o.e_f_hat_V) - ef));
+            worst_late = std::fmax(worst_late, std::fabs(D(o.e_g_hat_V) - eg));
+            mean_f += (D(o.e_f_hat_V) - ef) / 1000.0;
+            mean_g += (D(o.e_g_hat_V) - eg) / 1000.0;
+        }
+        emf_observer_predict(&o, M(vf), M(vg), M(i_f), M(i_g), half);
+        // plant (23): voltage constant in the phase frame (so it turns in
+        // (f-g)), back-EMF constant in (f-g); RK2 on fine substeps
+        const int sub = 200;
+        const double h = Ts / sub;
+        double uf = vf, ug = vg;
+        for (int j = 0; j < sub; ++j) {
+            const double a = w_e * h, cu = std::cos(a), su = std::sin(a);
+            const double uf2 = cu * uf + su * ug, ug2 = -su * uf + cu * ug;
+            const double k1f = w_e * i_g + (uf - R * i_f + ef) / L;
+            const double k1g = -w_e * i_f + (ug - R * i_g + eg) / L;
+            const double pf = i_f + h * k1f, pg = i_g + h * k1g;
+            const double k2f = w_e * pg + (uf2 - R * pf + ef) / L;
+            const double k2g = -w_e * pf + (ug2 - R * pg + eg) / L;
+            i_f += h / 2 * (k1f + k2f);
+            i_g += h / 2 * (k1g + k2g);
+            uf = uf2;
+            ug = ug2;
+        }
+    }
+    // From e-hat = 0 to the true value (|e| = 2.7 V): the discrete
+    // super-twisting reaches an O(Ts) band, a few steps of L alpha Ts =
+    // 0.018 V, i.e. about 1 % of |e| (0.01 rad electrical).
+    const double step = L * alpha * Ts;
+    EXPECT_LT(worst_late, 4 * step);
+    EXPECT_LT(std::fabs(mean_f), 2 * step);
+    EXPECT_LT(std::fabs(mean_g), 2 * step);
+    EXPECT_LT(std::fabs(D(o.err_f_A)), 2e-3);
+}
+
+// ---- position and speed reconstruction, eqs. (29)-(32), (71) ----
+static position_estimator_config_t pos_cfg()
+{
+    position_estimator_config_t c{};
+    c.n_p = 50;
+    c.pitch_rad = M(2 * kPi / 50);
+    c.inv_K_rad_s_per_V = M(1 / 0.27);
+    c.e2_min_V2 = M(0.01);
+    return c;
+}
+
+TEST(PositionEstimator, AngleForBothSignsOfSpeed)
+{
+    const double K = 0.27;
+    for (double w : {10.0, -10.0}) {
+        for (double dth : {-0.05, -0.01, 0.0, 0.02, 0.06}) {
+            position_estimator_t p;
+            const position_estimator_config_t c = pos_cfg();
+            position_estimator_init(&p, &c);
+            // L d_f = K w sin(n_p dth), L d_g = -K w cos(n_p dth)  (23)
+            const double ef = K * w * std::sin(50 * dth), eg = -K * w * std::cos(50 * dth);
+            position_estimator_step(&p, M(ef), M(eg), M(0), M(0), M(3.0), M(w));
+            EXPECT_NEAR(D(p.dtheta_est_rad), dth, 2e-5) << w << " " << dth;
+            EXPECT_NEAR(D(p.omega_abs_rad_s), std::fabs(w), 1e-3);  // (30)
+            EXPECT_NEAR(D(p.theta_est_rad), 3.0 + dth, 2e-5);
+        }
+    }
+}
+
+TEST(PositionEstimator, JumpCounterKeepsThetaContinuousAcrossPiOverNp)
+{
+    const double K = 0.27, w = 5.0, pitch = 2 * kPi / 50;
+    position_estimator_t p;
+    const position_estimator_config_t c = pos_cfg();
+    position_estimator_init(&p, &c);
+    // rotor drifting ahead of the reference through 2.5 pitches and back
+    double prev = 0.0;
+    for (int k = 0; k <= 4000; ++k) {
+        const double dth = 2.5 * pitch * std::sin(kPi * k / 4000.0);
+        const double ef = K * w * std::sin(50 * dth), eg = -K * w * std::cos(50 * dth);
+        position_estimator_step(&p, M(ef), M(eg), M(0), M(0), M(1.0), M(w));
+        EXPECT_NEAR(D(p.theta_est_rad), 1.0 + dth, 1e-4) << k;
+        EXPECT_LE(std::fabs(D(p.dtheta_est_rad)), pitch / 2 + 1e-6);
+        if (k > 0) {
+            EXPECT_LT(std::fabs(D(p.theta_est_rad) - prev), 0.01);
+        }
+        prev = D(p.theta_est_rad);
+        if (k == 2000) {
+            EXPECT_EQ(p.k, 2);  // 2.5 pitches = 2 wraps + half a pitch
+        }
+    }
+    EXPECT_EQ(p.k, 0);
+}
+
+TEST(PositionEstimator, SpeedErrorFromRotatingBackEmf)
+{
+    // e rotating at n_p * dw in (f-g): the filtered injections are de/dt
+    const double K = 0.27, w = 8.0, dw = 0.7, x = 0.3;
+    const double Em = K * w;
+    const double ef = Em * std::sin(x), eg = -Em * std::cos(x);
+    const double zf = Em * 50 * dw * std::cos(x), zg = Em * 50 * dw * std::sin(x);
+    position_estimator_t p;
+    const position_estimator_config_t c = pos_cfg();
+    position_estimator_init(&p, &c);
+    position_estimator_step(&p, M(ef), M(eg), M(zf), M(zg), M(0), M(w - dw));
+    EXPECT_NEAR(D(p.omega_est_rad_s), w, 1e-3);  // (31)-(32)
+}
+
+TEST(PositionEstimator, BranchClosestToTheOpenLoopAngle)
+{
+    position_estimator_t p;
+    const position_estimator_config_t c = pos_cfg();
+    position_estimator_init(&p, &c);
+    const double K = 0.27, w = 4.0, dth = 0.01, pitch = 2 * kPi / 50;
+    position_estimator_step(&p, M(K * w * std::sin(0.5)), M(-K * w * std::cos(0.5)), M(0), M(0), M(2.0), M(w));
+    position_estimator_set_branch(&p, M(2.0), M(2.0 + dth + 3 * pitch + 0.02));
+    EXPECT_EQ(p.k, 3);
+    EXPECT_NEAR(D(p.theta_est_rad), 2.0 + dth + 3 * pitch, 1e-4);
+}
+
+// ---- mechanical observer, eqs. (33)-(37) ----
+TEST(MechObserver, EstimatesLoadAndAcceleration)
+{
+    const double J = 3.18e-4, K = 0.27, fv = 2.37e-3, Ts = 1e-4, Cr = 0.05;
+    mech_observer_config_t c{};
+    c.ts_over_J = M(Ts / J);
+    c.inv_J = M(1 / J);
+    c.K_Nm_per_A = M(K);
+    c.fv_Nm_s = M(fv);
+    const double alpha = 2e4, lambda = 300, l = 100;
+    c.lambda_ts = M(lambda * Ts);
+    c.l_ts = M(l * Ts);
+    c.alpha_Nm = M(J * alpha * Ts);
+    c.tau_max_Nm = M(2.0);
+    mech_observer_t m;
+    mech_observer_init(&m, &c);
+    double w = 5.0;
+    mech_observer_reset(&m, M(w));
+    for (int k = 0; k < 4000; ++k) {
+        const double iq = 0.5 + 0.2 * std::sin(2 * kPi * 5 * k * Ts);
+        const double acc = (K * iq - fv * w - Cr) / J;
+        mech_observer_step(&m, M(w), M(iq));
+        if (k > 2000) {
+            EXPECT_NEAR(D(m.load_est_Nm), Cr, 3e-3) << k;
+            EXPECT_NEAR(D(m.accel_est_rad_s2), acc, 10.0) << k;
+        }
+        w += Ts * acc;
+    }
+}
+
+// ---- super-twisting (13)-(14) and twisting (21) on integrators ----
+TEST(SuperTwisting, DrivesARelativeDegreeOneSystemToZero)
+{
+    // S' = u + Pi(t), |Pi'| <= 2: alpha = 4, lambda = sqrt(12*2)
+    super_twisting_config_t c{};
+    const double Ts = 1e-3;
+    c.lambda = M(std::sqrt(24.0));
+    c.alpha_ts = M(4.0 * Ts);
+    c.u1_max = M(100.0);
+    super_twisting_t st;
+    super_twisting_init(&st, &c);
+    double S = 1.0, t = 0.0, late = 0.0;
+    for (int k = 0; k < 10000; ++k, t += Ts) {
+        const double u = D(super_twisting_step(&st, M(S), false));
+        S += Ts * (u + 1.0 + std::sin(2 * t));
+        if (t > 5.0) late = std::fmax(late, std::fabs(S));
+    }
+    EXPECT_LT(late, 5e-3);  // O(Ts) accuracy of the discrete algorithm
+    // the integral term compensates the perturbation: u1 ~ -(1 + sin 2t)
+    EXPECT_NEAR(D(st.u1), -(1.0 + std::sin(2 * t)), 0.1);
+}
+
+TEST(Twisting, DrivesADoubleIntegratorToZero)
+{
+    // S'' = w + Pi, |Pi| <= C0 = 1: (22) lambda_m > C0, lambda_M > lambda_m + 2 C0
+    twisting_config_t c{};
+    c.lambda_m = M(2.0);
+    c.lambda_M = M(5.0);
+    twisting_t tw;
+    twisting_init(&tw, &c);
+    EXPECT_NEAR(D(twisting_step(&tw, M(1), M(1))), -5.0, kTol);   // moving away: lambda_M
+    EXPECT_NEAR(D(twisting_step(&tw, M(1), M(-1))), -2.0, kTol);  // moving back: lambda_m
+    EXPECT_NEAR(D(twisting_step(&tw, M(-1), M(-1))), 5.0, kTol);
+    const double Ts = 1e-4;
+    double S = 0.5, Sd = 0.0, t = 0.0, late = 0.0;
+    for (int k = 0; k < 100000; ++k, t += Ts) {
+        const double w = D(twisting_step(&tw, M(S), M(Sd)));
+        const double Pi = std::sin(3 * t);
+        Sd += Ts * (w + Pi);
+        S += Ts * Sd;
+        if (t > 6.0) late = std::fmax(late, std::fabs(S));
+    }
+    EXPECT_LT(late, 1e-4);
+}
+
+// ---- open-loop voltage, eq. (68) ----
+TEST(OpenLoop, VoltageOfEq68)
+{
+    open_loop_config_t c{};
+    c.R_ohm = M(3.01);
+    c.npL_ohm_s = M(50 * 9e-3);
+    c.K_V_s = M(0.27);
+    c.i_max_A = M(3.0);
+    c.v_max_V = M(30.0);
+    EXPECT_NEAR(D(open_loop_voltage(&c, M(0.0))), 9.03, 1e-3);  // R I_max at standstill
+    const double w = 2.0;
+    const double want = std::sqrt((3.01 * 3.01 + std::pow(50 * w * 9e-3, 2)) * 9.0 + std::pow(0.27 * w, 2));
+    EXPECT_NEAR(D(open_loop_voltage(&c, M(-w))), want, 1e-3);
+    EXPECT_NEAR(D(open_loop_voltage(&c, M(100.0))), 30.0, 1e-4);  // V_max
+}
