@@ -190,7 +190,9 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->open_loop.R_ohm = cfg->R_ohm;
     cfg->open_loop.npL_ohm_s = cfg->npL_ohm_s;
     cfg->open_loop.K_V_s = cfg->K_V_s;
-    cfg->open_loop.i_max_A = cfg->i_max_A;
+    if (in->i_open_loop_A > in->i_max_A)
+        return fail(err, err_len, "limits.i_open_loop_A", "must be <= i_max_A", in->i_open_loop_A);
+    cfg->open_loop.i_max_A = mc_from_double(in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A);
     cfg->open_loop.v_max_V = cfg->v_max_V;
     if (err && err_len > 0) err[0] = '\0';
     return true;

@@ -45,6 +45,10 @@ typedef struct {
     drive_motor_si_t motor;
     double ts_s;               /* sample period (1e-4 in the paper) */
     double v_max_V, i_max_A, i_trip_A, omega_lim_rad_s;
+    /* current amplitude of the open-loop drive (68); <= 0 means i_max_A as
+     * in the paper. Lower values make the back-EMF angle at the switch far
+     * less sensitive to R and L errors (see docs/robustness.md). */
+    double i_open_loop_A;
     /* Bounds the gains are derived from (Section 3.1.1, 3.2, 4.1.2): */
     double bound_accel_rad_s2;       /* |omega_dot|max */
     double bound_speed_rad_s;        /* |omega|max */

@@ -104,8 +104,9 @@ static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_f
 }
 
 /* Closed-loop law: eq. (44) errors, (48) super-twisting on xi_f, (52)-(54)
- * twisting on S_theta; returns v in the (f-g) frame. */
-static void drive_closed_loop(drive_t *d, mc_t i_f, mc_t i_g, mc_t *v_f, mc_t *v_g)
+ * twisting on S_theta; returns v in the (f-g) frame. u is U(n_p (theta_est -
+ * theta_r)) and (i_d, i_q) the measured currents turned by it, eq. (44). */
+static void drive_closed_loop(drive_t *d, mc_rot_t u, mc_t i_d, mc_t i_q, mc_t *v_f, mc_t *v_g)
 {
     const drive_config_t *c = &d->cfg;
     drive_telemetry_t *t = &d->tlm;
@@ -115,9 +116,6 @@ static void drive_closed_loop(drive_t *d, mc_t i_f, mc_t i_g, mc_t *v_f, mc_t *v
     t->i_g_ref_A = i_gr;
 
     const mc_t xi_theta = mc_sub(d->pos.theta_est_rad, d->ref.theta_rad);
-    const mc_rot_t u = mc_rot_from_angle(mc_mul_i(xi_theta, c->n_p));
-    mc_t i_d, i_q; /* (44): currents in the estimated rotor frame */
-    mc_rot_fwd(u, i_f, i_g, &i_d, &i_q);
     const mc_t w_r = d->ref.omega_rad_s;
     const mc_t xi_f = mc_sub(i_d, i_fr);
     const mc_t xi_g = mc_sub(i_q, i_gr);
@@ -169,7 +167,7 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     const mc_t dphi = mc_wrap_pi(mc_sub(mc_elec_angle(d->ref_next.theta_rad, c->n_p), phi_k));
     const mc_rot_t rot_k = mc_rot_from_angle(phi_k);
     const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
-    const mc_rot_t rot_mid = mc_rot_from_angle(mc_add(phi_k, mc_div_i(dphi, 2)));
+    const mc_rot_t rot_mid = mc_rot_compose(rot_k, rot_half);
     mc_t i_f, i_g;
     mc_rot_fwd(rot_k, i_a_A, i_b_A, &i_f, &i_g); /* eq. (6) */
 
@@ -201,7 +199,7 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     const mc_t dth_ctrl = closed ? mc_sub(d->pos.theta_est_rad, d->ref.theta_rad)
                                  : (d->pos.valid ? d->pos.dtheta_est_rad : MC_ZERO);
     const mc_rot_t u_est = mc_rot_from_angle(mc_mul_i(dth_ctrl, c->n_p));
-    mc_t i_d_est, i_q_est;
+    mc_t i_d_est, i_q_est; /* (44): currents in the estimated rotor frame */
     mc_rot_fwd(u_est, i_f, i_g, &i_d_est, &i_q_est);
     mech_observer_step(&d->mech, closed ? d->pos.omega_est_rad_s : d->ref.omega_rad_s, i_q_est);
     if (switched && closed) {
@@ -217,11 +215,11 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
 
     mc_t v_f, v_g;
     if (closed) {
-        drive_closed_loop(d, i_f, i_g, &v_f, &v_g);
+        drive_closed_loop(d, u_est, i_d_est, i_q_est, &v_f, &v_g);
     } else {
         v_f = open_loop_voltage(&c->open_loop, d->ref.omega_rad_s); /* eq. (68) */
         v_g = MC_ZERO;
-        t->i_f_ref_A = c->i_max_A;
+        t->i_f_ref_A = c->open_loop.i_max_A;
         t->i_g_ref_A = MC_ZERO;
     }
     if (switched) {

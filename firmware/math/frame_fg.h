@@ -28,15 +28,24 @@ static inline mc_rot_t mc_rot_from_angle(mc_t x_rad)
 /* [y1; y2] = U(x) [x1; x2]   (eqs. (6)-(8), (44)) */
 static inline void mc_rot_fwd(mc_rot_t r, mc_t x1, mc_t x2, mc_t *y1, mc_t *y2)
 {
-    *y1 = mc_add(mc_mul(r.c, x1), mc_mul(r.s, x2));
-    *y2 = mc_sub(mc_mul(r.c, x2), mc_mul(r.s, x1));
+    *y1 = mc_dot2(r.c, x1, r.s, x2);
+    *y2 = mc_cross2(r.c, x2, r.s, x1);
 }
 
 /* [y1; y2] = U(x)^T [x1; x2] = U(-x) [x1; x2], the inverse of mc_rot_fwd. */
 static inline void mc_rot_inv(mc_rot_t r, mc_t x1, mc_t x2, mc_t *y1, mc_t *y2)
 {
-    *y1 = mc_sub(mc_mul(r.c, x1), mc_mul(r.s, x2));
-    *y2 = mc_add(mc_mul(r.s, x1), mc_mul(r.c, x2));
+    *y1 = mc_cross2(r.c, x1, r.s, x2);
+    *y2 = mc_dot2(r.s, x1, r.c, x2);
+}
+
+/* Rotation by x + y from the rotations by x and y (angle-sum formulas). */
+static inline mc_rot_t mc_rot_compose(mc_rot_t x, mc_rot_t y)
+{
+    mc_rot_t r;
+    r.s = mc_dot2(x.s, y.c, x.c, y.s);
+    r.c = mc_cross2(x.c, y.c, x.s, y.s);
+    return r;
 }
 
 /* Rotation by 2x from the rotation by x (double-angle formulas). */
@@ -44,7 +53,7 @@ static inline mc_rot_t mc_rot_double(mc_rot_t r)
 {
     mc_rot_t d;
     d.s = mc_mul(MC_C(2.0), mc_mul(r.s, r.c));
-    d.c = mc_sub(mc_mul(r.c, r.c), mc_mul(r.s, r.s));
+    d.c = mc_cross2(r.c, r.c, r.s, r.s);
     return d;
 }
 

@@ -28,6 +28,9 @@
 
 /* Operations every backend provides (static inline):
  *   mc_t mc_add(mc_t a, mc_t b), mc_sub, mc_mul, mc_div (b == 0 saturates)
+ *   mc_t mc_dot2(a,b,c,d) = a b + c d, mc_cross2(a,b,c,d) = a b - c d,
+ *   mc_t mc_mac(acc,a,b) = acc + a b   (fixed: one rounding, cheaper than
+ *                                    mul + add; float: same as mul + add)
  *   mc_t mc_neg(mc_t a), mc_abs(a), mc_min(a,b), mc_max(a,b)
  *   mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi)
  *   mc_t mc_mul_i(mc_t a, int32_t n), mc_div_i(mc_t a, int32_t n)

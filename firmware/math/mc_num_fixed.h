@@ -71,10 +71,11 @@
  * assert them over the whole int32 input range, strided + random + dense
  * around 0, and print the measured maxima):
  *   mc_mul           <= 0.5 LSB (exact rounding of the 64-bit product)
- *   mc_div           <= 1 LSB + 2^-28 |a/b|
- *   mc_sqrt          <= 0.5 LSB (exactly rounded integer square root)
- *   mc_sqrt_abs_sgn  <= 0.5 LSB
- *   mc_hypot         <= 0.5 LSB
+ *   mc_div           <= 0.5 LSB (exactly rounded), also mc_ratio_i
+ *   mc_dot2, mc_cross2, mc_mac  <= 0.5 LSB (one rounding of the exact sum)
+ *   mc_sqrt          <= 0.8 LSB (table + 2 Newton steps, 32-bit only)
+ *   mc_sqrt_abs_sgn  <= 0.8 LSB
+ *   mc_hypot         <= 0.8 LSB for results below 256, 2^-24 relative above
  *   mc_sincos        <= 1.0 LSB = 7.6e-6     (any int32 x)
  *   mc_atan2         <= 1.0 LSB = 7.6e-6 rad (any int32 y, x; 0 for (0,0))
  *   mc_wrap_pi       <= 1.0 LSB, exact for x already in [-pi, pi)
@@ -168,34 +169,47 @@ const uint16_t mc__rsqrt_tab[192] __attribute__((weak)) =
      34384, 34311, 34237, 34165, 34092, 34020, 33949, 33878, 33808, 33737, 33668, 33599, 33530, 33461,
      33394, 33326, 33259, 33192, 33126, 33060, 32994, 32929, 32864, 32800};
 
-/* round(sqrt(n)) for n < 2^63 (exact: the final step checks against n). */
-static inline uint32_t mc__isqrt64(uint64_t n)
+/* sqrt(m / 2^32) 2^32 for m in [2^30, 2^32): table, two Newton steps on
+ * 1/sqrt (relative error < 2^-25), one multiply. */
+static inline uint32_t mc__sqrt_norm(uint32_t m)
 {
-    if (n == 0u) {
-        return 0u;
-    }
-    const uint32_t hi = (uint32_t)(n >> 32);
-    int s = (hi != 0u) ? __builtin_clz(hi) : 32 + __builtin_clz((uint32_t)n);
-    s &= ~1;
-    const uint32_t m = (uint32_t)((n << s) >> 32); /* [2^30, 2^32) */
     uint32_t r = (uint32_t)mc__rsqrt_tab[(m >> 24) - 64u] << 15; /* Q30 of 1/sqrt(m/2^32) */
     for (int it = 0; it < 2; ++it) {
         const uint32_t t = (uint32_t)(((uint64_t)m * r) >> 32); /* Q30: x r   */
         const uint32_t u = (uint32_t)(((uint64_t)t * r) >> 30); /* Q30: x r^2 */
         r = (uint32_t)(((uint64_t)r * (0xC0000000u - u)) >> 31);
     }
-    /* sqrt(m 2^32) = m r / 2^30, then undo the normalisation with rounding */
     const uint64_t S = ((uint64_t)m * r) >> 30;
+    return (S > 0xFFFFFFFFull) ? 0xFFFFFFFFu : (uint32_t)S;
+}
+
+/* round(sqrt(x 2^17)) for 0 < x < 2^31: the Q17 square root of a Q17 value */
+static inline uint32_t mc__sqrt_q17(uint32_t x)
+{
+    int s = __builtin_clz(x);      /* >= 1 */
+    s -= ((s & 1) == 0) ? 1 : 0;   /* odd: 17 - s even, m = x 2^s in [2^30, 2^32) */
+    const int sh = (s + 15) >> 1;  /* sqrt(x 2^17) = S / 2^sh, sh in 8..23 */
+    return ((mc__sqrt_norm(x << s) >> (sh - 1)) + 1u) >> 1;
+}
+
+/* round(sqrt(n)) for n < 2^63 (|error| < 1 + 2^-25 sqrt(n)) */
+static inline uint32_t mc__isqrt64(uint64_t n)
+{
+    const uint32_t hi = (uint32_t)(n >> 32);
+    if (hi == 0u) {
+        const uint32_t lo = (uint32_t)n;
+        if (lo == 0u) {
+            return 0u;
+        }
+        const int s = __builtin_clz(lo) & ~1;
+        const int sh = 16 + (s >> 1);
+        return (uint32_t)((((uint64_t)mc__sqrt_norm(lo << s) >> (sh - 1)) + 1u) >> 1);
+    }
+    const int s = __builtin_clz(hi) & ~1; /* 0..30 */
+    const uint32_t m = (uint32_t)(n >> (32 - s));
+    const uint32_t S = mc__sqrt_norm(m);
     const int sh = s >> 1;
-    uint64_t y = (sh > 0) ? ((S + ((uint64_t)1 << (sh - 1))) >> sh) : S;
-    /* exact rounding: y = round(sqrt(n)) <=> y^2 - y < n <= y^2 + y */
-    while (n > y * y + y) {
-        ++y;
-    }
-    while (y > 0u && n <= y * y - y) {
-        --y;
-    }
-    return (uint32_t)y;
+    return (sh == 0) ? S : (((S >> (sh - 1)) + 1u) >> 1);
 }
 
 /* rad (Q17, any int32) -> binary angle (2^32 per turn), via x * 2^47/(2 pi) mod 2^64. */
@@ -261,26 +275,77 @@ static inline mc_t mc_sub(mc_t a, mc_t b)
     return r;
 }
 
-static inline mc_t mc_mul(mc_t a, mc_t b)
+/* Round (half up) and saturate a Q34 64-bit product sum to Q17: the result
+ * fits iff the high word of p + 2^16 is in [-2^15, 2^15). Written so that
+ * it compiles to smull/adds/adc/lsrs/orr + one compare on Cortex-M3. */
+static inline mc_t mc__round_sat_q34(int64_t p)
 {
-    return mc__sat64((((int64_t)a * b) + ((int64_t)1 << (MC_FRAC_BITS - 1))) >> MC_FRAC_BITS);
+    p += (int64_t)1 << (MC_FRAC_BITS - 1);
+    const uint32_t hi = (uint32_t)((uint64_t)p >> 32);
+    if (hi + 0x8000u >= 0x10000u) {
+        return ((int32_t)hi < 0) ? -INT32_MAX : INT32_MAX;
+    }
+    return (mc_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
 }
 
-/* a / b, rounded to nearest; b == 0 saturates with the sign of a. */
+static inline mc_t mc_mul(mc_t a, mc_t b) { return mc__round_sat_q34((int64_t)a * b); }
+
+/* round(ua 2^17 / ub) (ties up) for ub > 0, saturated to INT32_MAX: the
+ * Newton reciprocal gives the quotient within a few units, one 64-bit
+ * multiply-back fixes it to exact rounding. */
+static inline int32_t mc__udiv_q17(uint32_t ua, uint32_t ub)
+{
+    if (ua < (1u << 14)) {
+        /* ua 2^17 < 2^31: one hardware divide, exactly rounded */
+        return (int32_t)(((ua << MC_FRAC_BITS) + (ub >> 1)) / ub);
+    }
+    if (ua < (1u << 19) && ub < (1u << 27)) {
+        /* two-digit long division: ua 2^17 = (q1 ub + r1) 2^4 */
+        const uint32_t q1 = (ua << 13) / ub;
+        if (q1 >= (1u << 27)) {
+            return INT32_MAX;
+        }
+        const uint32_t r1 = (ua << 13) - q1 * ub;
+        return (int32_t)((q1 << 4) + ((r1 << 4) + (ub >> 1)) / ub);
+    }
+    const int sh = __builtin_clz(ub);
+    const uint32_t R = mc__recip(ub << sh); /* ~2^63 / (ub 2^sh) */
+    /* q ~ ua 2^17 / ub = ua R / 2^(46 - sh); ua <= 2^31 so ua R < 2^63 */
+    uint64_t q = ((uint64_t)ua * R) >> (46 - sh);
+    if (q > (uint64_t)INT32_MAX + 1u) {
+        return INT32_MAX;
+    }
+    int64_t rem = (int64_t)((uint64_t)ua << MC_FRAC_BITS) - (int64_t)(q * ub);
+    while (2 * rem >= (int64_t)ub) {
+        ++q;
+        rem -= ub;
+    }
+    while (2 * rem < -(int64_t)ub) {
+        --q;
+        rem += ub;
+    }
+    return (q > (uint64_t)INT32_MAX) ? INT32_MAX : (int32_t)q;
+}
+
+/* a / b, exactly rounded (ties away from zero); b == 0 saturates with the
+ * sign of a; results beyond the range saturate. */
 static inline mc_t mc_div(mc_t a, mc_t b)
 {
     if (b == 0) {
         return (a >= 0) ? MC_MAX : -MC_MAX;
     }
-    const uint32_t ua = mc__uabs(a);
-    const uint32_t ub = mc__uabs(b);
-    const int sh = __builtin_clz(ub);
-    const uint32_t R = mc__recip(ub << sh); /* ~2^63 / (ub 2^sh) */
-    /* q = ua 2^17 / ub = ua R / 2^(46 - sh); ua <= 2^31 so ua R < 2^63 */
-    const int rs = 46 - sh; /* 15..46 */
-    const uint64_t q = (((uint64_t)ua * R) + ((uint64_t)1 << (rs - 1))) >> rs;
-    const int32_t qs = (q > (uint64_t)INT32_MAX) ? INT32_MAX : (int32_t)q;
-    return ((a < 0) != (b < 0)) ? -qs : qs;
+    const int32_t q = mc__udiv_q17(mc__uabs(a), mc__uabs(b));
+    return ((a < 0) != (b < 0)) ? -q : q;
+}
+
+/* num / den as a value (not raw), exactly rounded; 0 if den == 0. */
+static inline mc_t mc_ratio_i(int32_t num, int32_t den)
+{
+    if (den == 0) {
+        return 0;
+    }
+    const int32_t q = mc__udiv_q17(mc__uabs(num), mc__uabs(den));
+    return ((num < 0) != (den < 0)) ? -q : q;
 }
 
 static inline mc_t mc_neg(mc_t a) { return (a == INT32_MIN) ? INT32_MAX : -a; }
@@ -289,6 +354,15 @@ static inline mc_t mc_min(mc_t a, mc_t b) { return (a < b) ? a : b; }
 static inline mc_t mc_max(mc_t a, mc_t b) { return (a > b) ? a : b; }
 static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi) { return (x < lo) ? lo : ((x > hi) ? hi : x); }
 static inline mc_t mc_mul_i(mc_t a, int32_t n) { return mc__sat64((int64_t)a * n); }
+
+/* a b + c d, a b - c d and acc + a b with ONE rounding and saturation of the
+ * exact 64-bit sum (cheaper and more accurate than mc_mul + mc_add). */
+static inline mc_t mc_dot2(mc_t a, mc_t b, mc_t c, mc_t d) { return mc__round_sat_q34((int64_t)a * b + (int64_t)c * d); }
+static inline mc_t mc_cross2(mc_t a, mc_t b, mc_t c, mc_t d) { return mc__round_sat_q34((int64_t)a * b - (int64_t)c * d); }
+static inline mc_t mc_mac(mc_t acc, mc_t a, mc_t b)
+{
+    return mc__round_sat_q34((int64_t)a * b + (int64_t)acc * MC_ONE_RAW);
+}
 
 /* a / n rounded to nearest (ties away from zero); n == 0 saturates. */
 static inline mc_t mc_div_i(mc_t a, int32_t n)
@@ -316,12 +390,15 @@ static inline mc_t mc_sgn(mc_t x) { return (x > 0) ? MC_ONE : ((x < 0) ? -MC_ONE
 
 static inline mc_t mc_sqrt(mc_t x)
 {
-    return (x > 0) ? (mc_t)mc__isqrt64((uint64_t)(uint32_t)x << MC_FRAC_BITS) : 0;
+    return (x > 0) ? (mc_t)mc__sqrt_q17((uint32_t)x) : 0;
 }
 
 static inline mc_t mc_sqrt_abs_sgn(mc_t x)
 {
-    const mc_t r = (mc_t)mc__isqrt64((uint64_t)mc__uabs(x) << MC_FRAC_BITS);
+    if (x == 0) {
+        return 0;
+    }
+    const mc_t r = (mc_t)mc__sqrt_q17((x == INT32_MIN) ? (uint32_t)INT32_MAX : mc__uabs(x));
     return (x < 0) ? -r : r;
 }
 

@@ -23,8 +23,9 @@
  *   mc_atan2                  <= 4.0e-7 rad, any finite (y, x); (0,0) -> 0
  *   mc_wrap_pi                <= 4.0e-7 rad for |x| <= 1e5, exact
  *                             (unchanged) for x already in [-pi, pi)
- *   mc_elec_angle             <= 1.0e-6 rad for |n_p theta| <= 4e5
- *                             (n_p <= 4096): theta 8000 rad at n_p = 50;
+ *   mc_elec_angle             <= 1.0e-6 rad for |n_p theta| <= 4e5 and
+ *                             |n_p| <= 256 (theta 8000 rad at n_p = 50),
+ *                             relative to the exact n_p * (float theta);
  *                             exact product for |n_p theta| < pi.
  * "Any value" is accepted everywhere; NaN propagates, +-inf gives NaN.
  */
@@ -52,19 +53,17 @@ extern "C" {
 
 /* ---- internal helpers (mc__ prefix: not part of the API) ---------------- */
 
-/* round to nearest (ties to even) for |x| < 2^22, without libm */
-static inline float mc__rint22(float x)
-{
-    const float magic = 12582912.0f; /* 1.5 * 2^23 */
-    return (x >= 0.0f) ? ((x + magic) - magic) : ((x - magic) + magic);
-}
+/* round to nearest (ties to even) for |x| < 2^22, without libm: x + 1.5 2^23
+ * lies in [2^23, 2^24) where the float spacing is 1. */
+#define MC__MAGIC_RINT 12582912.0f
+static inline float mc__rint22(float x) { return (x + MC__MAGIC_RINT) - MC__MAGIC_RINT; }
 
-/* x with all but its 12 leading significant bits cleared (exact split) */
-static inline float mc__hi12(float x)
+/* x with its `nb` lowest mantissa bits cleared (exact split x = hi + lo) */
+static inline float mc__clear_low_bits(float x, uint32_t nb)
 {
     uint32_t u;
     memcpy(&u, &x, sizeof u);
-    u &= 0xFFFFF000u;
+    u &= 0xFFFFFFFFu << nb;
     float r;
     memcpy(&r, &u, sizeof r);
     return r;
@@ -105,8 +104,15 @@ static inline mc_t mc_min(mc_t a, mc_t b) { return (a < b) ? a : b; }
 static inline mc_t mc_max(mc_t a, mc_t b) { return (a > b) ? a : b; }
 static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi) { return (x < lo) ? lo : ((x > hi) ? hi : x); }
 static inline mc_t mc_mul_i(mc_t a, int32_t n) { return a * (float)n; }
+/* a b + c d, a b - c d, acc + a b: two roundings each (no fused multiply-add,
+ * so bit-identical to mc_add(mc_mul(a, b), mc_mul(c, d)) etc.) */
+static inline mc_t mc_dot2(mc_t a, mc_t b, mc_t c, mc_t d) { return a * b + c * d; }
+static inline mc_t mc_cross2(mc_t a, mc_t b, mc_t c, mc_t d) { return a * b - c * d; }
+static inline mc_t mc_mac(mc_t acc, mc_t a, mc_t b) { return acc + a * b; }
 static inline mc_t mc_div_i(mc_t a, int32_t n) { return mc_div(a, (float)n); }
 static inline mc_t mc_from_i(int32_t n) { return (float)n; }
+/* num / den, correctly rounded for |num|, |den| < 2^24 (both exact in
+ * float, one IEEE division); 0 if den == 0. */
 static inline mc_t mc_ratio_i(int32_t num, int32_t den) { return (den == 0) ? 0.0f : (float)num / (float)den; }
 /* nearest integer (ties to even), saturated to +-2^31 range */
 static inline int32_t mc_round_i(mc_t x)
@@ -131,18 +137,20 @@ static inline void mc_sincos(mc_t x, mc_t *s, mc_t *c)
 {
     /* quarter turns: pi/2 = P1 + P2 + P3 (Cody-Waite, cephes constants) */
     float xr = x;
-    if (!(xr > -65536.0f && xr < 65536.0f)) {
+    if (!(fabsf(xr) < 65536.0f)) {
         /* far outside any drive angle (cold path): exact fmodf by float(2 pi) */
         xr = fmodf(xr, MC_TWO_PI);
     }
-    const float k = mc__rint22(xr * 0.636619772367581f);
-    const int32_t q = (int32_t)k;
+    const float kb = xr * 0.636619772367581f + MC__MAGIC_RINT; /* k + 1.5 2^23 */
+    uint32_t kbits;
+    memcpy(&kbits, &kb, sizeof kbits); /* low bits: k mod 2^22 */
+    const float k = kb - MC__MAGIC_RINT;
     const float r = ((xr - k * 1.5703125f) - k * 4.837512969970703125e-4f) - k * 7.54978995489188216e-8f;
     const float z = r * r;
     const float sp = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * r + r;
     const float cp =
         ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z - 0.5f * z + 1.0f;
-    switch ((uint32_t)q & 3u) {
+    switch (kbits & 3u) {
     case 0u: *s = sp; *c = cp; break;
     case 1u: *s = cp; *c = -sp; break;
     case 2u: *s = -sp; *c = -cp; break;
@@ -197,8 +205,9 @@ static inline mc_t mc_wrap_pi(mc_t x)
     return mc__wrap_range(((x - k * MC__2PI_C1) - k * MC__2PI_C2) - k * MC__2PI_C3);
 }
 
-/* wrap(n_p theta) computed as if n_p theta were exact: theta is split into
- * 12 + 12 significant bits so that n_p theta_hi is exact (n_p < 2^12). */
+/* wrap(n_p theta) computed as if n_p theta were exact: theta = hi + lo
+ * with hi holding 24 - bits(n_p) significant bits, so n_p hi and n_p lo are
+ * exact products; then Cody-Waite with 2 pi = C1 + C2 + C3. */
 static inline mc_t mc_elec_angle(mc_t theta_mech_rad, int32_t n_p)
 {
     const float np = (float)n_p;
@@ -209,7 +218,9 @@ static inline mc_t mc_elec_angle(mc_t theta_mech_rad, int32_t n_p)
     if (!(e > -4.0e5f && e < 4.0e5f)) {
         return mc_wrap_pi(e);
     }
-    const float th_hi = mc__hi12(theta_mech_rad);
+    const uint32_t anp = (n_p < 0) ? (0u - (uint32_t)n_p) : (uint32_t)n_p;
+    const uint32_t nb = 32u - (uint32_t)__builtin_clz(anp | 1u);
+    const float th_hi = mc__clear_low_bits(theta_mech_rad, nb);
     const float th_lo = theta_mech_rad - th_hi;
     const float k = mc__rint22(e * MC__INV_2PI);
     const float r = ((np * th_hi - k * MC__2PI_C1) - k * MC__2PI_C2) + (np * th_lo - k * MC__2PI_C3);
