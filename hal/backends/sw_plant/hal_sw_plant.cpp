@@ -1,0 +1,135 @@
+// hal_sw_plant.cpp - software-plant backend of hal.h (see hal_sw_plant.h).
+#include "hal_sw_plant.h"
+
+#include <cmath>
+
+#include "mc_convert.h"
+
+namespace {
+
+struct Backend {
+    mcsim::StepperPlant* plant = nullptr;
+    mcsim::CurrentSensor* sensor = nullptr;
+    mcsim::Amplifier amp;
+    double ts_s = 1e-4;
+    hal_control_fn control = nullptr;
+    void* control_ctx = nullptr;
+    hal_sw_plant_monitor_fn monitor = nullptr;
+    void* monitor_ctx = nullptr;
+    bool started = false;
+    bool safe = false;
+    std::uint32_t tick = 0;
+    double t_start_s = 0.0;  // plant time at hal_start
+    hal_sw_plant_period_t last{};
+    const char* error = "";
+};
+
+// One backend per process, like the one power stage of a real board.
+Backend g_hal;
+
+}  // namespace
+
+void hal_sw_plant_attach(mcsim::StepperPlant* plant, mcsim::CurrentSensor* sensor,
+                         const mcsim::Amplifier& amp, double ts_s)
+{
+    g_hal = Backend{};
+    g_hal.plant = plant;
+    g_hal.sensor = sensor;
+    g_hal.amp = amp;
+    g_hal.ts_s = ts_s;
+}
+
+void hal_sw_plant_detach(void) { g_hal = Backend{}; }
+
+void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
+{
+    g_hal.monitor = fn;
+    g_hal.monitor_ctx = ctx;
+}
+
+bool hal_sw_plant_in_safe_state(void) { return g_hal.safe; }
+
+const hal_sw_plant_period_t* hal_sw_plant_last_period(void) { return &g_hal.last; }
+
+std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
+{
+    if (g_hal.plant == nullptr || g_hal.sensor == nullptr || !g_hal.started) {
+        g_hal.error = "hal_sw_plant_run: no plant attached or hal_start not called";
+        return 0;
+    }
+    mcsim::StepperPlant& plant = *g_hal.plant;
+    hal_sw_plant_period_t& p = g_hal.last;
+    for (std::uint32_t k = 0; k < n_periods; ++k) {
+        p.tick = g_hal.tick;
+        // Time from the tick count, not an accumulated sum.
+        p.t_s = g_hal.t_start_s + static_cast<double>(g_hal.tick) * g_hal.ts_s;
+        g_hal.sensor->measure(plant.i_a_A(), plant.i_b_A(), &p.i_a_meas_A, &p.i_b_meas_A);
+
+        p.v_a_cmd_V = 0.0;
+        p.v_b_cmd_V = 0.0;
+        p.control_called = !g_hal.safe && g_hal.control != nullptr;
+        if (p.control_called) {
+            hal_sample_t in;
+            in.i_a_A = mcsim::to_mc(p.i_a_meas_A);
+            in.i_b_A = mcsim::to_mc(p.i_b_meas_A);
+            in.tick = g_hal.tick;
+            hal_command_t out;
+            out.v_a_V = mcsim::to_mc(0.0);
+            out.v_b_V = mcsim::to_mc(0.0);
+            g_hal.control(g_hal.control_ctx, &in, &out);
+            // The callback may have called hal_safe_state(): 0 V from now on.
+            if (!g_hal.safe) {
+                p.v_a_cmd_V = mcsim::to_double(out.v_a_V);
+                p.v_b_cmd_V = mcsim::to_double(out.v_b_V);
+            }
+        }
+        p.v_a_V = g_hal.amp.apply(p.v_a_cmd_V);
+        p.v_b_V = g_hal.amp.apply(p.v_b_cmd_V);
+
+        if (g_hal.monitor != nullptr) {
+            g_hal.monitor(g_hal.monitor_ctx, &p);
+        }
+        plant.step(p.v_a_V, p.v_b_V, g_hal.ts_s);
+        ++g_hal.tick;
+    }
+    return n_periods;
+}
+
+extern "C" {
+
+uint32_t hal_control_rate_hz(void)
+{
+    return static_cast<uint32_t>(std::lround(1.0 / g_hal.ts_s));
+}
+
+bool hal_start(hal_control_fn fn, void* ctx)
+{
+    if (g_hal.plant == nullptr || g_hal.sensor == nullptr) {
+        g_hal.error = "hal_start: no plant attached (call hal_sw_plant_attach first)";
+        return false;
+    }
+    if (fn == nullptr) {
+        g_hal.error = "hal_start: control callback is NULL";
+        return false;
+    }
+    g_hal.control = fn;
+    g_hal.control_ctx = ctx;
+    g_hal.started = true;
+    g_hal.safe = false;
+    g_hal.tick = 0;
+    g_hal.t_start_s = g_hal.plant->time_s();
+    return true;
+}
+
+void hal_safe_state(void) { g_hal.safe = true; }
+
+uint32_t hal_time_us(void)
+{
+    // Wraps like the 32-bit microsecond counter of a real board.
+    const double us = static_cast<double>(g_hal.tick) * g_hal.ts_s * 1e6;
+    return static_cast<uint32_t>(static_cast<std::uint64_t>(std::llround(us)));
+}
+
+const char* hal_last_error(void) { return g_hal.error; }
+
+}  // extern "C"

@@ -1,0 +1,60 @@
+// hal_sw_plant.h - extras of the software-plant HAL backend (host tests and
+// the simulator). The backend implements hal/include/hal/hal.h by stepping
+// a simulated motor: each period it samples the currents through the
+// sensor model, calls the registered control callback, passes the returned
+// voltages through the amplifier model and integrates the plant over the
+// period with those voltages held. Time is simulated: nothing waits on a
+// clock, and hal_sw_plant_run() advances as fast as the host allows.
+//
+// Typical use:
+//   hal_sw_plant_attach(&plant, &sensor, amp, 1e-4);
+//   hal_start(my_callback, &my_ctx);
+//   hal_sw_plant_run(n);  // n periods, synchronously
+#ifndef HAL_SW_PLANT_H
+#define HAL_SW_PLANT_H
+
+#include <cstdint>
+
+#include "hal/hal.h"
+#include "model/amplifier.h"
+#include "model/current_sensor.h"
+#include "model/stepper_plant.h"
+
+// What happened in one period, in double precision (for logs and tests).
+struct hal_sw_plant_period_t {
+    std::uint32_t tick;               // period index since hal_start
+    double t_s;                       // plant time at the start of the period (sampling instant)
+    double i_a_meas_A, i_b_meas_A;    // sensor output handed to the callback
+    double v_a_cmd_V, v_b_cmd_V;      // callback output (0 after hal_safe_state)
+    double v_a_V, v_b_V;              // amplifier output held over the period
+    bool control_called;              // false once hal_safe_state() was called
+};
+
+// Called once per period after the control callback and before the plant is
+// advanced, so the plant still shows the state at the sampling instant.
+typedef void (*hal_sw_plant_monitor_fn)(void* ctx, const hal_sw_plant_period_t* period);
+
+// Connects the backend to a plant and a sensor (not owned; they must outlive
+// the run). ts_s is the control period: hal_control_rate_hz() = 1/ts_s.
+void hal_sw_plant_attach(mcsim::StepperPlant* plant, mcsim::CurrentSensor* sensor,
+                         const mcsim::Amplifier& amp, double ts_s);
+
+// Disconnects the plant and resets the backend (callback, tick, monitor).
+void hal_sw_plant_detach(void);
+
+// Optional observer of every period; pass nullptr to remove.
+void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx);
+
+// Runs n periods synchronously and returns how many ran (0 if no plant is
+// attached or hal_start() was not called). After hal_safe_state() the plant
+// keeps running with 0 V on both phases (the amplifiers hold 0 V, the
+// windings stay connected) and the callback is no longer called.
+std::uint32_t hal_sw_plant_run(std::uint32_t n_periods);
+
+// True after hal_safe_state() (until the next hal_start()).
+bool hal_sw_plant_in_safe_state(void);
+
+// The last period, valid after at least one hal_sw_plant_run() period.
+const hal_sw_plant_period_t* hal_sw_plant_last_period(void);
+
+#endif  // HAL_SW_PLANT_H

@@ -1,0 +1,39 @@
+#include "model/load_profile.h"
+
+namespace mcsim {
+
+LoadProfile::LoadProfile(const std::vector<LoadStep>& steps)
+{
+    double level = 0.0;
+    for (const LoadStep& s : steps) {
+        knot_t_.push_back(s.t_s);
+        knot_v_.push_back(level);
+        knot_t_.push_back(s.t_s + s.ramp_s);
+        knot_v_.push_back(s.torque_Nm);
+        level = s.torque_Nm;
+    }
+}
+
+double LoadProfile::torque_Nm(double t_s) const
+{
+    const std::size_t n = knot_t_.size();
+    if (n == 0 || t_s < knot_t_[0]) {
+        return 0.0;
+    }
+    // A handful of knots at most: a linear scan beats a binary search here.
+    std::size_t k = 0;
+    while (k + 1 < n && knot_t_[k + 1] <= t_s) {
+        ++k;
+    }
+    if (k + 1 == n) {
+        return knot_v_[k];
+    }
+    const double dt = knot_t_[k + 1] - knot_t_[k];
+    if (dt <= 0.0) {
+        return knot_v_[k + 1];
+    }
+    const double w = (t_s - knot_t_[k]) / dt;
+    return knot_v_[k] + w * (knot_v_[k + 1] - knot_v_[k]);
+}
+
+}  // namespace mcsim

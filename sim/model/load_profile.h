@@ -1,0 +1,33 @@
+// load_profile.h - external load torque T_load(t) of the plant: piecewise
+// constant steps, each optionally reached by a linear ramp.
+#ifndef MCSIM_MODEL_LOAD_PROFILE_H
+#define MCSIM_MODEL_LOAD_PROFILE_H
+
+#include <vector>
+
+namespace mcsim {
+
+struct LoadStep {
+    double t_s = 0.0;        // when the change starts
+    double torque_Nm = 0.0;  // level reached (positive opposes positive speed)
+    double ramp_s = 0.0;     // 0 = a step; > 0 = linear ramp from the previous level
+};
+
+class LoadProfile {
+public:
+    LoadProfile() = default;
+    // Steps must be sorted with t_s[i+1] >= t_s[i] + ramp_s[i] (the scenario
+    // parser checks this); the level is 0 before the first step.
+    explicit LoadProfile(const std::vector<LoadStep>& steps);
+
+    double torque_Nm(double t_s) const;
+    bool empty() const { return knot_t_.empty(); }
+
+private:
+    // Knots of the piecewise-linear profile; two knots at the same time make a step.
+    std::vector<double> knot_t_, knot_v_;
+};
+
+}  // namespace mcsim
+
+#endif  // MCSIM_MODEL_LOAD_PROFILE_H

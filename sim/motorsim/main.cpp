@@ -1,0 +1,245 @@
+// motorsim - closed-loop simulation of the paper-000 sensorless drive on the
+// software plant: scenario in, CSV log + metrics (+ PNG plot) out.
+//
+//   motorsim --scenario FILE [--out DIR] [--metrics-out FILE.json]
+//            [--seed N] [--no-plot] [--quiet]
+//
+// Each 100 us period the sw_plant HAL backend samples the currents through
+// the sensor model, calls the drive (drive_glue.cpp), clamps the voltages in
+// the amplifier model and integrates the plant with them held. Everything is
+// validated before the run and nothing is written before the run is over.
+// Exit status: 0 ok, 1 run or I/O failure, 2 bad command line or scenario.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include "drive/drive.h"
+#include "hal/hal.h"
+#include "hal_sw_plant.h"
+#include "model/amplifier.h"
+#include "model/current_sensor.h"
+#include "model/reference.h"
+#include "model/stepper_plant.h"
+#include "motorsim/drive_glue.h"
+#include "motorsim/outputs.h"
+#include "motorsim/recorder.h"
+#include "motorsim_config.h"
+#include "scenario/design_input.h"
+#include "scenario/scenario.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// 4e6 samples = 400 s at 10 kHz, ~1.1 GB of log.
+constexpr std::uint32_t kMaxLoggedSamples = 4000000;
+
+struct Options {
+    std::string scenario;
+    std::string out_dir = "out";
+    std::string metrics_out;
+    std::int64_t seed = 0;
+    bool seed_given = false;
+    bool no_plot = false;
+    bool quiet = false;
+};
+
+// Refuses output paths that cannot work before anything runs; creates nothing.
+void check_output_dir(const std::string& dir, const char* what)
+{
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+        throw std::invalid_argument(std::string(what) + ": '" + dir + "' exists and is not a directory");
+    }
+}
+
+// Percentage on stderr for long runs: in place on a terminal, else every 25%.
+class Progress {
+public:
+    Progress(bool enabled, std::uint32_t total) : enabled_(enabled), tty_(::isatty(2) != 0), total_(total) {}
+
+    void update(std::uint32_t done, double wall_s)
+    {
+        if (!enabled_ || total_ == 0) {
+            return;
+        }
+        const double frac = static_cast<double>(done) / static_cast<double>(total_);
+        if (!active_) {
+            // Only runs expected to take more than ~2 s of wall time report.
+            if (frac <= 0.0 || wall_s / frac < 2.0) {
+                return;
+            }
+            active_ = true;
+        }
+        const int pct = static_cast<int>(100.0 * frac);
+        if (tty_) {
+            if (pct != last_pct_) {
+                std::fprintf(stderr, "\rmotorsim: %3d%%", pct);
+                std::fflush(stderr);
+            }
+        } else if (pct / 25 != last_pct_ / 25) {
+            std::fprintf(stderr, "motorsim: %d%%\n", pct / 25 * 25);
+        }
+        last_pct_ = pct;
+    }
+
+    void finish()
+    {
+        if (active_ && tty_) {
+            std::fputc('\n', stderr);
+        }
+    }
+
+private:
+    bool enabled_;
+    bool tty_;
+    std::uint32_t total_;
+    bool active_ = false;
+    int last_pct_ = 0;
+};
+
+int run(const Options& opt)
+{
+    // ---- everything that can be wrong with the input, before any output --
+    mcsim::Scenario sc = mcsim::load_scenario(opt.scenario);
+    if (opt.seed_given) {
+        sc.seed = static_cast<std::uint64_t>(opt.seed);
+    }
+    check_output_dir(opt.out_dir, "--out");
+    const std::string csv_path = (fs::path(opt.out_dir) / (sc.stem + ".csv")).string();
+    const std::string png_path = (fs::path(opt.out_dir) / (sc.stem + ".png")).string();
+    const std::string json_path =
+        opt.metrics_out.empty() ? (fs::path(opt.out_dir) / (sc.stem + "_metrics.json")).string() : opt.metrics_out;
+    if (fs::path(json_path).has_parent_path()) {
+        check_output_dir(fs::path(json_path).parent_path().string(), "--metrics-out");
+    }
+
+    // The whole log stays in memory until the run is over (no file I/O in
+    // the loop): ~300 bytes per sample. Refuse runs that would not fit.
+    if (sc.n_ticks() > kMaxLoggedSamples) {
+        throw std::invalid_argument(sc.path + ": run.duration_s: " + std::to_string(sc.n_ticks()) +
+                                    " samples exceed the in-memory log limit of " +
+                                    std::to_string(kMaxLoggedSamples) + " (" +
+                                    std::to_string(static_cast<int>(kMaxLoggedSamples * sc.ts_s)) +
+                                    " s at this Ts_s)");
+    }
+
+    // drive_t is a few kB: heap, not stack.
+    auto drive = std::make_unique<drive_t>();
+    mcsim::design_and_init_drive(sc, drive.get());
+
+    mcsim::StepperPlant plant(sc.motor, mcsim::LoadProfile(sc.load), sc.substeps);
+    mcsim::StepperPlant::State x0 = mcsim::StepperPlant::State::Zero();
+    x0[mcsim::StepperPlant::kTheta] = sc.theta0_rad;
+    plant.reset(x0, 0.0);
+    mcsim::CurrentSensor sensor(sc.sensor, sc.seed);
+    mcsim::Amplifier amp;
+    amp.v_max_V = sc.v_max_V;
+    const mcsim::Reference ref(sc.segments, 0.0);
+    mcsim::Recorder rec(sc, plant, *drive, ref);
+
+    hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
+    hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, &rec);
+    if (!hal_start(&mcsim::drive_control_callback, drive.get())) {
+        throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+    }
+
+    // ---- the loop: plant + drive + metrics only --------------------------
+    const std::uint32_t n_total = sc.n_ticks();
+    const std::uint32_t chunk = std::max<std::uint32_t>(1, n_total / 100);
+    Progress progress(!opt.quiet, n_total);
+    const auto t0 = std::chrono::steady_clock::now();
+    double wall_s = 0.0;
+    for (std::uint32_t done = 0; done < n_total;) {
+        const std::uint32_t n = std::min(chunk, n_total - done);
+        hal_sw_plant_run(n);
+        done += n;
+        wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        progress.update(done, wall_s);
+    }
+    progress.finish();
+    hal_safe_state();
+    hal_sw_plant_detach();
+    const mcsim::MetricList metrics = rec.metrics(wall_s);
+
+    // ---- outputs ----------------------------------------------------------
+    fs::create_directories(opt.out_dir);
+    if (fs::path(json_path).has_parent_path()) {
+        fs::create_directories(fs::path(json_path).parent_path());
+    }
+    mcsim::write_csv_atomic(csv_path, rec.data(), rec.size());
+    mcsim::write_metrics_json_atomic(json_path, metrics);
+    if (!opt.quiet) {
+        mcsim::print_metrics(stdout, metrics);
+        std::fflush(stdout);
+        std::fprintf(stderr, "motorsim: wrote %s, %s\n", csv_path.c_str(), json_path.c_str());
+    }
+    if (!opt.no_plot) {
+        const char* env_py = std::getenv("MC_PYTHON");
+        const std::string python = (env_py != nullptr && env_py[0] != '\0') ? env_py : MOTORSIM_PYTHON;
+        const std::string why = mcsim::run_plot(python, MOTORSIM_PLOT_SCRIPT, csv_path, png_path);
+        if (!why.empty()) {
+            std::fprintf(stderr, "warning: plot skipped: %s\n", why.c_str());
+        } else if (!opt.quiet) {
+            std::fprintf(stderr, "motorsim: wrote %s\n", png_path.c_str());
+        }
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"motorsim: closed-loop simulation of the paper-000 sensorless stepper drive", "motorsim"};
+    Options opt;
+    app.add_option("--scenario", opt.scenario, "scenario TOML file (format: sim/scenarios/README.md)")
+        ->required()
+        ->type_name("FILE");
+    app.add_option("--out", opt.out_dir, "output directory for <stem>.csv, <stem>_metrics.json, <stem>.png")
+        ->type_name("DIR")
+        ->capture_default_str();
+    app.add_option("--metrics-out", opt.metrics_out, "metrics JSON path (default DIR/<stem>_metrics.json)")
+        ->type_name("FILE.json");
+    // Signed so that "-3" is an error rather than a wrapped 2^64 - 3.
+    CLI::Option* seed_opt = app.add_option("--seed", opt.seed, "noise seed >= 0, overrides [run] seed")
+                                ->type_name("N")
+                                ->check(CLI::Validator(
+                                    [](std::string& v) {
+                                        return (!v.empty() && v[0] == '-') ? "must be >= 0 (got " + v + ")"
+                                                                           : std::string();
+                                    },
+                                    ">= 0"));
+    app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
+    app.add_flag("--quiet", opt.quiet, "print nothing but warnings and errors");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "error: %s (see motorsim --help)\n", e.what());
+        return 2;
+    }
+    opt.seed_given = seed_opt->count() > 0;
+
+    try {
+        return run(opt);
+    } catch (const mcsim::ScenarioError& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
+    } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,113 @@
+// recorder.h - per-sample log and metrics of a closed-loop run. One
+// Recorder::on_period() per control period (installed as the sw_plant
+// backend's monitor): it reads the true plant state at the sampling instant
+// and the drive's telemetry of the same sample, appends one preallocated row
+// and updates the metrics. No allocation and no I/O per sample.
+#ifndef MCSIM_MOTORSIM_RECORDER_H
+#define MCSIM_MOTORSIM_RECORDER_H
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "drive/drive.h"
+#include "hal_sw_plant.h"
+#include "model/reference.h"
+#include "model/stepper_plant.h"
+#include "scenario/scenario.h"
+
+namespace mcsim {
+
+// CSV columns, in file order (names in kColumnNames).
+enum Column : int {
+    kColT,
+    kColMode,
+    kColThetaRef,
+    kColOmegaRef,
+    kColAccelRef,
+    kColTheta,
+    kColThetaEst,
+    kColOmega,
+    kColOmegaEst,
+    kColAccel,
+    kColAccelEst,
+    kColLoadTrue,
+    kColLoadEst,
+    kColIa,
+    kColIb,
+    kColIaMeas,
+    kColIbMeas,
+    kColIf,
+    kColIg,
+    kColIfHat,
+    kColIgHat,
+    kColDf,
+    kColDg,
+    kColDfHat,
+    kColDgHat,
+    kColVa,
+    kColVb,
+    kColVf,
+    kColVg,
+    kColDeltaThetaEst,
+    kColJumpCount,
+    kColDeltaTheta,
+    kColIfRef,
+    kColIgRef,
+    kColFault,
+    kNumColumns
+};
+
+extern const char* const kColumnNames[kNumColumns];
+
+using Row = std::array<double, kNumColumns>;
+
+// One metric: an integer or a real (NaN allowed, written as null in JSON).
+using MetricValue = std::variant<std::int64_t, double>;
+using MetricList = std::vector<std::pair<std::string, MetricValue>>;
+
+class Recorder {
+public:
+    Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref);
+
+    // hal_sw_plant_monitor_fn; ctx is the Recorder.
+    static void monitor(void* ctx, const hal_sw_plant_period_t* p);
+
+    // The rows recorded so far (the log is sized for the scenario's n_ticks).
+    const Row* data() const { return rows_.data(); }
+    std::size_t size() const { return static_cast<std::size_t>(n_); }
+
+    // Final metrics; wall_loop_s is the wall time of the simulation loop.
+    MetricList metrics(double wall_loop_s) const;
+
+private:
+    void on_period(const hal_sw_plant_period_t& p);
+
+    const Scenario& sc_;
+    const StepperPlant& plant_;
+    const drive_t& drive_;
+    const Reference& ref_;
+    double n_p_;
+    double K_over_L_;           // true plant, for d_f, d_g of eq. (23)
+    double inv_L_drive_;        // drive model, for d_hat = e_hat / L
+    double omega_lim_rad_s_;
+    std::vector<Row> rows_;
+
+    // metric accumulators
+    std::uint64_t n_ = 0, n_closed_ = 0, n_mode_closed_ = 0, n_peak_ = 0, n_vsat_ = 0;
+    double theta_track_max_ = 0.0, theta_est_max_ = 0.0, current_obs_max_ = 0.0, omega_est_peak_max_ = 0.0;
+    double omega_est_max_ = 0.0, theta_track_ss_ = 0.0, theta_est_ss_ = 0.0, omega_est_ss_ = 0.0;
+    double max_abs_current_ = 0.0, max_abs_voltage_ = 0.0, ref_mismatch_max_ = 0.0;
+    double theta_track_max_all_ = 0.0;
+    std::int64_t mode_switches_ = 0;
+    int last_mode_ = -1;
+    std::int64_t fault_ = 0;
+    double first_switch_t_ = -1.0;
+};
+
+}  // namespace mcsim
+
+#endif  // MCSIM_MOTORSIM_RECORDER_H

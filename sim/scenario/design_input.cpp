@@ -1,0 +1,141 @@
+#include "scenario/design_input.h"
+
+#include <cstring>
+
+namespace mcsim {
+namespace {
+
+struct GainField {
+    const char* key;
+    double drive_gain_override_t::*member;
+};
+
+struct BoundField {
+    const char* key;
+    double drive_design_input_t::*member;
+};
+
+// Keep in step with drive_gain_override_t; the scenario parser accepts
+// exactly these names.
+const GainField kGainFields[] = {
+    {"emf_alpha_A_s2", &drive_gain_override_t::emf_alpha_A_s2},
+    {"emf_lambda", &drive_gain_override_t::emf_lambda},
+    {"emf_l_per_s", &drive_gain_override_t::emf_l_per_s},
+    {"mech_alpha_rad_s3", &drive_gain_override_t::mech_alpha_rad_s3},
+    {"mech_lambda", &drive_gain_override_t::mech_lambda},
+    {"mech_l_per_s", &drive_gain_override_t::mech_l_per_s},
+    {"cur_alpha_A_s2", &drive_gain_override_t::cur_alpha_A_s2},
+    {"cur_lambda", &drive_gain_override_t::cur_lambda},
+    {"k_surface_per_s", &drive_gain_override_t::k_surface_per_s},
+    {"tw_lambda_m_rad_s3", &drive_gain_override_t::tw_lambda_m_rad_s3},
+    {"tw_lambda_M_rad_s3", &drive_gain_override_t::tw_lambda_M_rad_s3},
+    {"injection_filter_s", &drive_gain_override_t::injection_filter_s},
+    {"blend_tau_s", &drive_gain_override_t::blend_tau_s},
+    {"current_blend_tau_s", &drive_gain_override_t::current_blend_tau_s},
+};
+
+const BoundField kBoundFields[] = {
+    {"bound_accel_rad_s2", &drive_design_input_t::bound_accel_rad_s2},
+    {"bound_speed_rad_s", &drive_design_input_t::bound_speed_rad_s},
+    {"bound_delta_omega_rad_s", &drive_design_input_t::bound_delta_omega_rad_s},
+    {"bound_load_Nm", &drive_design_input_t::bound_load_Nm},
+    {"bound_load_rate_Nm_s", &drive_design_input_t::bound_load_rate_Nm_s},
+    {"bound_model_error_V", &drive_design_input_t::bound_model_error_V},
+};
+
+// Every double of drive_gain_override_t must be reachable from [gains]: a
+// field added to the struct without a row here fails this check at compile
+// time instead of being silently impossible to override.
+static_assert(sizeof(kGainFields) / sizeof(kGainFields[0]) == sizeof(drive_gain_override_t) / sizeof(double),
+              "kGainFields must list every field of drive_gain_override_t");
+
+template <typename Table>
+std::vector<std::string> keys_of(const Table& t)
+{
+    std::vector<std::string> k;
+    for (const auto& f : t) {
+        k.emplace_back(f.key);
+    }
+    return k;
+}
+
+drive_motor_si_t to_design_motor(const MotorParams& m)
+{
+    drive_motor_si_t d;
+    d.L_H = m.L_H;
+    d.R_ohm = m.R_ohm;
+    d.K_Nm_per_A = m.K_Nm_per_A;
+    d.J_kgm2 = m.J_kgm2;
+    d.fv_Nms_per_rad = m.fv_Nms_per_rad;
+    d.n_p = m.n_p;
+    return d;
+}
+
+}  // namespace
+
+const std::vector<std::string>& gain_override_keys()
+{
+    static const std::vector<std::string> k = keys_of(kGainFields);
+    return k;
+}
+
+const std::vector<std::string>& design_bound_keys()
+{
+    static const std::vector<std::string> k = keys_of(kBoundFields);
+    return k;
+}
+
+void make_design_input(const Scenario& sc, drive_design_input_t* in)
+{
+    std::memset(in, 0, sizeof(*in));
+    drive_design_defaults(in);
+    in->motor = to_design_motor(sc.drive_model);
+    in->ts_s = sc.ts_s;
+    in->v_max_V = sc.v_max_V;
+    in->i_max_A = sc.i_max_A;
+    in->i_trip_A = sc.i_trip_A;
+    in->omega_lim_rad_s = sc.omega_lim_rad_s;
+    if (sc.i_open_loop_A > 0.0) {
+        in->i_open_loop_A = sc.i_open_loop_A;
+    }
+    if (sc.load_feedforward >= 0) {
+        in->load_feedforward = sc.load_feedforward;
+    }
+    in->n_segments = static_cast<int>(sc.segments.size());
+    for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
+        in->segments[k].t_start_s = sc.segments[k].t_start_s;
+        in->segments[k].duration_s = sc.segments[k].duration_s;
+        in->segments[k].theta_to_rad = sc.segments[k].theta_to_rad;
+    }
+    for (const auto& kv : sc.bounds) {
+        for (const BoundField& f : kBoundFields) {
+            if (kv.first == f.key) {
+                in->*(f.member) = kv.second;
+            }
+        }
+    }
+    for (const auto& kv : sc.gains) {
+        for (const GainField& f : kGainFields) {
+            if (kv.first == f.key) {
+                in->override.*(f.member) = kv.second;
+            }
+        }
+    }
+}
+
+void design_and_init_drive(const Scenario& sc, drive_t* drive)
+{
+    drive_design_input_t in;
+    make_design_input(sc, &in);
+    drive_config_t cfg;
+    std::memset(&cfg, 0, sizeof(cfg));
+    char err[256] = {0};
+    if (!drive_design(&in, &cfg, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "drive_design rejected the input"));
+    }
+    if (!drive_init(drive, &cfg)) {
+        throw ScenarioError(sc.path + ": design: drive_init rejected the derived configuration");
+    }
+}
+
+}  // namespace mcsim

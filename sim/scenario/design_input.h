@@ -1,0 +1,30 @@
+// design_input.h - maps a scenario onto drive_design_input_t
+// (firmware/design/drive_design.h), the one place that knows the design
+// field names the [gains] and [bounds] tables may override.
+#ifndef MCSIM_SCENARIO_DESIGN_INPUT_H
+#define MCSIM_SCENARIO_DESIGN_INPUT_H
+
+#include <string>
+#include <vector>
+
+#include "design/drive_design.h"
+#include "scenario/scenario.h"
+
+namespace mcsim {
+
+// Keys accepted in [gains]: the fields of drive_gain_override_t.
+const std::vector<std::string>& gain_override_keys();
+// Keys accepted in [bounds]: the bound_* fields of drive_design_input_t.
+const std::vector<std::string>& design_bound_keys();
+
+// drive_design_defaults(), then the drive model, sample time, limits,
+// segments and the scenario's overrides.
+void make_design_input(const Scenario& sc, drive_design_input_t* in);
+
+// make_design_input + drive_design + drive_init. Throws ScenarioError
+// ("FILE: design: reason") if the design or the drive rejects the input.
+void design_and_init_drive(const Scenario& sc, drive_t* drive);
+
+}  // namespace mcsim
+
+#endif  // MCSIM_SCENARIO_DESIGN_INPUT_H

@@ -1,0 +1,503 @@
+// scenario.cpp - TOML scenario parsing and validation (format: sim/scenarios/README.md).
+#include "scenario/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include <toml++/toml.h>
+
+#include "design/drive_design.h"
+#include "scenario/design_input.h"
+
+namespace mcsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fmt_num(double v)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%.6g", v);
+    return buf;
+}
+
+const char* type_name(const toml::node& n)
+{
+    switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::date:
+    case toml::node_type::time:
+    case toml::node_type::date_time: return "a date/time";
+    default: return "nothing";
+    }
+}
+
+[[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& why)
+{
+    throw ScenarioError(file + ": " + key + ": " + why);
+}
+
+// A view of one TOML table that knows its file and its dotted key prefix,
+// so every error can name both.
+class View {
+public:
+    View(const toml::table& t, std::string file, std::string prefix)
+        : t_(t), file_(std::move(file)), prefix_(std::move(prefix))
+    {
+    }
+
+    std::string key(const std::string& k) const { return prefix_.empty() ? k : prefix_ + "." + k; }
+    const std::string& file() const { return file_; }
+    [[noreturn]] void fail(const std::string& k, const std::string& why) const { mcsim::fail(file_, key(k), why); }
+
+    // Unknown keys first: a typo then reads "unknown key", not "missing".
+    void only(const std::vector<std::string>& allowed) const
+    {
+        for (auto&& kv : t_) {
+            const std::string k(kv.first.str());
+            if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
+                fail(k, "unknown key");
+            }
+        }
+    }
+
+    bool has(const std::string& k) const { return t_.contains(k); }
+
+    std::optional<double> number(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        double v = 0.0;
+        if (n->is_floating_point()) {
+            v = n->as_floating_point()->get();
+        } else if (n->is_integer()) {
+            v = static_cast<double>(n->as_integer()->get());
+        } else {
+            fail(k, std::string("expected a number (got ") + type_name(*n) + ")");
+        }
+        if (!std::isfinite(v)) {
+            fail(k, "must be finite (got " + fmt_num(v) + ")");
+        }
+        return v;
+    }
+
+    double number_req(const std::string& k) const
+    {
+        const auto v = number(k);
+        if (!v) {
+            fail(k, "missing required field");
+        }
+        return *v;
+    }
+
+    std::optional<std::int64_t> integer(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        if (!n->is_integer()) {
+            fail(k, std::string("expected an integer (got ") + type_name(*n) + ")");
+        }
+        return n->as_integer()->get();
+    }
+
+    std::optional<bool> boolean(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        if (!n->is_boolean()) {
+            fail(k, std::string("expected true or false (got ") + type_name(*n) + ")");
+        }
+        return n->as_boolean()->get();
+    }
+
+    std::optional<std::string> string(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        if (!n->is_string()) {
+            fail(k, std::string("expected a string (got ") + type_name(*n) + ")");
+        }
+        return n->as_string()->get();
+    }
+
+    std::optional<View> table(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        if (!n->is_table()) {
+            fail(k, std::string("expected a table (got ") + type_name(*n) + ")");
+        }
+        return View(*n->as_table(), file_, key(k));
+    }
+
+    // An array whose elements must all be tables (inline or [[...]]).
+    std::optional<std::vector<View>> tables(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        if (!n->is_array()) {
+            fail(k, std::string("expected an array of tables (got ") + type_name(*n) + ")");
+        }
+        std::vector<View> out;
+        const toml::array& a = *n->as_array();
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            const std::string ki = key(k) + "[" + std::to_string(i) + "]";
+            if (!a[i].is_table()) {
+                mcsim::fail(file_, ki, std::string("expected a table (got ") + type_name(a[i]) + ")");
+            }
+            out.emplace_back(*a[i].as_table(), file_, ki);
+        }
+        return out;
+    }
+
+private:
+    const toml::table& t_;
+    std::string file_;
+    std::string prefix_;
+};
+
+// --- value checks: each names the key and shows the offending value -------
+void gt(const View& v, const std::string& k, double x, double lo)
+{
+    if (!(x > lo)) {
+        v.fail(k, "must be > " + fmt_num(lo) + " (got " + fmt_num(x) + ")");
+    }
+}
+void ge(const View& v, const std::string& k, double x, double lo)
+{
+    if (!(x >= lo)) {
+        v.fail(k, "must be >= " + fmt_num(lo) + " (got " + fmt_num(x) + ")");
+    }
+}
+void le(const View& v, const std::string& k, double x, double hi)
+{
+    if (!(x <= hi)) {
+        v.fail(k, "must be <= " + fmt_num(hi) + " (got " + fmt_num(x) + ")");
+    }
+}
+
+toml::table parse_toml(const std::string& path)
+{
+    try {
+        return toml::parse_file(path);
+    } catch (const toml::parse_error& e) {
+        const auto& b = e.source().begin;
+        std::string where = path;
+        if (b.line > 0) {
+            where += ":" + std::to_string(b.line) + ":" + std::to_string(b.column);
+        }
+        std::string d(e.description());
+        std::replace(d.begin(), d.end(), '\n', ' ');
+        throw ScenarioError(where + ": " + d);
+    }
+}
+
+// Motor fields shared by motor files, [motor] overrides and [drive_model].
+// `required` makes the core fields mandatory (motor files); `with_friction`
+// admits the Coulomb keys, which only the plant has.
+void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_friction)
+{
+    auto num = [&](const char* k, double* dst) {
+        const auto x = v.number(k);
+        if (x) {
+            *dst = *x;
+        } else if (required) {
+            v.fail(k, "missing required field");
+        }
+        return x.has_value();
+    };
+    if (num("L_H", &m->L_H)) gt(v, "L_H", m->L_H, 0.0);
+    if (num("R_ohm", &m->R_ohm)) ge(v, "R_ohm", m->R_ohm, 0.0);
+    if (num("K_Nm_per_A", &m->K_Nm_per_A)) gt(v, "K_Nm_per_A", m->K_Nm_per_A, 0.0);
+    if (num("J_kgm2", &m->J_kgm2)) gt(v, "J_kgm2", m->J_kgm2, 0.0);
+    if (num("fv_Nms_per_rad", &m->fv_Nms_per_rad)) ge(v, "fv_Nms_per_rad", m->fv_Nms_per_rad, 0.0);
+    if (with_friction) {
+        const auto c = v.number("coulomb_Nm");
+        if (c) {
+            ge(v, "coulomb_Nm", *c, 0.0);
+            m->coulomb_Nm = *c;
+        }
+        const auto ws = v.number("coulomb_omega_s_rad_s");
+        if (ws) {
+            gt(v, "coulomb_omega_s_rad_s", *ws, 0.0);
+            m->coulomb_omega_s_rad_s = *ws;
+        }
+    }
+    const auto np = v.integer("n_p");
+    if (np) {
+        if (*np < 1 || *np > 10000) {
+            v.fail("n_p", "must be an integer in [1, 10000] (got " + std::to_string(*np) + ")");
+        }
+        m->n_p = static_cast<int>(*np);
+    } else if (required) {
+        v.fail("n_p", "missing required field");
+    }
+}
+
+const std::vector<std::string> kMotorFileKeys = {"name", "source", "description", "L_H", "R_ohm", "K_Nm_per_A",
+                                                 "J_kgm2", "fv_Nms_per_rad", "coulomb_Nm", "coulomb_omega_s_rad_s",
+                                                 "n_p"};
+
+MotorParams read_motor_file(const std::string& path)
+{
+    const toml::table t = parse_toml(path);
+    const View v(t, path, "");
+    v.only(kMotorFileKeys);
+    v.string("name");
+    v.string("source");
+    v.string("description");
+    MotorParams m;
+    read_motor_fields(v, &m, true, true);
+    return m;
+}
+
+}  // namespace
+
+std::uint32_t Scenario::n_ticks() const
+{
+    return static_cast<std::uint32_t>(std::llround(duration_s / ts_s));
+}
+
+MotorParams load_motor_file(const std::string& path) { return read_motor_file(path); }
+
+Scenario load_scenario(const std::string& path)
+{
+    Scenario sc;
+    sc.path = path;
+    sc.stem = fs::path(path).stem().string();
+
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+        throw ScenarioError(path + ": cannot open scenario file");
+    }
+    const toml::table root_t = parse_toml(path);
+    const View root(root_t, path, "");
+    root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
+               "trajectory", "gains", "bounds"});
+    sc.description = root.string("description").value_or("");
+
+    auto required_table = [&](const char* k) {
+        auto t = root.table(k);
+        if (!t) {
+            root.fail(k, "missing required table");
+        }
+        return *t;
+    };
+
+    // [run]
+    {
+        const View v = required_table("run");
+        v.only({"duration_s", "Ts_s", "seed", "substeps", "theta0_rad"});
+        sc.duration_s = v.number_req("duration_s");
+        gt(v, "duration_s", sc.duration_s, 0.0);
+        sc.ts_s = v.number_req("Ts_s");
+        gt(v, "Ts_s", sc.ts_s, 0.0);
+        le(v, "Ts_s", sc.ts_s, sc.duration_s);
+        // hal_time_us() and the firmware's tick counter are 32-bit.
+        if (sc.duration_s / sc.ts_s > 4.0e9) {
+            v.fail("duration_s", "more than 4e9 samples of Ts_s (got " + fmt_num(sc.duration_s / sc.ts_s) + ")");
+        }
+        if (const auto s = v.integer("seed")) {
+            if (*s < 0) {
+                v.fail("seed", "must be >= 0 (got " + std::to_string(*s) + ")");
+            }
+            sc.seed = static_cast<std::uint64_t>(*s);
+        }
+        if (const auto n = v.integer("substeps")) {
+            if (*n < 1 || *n > 1000) {
+                v.fail("substeps", "must be an integer in [1, 1000] (got " + std::to_string(*n) + ")");
+            }
+            sc.substeps = static_cast<int>(*n);
+        }
+        sc.theta0_rad = v.number("theta0_rad").value_or(0.0);
+    }
+
+    // [motor]: a motor file plus optional overrides
+    {
+        const View v = required_table("motor");
+        std::vector<std::string> allowed = kMotorFileKeys;
+        allowed.erase(allowed.begin(), allowed.begin() + 3);  // no name/source/description here
+        allowed.push_back("file");
+        v.only(allowed);
+        const auto file = v.string("file");
+        if (!file) {
+            v.fail("file", "missing required field");
+        }
+        // Relative to the scenario file, so scenarios work from any cwd.
+        fs::path mp(*file);
+        if (mp.is_relative()) {
+            mp = fs::path(path).parent_path() / mp;
+        }
+        sc.motor_file = mp.lexically_normal().string();
+        if (!fs::is_regular_file(sc.motor_file, ec)) {
+            v.fail("file", "cannot open motor file '" + sc.motor_file + "'");
+        }
+        sc.motor = read_motor_file(sc.motor_file);
+        read_motor_fields(v, &sc.motor, false, true);
+    }
+
+    // [drive_model]: what the drive is designed for; defaults to the plant.
+    sc.drive_model = sc.motor;
+    if (const auto v = root.table("drive_model")) {
+        v->only({"L_H", "R_ohm", "K_Nm_per_A", "J_kgm2", "fv_Nms_per_rad", "n_p"});
+        read_motor_fields(*v, &sc.drive_model, false, false);
+    }
+
+    // [supply]
+    {
+        const View v = required_table("supply");
+        v.only({"v_max_V"});
+        sc.v_max_V = v.number_req("v_max_V");
+        gt(v, "v_max_V", sc.v_max_V, 0.0);
+    }
+
+    // [limits]
+    {
+        const View v = required_table("limits");
+        v.only({"i_max_A", "i_trip_A", "omega_lim_rad_s", "i_open_loop_A"});
+        sc.i_max_A = v.number_req("i_max_A");
+        gt(v, "i_max_A", sc.i_max_A, 0.0);
+        sc.i_trip_A = v.number("i_trip_A").value_or(1.5 * sc.i_max_A);
+        if (v.has("i_trip_A")) {
+            ge(v, "i_trip_A", sc.i_trip_A, sc.i_max_A);
+        }
+        sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
+        gt(v, "omega_lim_rad_s", sc.omega_lim_rad_s, 0.0);
+        if (const auto i = v.number("i_open_loop_A")) {
+            gt(v, "i_open_loop_A", *i, 0.0);
+            le(v, "i_open_loop_A", *i, sc.i_max_A);
+            sc.i_open_loop_A = *i;
+        }
+    }
+
+    // [design] (optional): design switches that are neither gains nor bounds
+    if (const auto v = root.table("design")) {
+        v->only({"load_feedforward"});
+        if (const auto b = v->boolean("load_feedforward")) {
+            sc.load_feedforward = *b ? 1 : 0;
+        }
+    }
+
+    // [sensor] (optional: an ideal sensor)
+    if (const auto v = root.table("sensor")) {
+        v->only({"noise", "noise_A", "adc_bits", "adc_full_scale_A"});
+        const std::string kind = v->string("noise").value_or("none");
+        if (kind == "none") {
+            sc.sensor.noise = NoiseKind::kNone;
+        } else if (kind == "uniform") {
+            sc.sensor.noise = NoiseKind::kUniform;
+        } else if (kind == "gaussian") {
+            sc.sensor.noise = NoiseKind::kGaussian;
+        } else {
+            v->fail("noise", "must be \"none\", \"uniform\" or \"gaussian\" (got \"" + kind + "\")");
+        }
+        const auto n = v->number("noise_A");
+        if (n) {
+            ge(*v, "noise_A", *n, 0.0);
+            sc.sensor.noise_A = *n;
+        } else if (sc.sensor.noise != NoiseKind::kNone) {
+            v->fail("noise_A", "missing required field (noise is \"" + kind + "\")");
+        }
+        if (const auto b = v->integer("adc_bits")) {
+            if (*b < 0 || *b > 32) {
+                v->fail("adc_bits", "must be an integer in [0, 32] (got " + std::to_string(*b) + ")");
+            }
+            sc.sensor.adc_bits = static_cast<int>(*b);
+        }
+        const auto fsA = v->number("adc_full_scale_A");
+        if (fsA) {
+            gt(*v, "adc_full_scale_A", *fsA, 0.0);
+            sc.sensor.adc_full_scale_A = *fsA;
+        } else if (sc.sensor.adc_bits > 0) {
+            v->fail("adc_full_scale_A", "missing required field (adc_bits > 0)");
+        }
+    }
+
+    // [load] (optional: no external load)
+    if (const auto v = root.table("load")) {
+        v->only({"steps"});
+        if (const auto steps = v->tables("steps")) {
+            double t_free = 0.0;  // earliest start of the next step
+            for (const View& s : *steps) {
+                s.only({"t_s", "torque_Nm", "ramp_s"});
+                LoadStep ls;
+                ls.t_s = s.number_req("t_s");
+                ge(s, "t_s", ls.t_s, t_free);
+                ls.torque_Nm = s.number_req("torque_Nm");
+                ls.ramp_s = s.number("ramp_s").value_or(0.0);
+                ge(s, "ramp_s", ls.ramp_s, 0.0);
+                t_free = ls.t_s + ls.ramp_s;
+                sc.load.push_back(ls);
+            }
+        }
+    }
+
+    // [trajectory]: [[trajectory.segments]]
+    {
+        const View v = required_table("trajectory");
+        v.only({"segments"});
+        const auto segs = v.tables("segments");
+        if (!segs || segs->empty()) {
+            v.fail("segments", "missing required field (at least one [[trajectory.segments]])");
+        }
+        if (segs->size() > static_cast<std::size_t>(DRIVE_DESIGN_MAX_SEGMENTS)) {
+            v.fail("segments", "at most " + std::to_string(DRIVE_DESIGN_MAX_SEGMENTS) + " segments (got " +
+                                   std::to_string(segs->size()) + ")");
+        }
+        double t_free = 0.0;
+        for (const View& s : *segs) {
+            s.only({"t_start_s", "duration_s", "theta_to_rad"});
+            Segment g;
+            g.t_start_s = s.number_req("t_start_s");
+            ge(s, "t_start_s", g.t_start_s, t_free);
+            g.duration_s = s.number_req("duration_s");
+            gt(s, "duration_s", g.duration_s, 0.0);
+            g.theta_to_rad = s.number_req("theta_to_rad");
+            t_free = g.t_start_s + g.duration_s;
+            sc.segments.push_back(g);
+        }
+    }
+
+    // [gains], [bounds]: design overrides by field name
+    if (const auto v = root.table("gains")) {
+        v->only(gain_override_keys());
+        for (const std::string& k : gain_override_keys()) {
+            if (const auto x = v->number(k)) {
+                ge(*v, k, *x, 0.0);  // 0 = let drive_design derive it
+                sc.gains.emplace_back(k, *x);
+            }
+        }
+    }
+    if (const auto v = root.table("bounds")) {
+        v->only(design_bound_keys());
+        for (const std::string& k : design_bound_keys()) {
+            if (const auto x = v->number(k)) {
+                gt(*v, k, *x, 0.0);
+                sc.bounds.emplace_back(k, *x);
+            }
+        }
+    }
+    return sc;
+}
+
+}  // namespace mcsim

@@ -1,0 +1,80 @@
+// scenario.h - the simulator's scenario files (TOML, format documented in
+// sim/scenarios/README.md): plant, sensor, supply, load, trajectory and the
+// optional design overrides of the drive. load_scenario() validates the
+// whole file (and the motor file it references) before anything runs, and
+// reports the first problem as one line naming the file and the key.
+#ifndef MCSIM_SCENARIO_SCENARIO_H
+#define MCSIM_SCENARIO_SCENARIO_H
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/current_sensor.h"
+#include "model/load_profile.h"
+#include "model/motor_params.h"
+#include "model/reference.h"
+#include "model/stepper_plant.h"
+
+namespace mcsim {
+
+// what() is "FILE: KEY: reason" (or "FILE: reason" / "FILE:LINE:COL: reason"
+// for errors not tied to a key); callers prefix "error: ".
+class ScenarioError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// RK4 sub-steps per control sample when [run] substeps is not given.
+constexpr int kDefaultSubsteps = StepperPlant::kDefaultSubsteps;
+
+struct Scenario {
+    std::string path;         // as given by the user
+    std::string stem;         // file name without extension: output names
+    std::string description;
+
+    // [run]
+    double duration_s = 0.0;
+    double ts_s = 0.0;
+    std::uint64_t seed = 1;
+    int substeps = kDefaultSubsteps;
+    double theta0_rad = 0.0;  // initial rotor angle; the drive assumes 0
+
+    // [motor] (plant) and [drive_model] (what the drive is designed for)
+    std::string motor_file;   // resolved path of the motor file
+    MotorParams motor;
+    MotorParams drive_model;
+
+    // [supply], [limits]
+    double v_max_V = 0.0;
+    double i_max_A = 0.0;
+    double i_trip_A = 0.0;
+    double omega_lim_rad_s = 0.0;
+    double i_open_loop_A = 0.0;  // 0 = the design default (i_max_A)
+
+    // [design]: switches of drive_design_input_t; -1 = the design default.
+    int load_feedforward = -1;
+
+    SensorParams sensor;
+    std::vector<LoadStep> load;
+    std::vector<Segment> segments;
+
+    // [gains] and [bounds]: (field name, value) in file order; names are
+    // fields of drive_gain_override_t and drive_design_input_t.
+    std::vector<std::pair<std::string, double>> gains;
+    std::vector<std::pair<std::string, double>> bounds;
+
+    std::uint32_t n_ticks() const;
+};
+
+// Throws ScenarioError on any problem.
+Scenario load_scenario(const std::string& path);
+
+// Reads a motor file on its own (keys as in sim/motors/*.toml).
+MotorParams load_motor_file(const std::string& path);
+
+}  // namespace mcsim
+
+#endif  // MCSIM_SCENARIO_SCENARIO_H

@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""End-to-end output contract of motorsim on a short scenario.
+
+usage: check_outputs.py MOTORSIM SCENARIO WORKDIR
+
+Checks: exit 0; stdout is `key value` lines matching the metrics JSON (a
+flat object); the CSV has every documented column and one row per sample;
+the PNG exists (needs the venv's matplotlib); no temporary files are left;
+with a missing python the run still succeeds, warns, and writes no PNG.
+Standard library only.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+COLUMNS = ["t_s", "mode", "theta_ref", "omega_ref", "accel_ref", "theta", "theta_est", "omega",
+           "omega_est", "accel", "accel_est", "load_true_Nm", "load_est_Nm", "i_a", "i_b", "i_a_meas",
+           "i_b_meas", "i_f", "i_g", "i_f_hat", "i_g_hat", "d_f", "d_g", "d_f_hat", "d_g_hat", "v_a",
+           "v_b", "v_f", "v_g", "delta_theta_est", "jump_count"]
+METRICS = ["theta_track_max_rad", "theta_est_max_rad", "current_obs_max_a", "omega_est_peak_max_rad_s",
+           "final_theta_err_rad", "closed_loop_fraction", "realtime_factor", "n_samples", "seed",
+           "wall_time_s", "max_abs_current_A", "max_abs_voltage_V"]
+
+
+def main() -> int:
+    motorsim, scenario, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+    shutil.rmtree(work, ignore_errors=True)
+    stem = scenario.stem
+    errors: list[str] = []
+
+    out = work / "with_plot"
+    r = subprocess.run([motorsim, "--scenario", str(scenario), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    if r.returncode != 0:
+        print(r.stderr, file=sys.stderr)
+        return 1
+    metrics = json.loads((out / f"{stem}_metrics.json").read_text())
+    for k in METRICS:
+        if k not in metrics:
+            errors.append(f"metrics JSON lacks {k}")
+    if any(isinstance(v, (dict, list)) for v in metrics.values()):
+        errors.append("metrics JSON is not flat")
+    printed = dict(line.split(" ", 1) for line in r.stdout.strip().splitlines())
+    if set(printed) != set(metrics):
+        errors.append(f"stdout keys differ from JSON keys: {set(printed) ^ set(metrics)}")
+    with (out / f"{stem}.csv").open() as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    for c in COLUMNS:
+        if c not in header:
+            errors.append(f"CSV lacks column {c}")
+    if len(rows) - 1 != metrics.get("n_samples"):
+        errors.append(f"CSV has {len(rows) - 1} rows, n_samples = {metrics.get('n_samples')}")
+    if any(len(row) != len(header) for row in rows):
+        errors.append("CSV rows of unequal length")
+    png = out / f"{stem}.png"
+    if not png.is_file() or png.read_bytes()[:4] != b"\x89PNG":
+        errors.append(f"no PNG at {png} (stderr: {r.stderr.strip()})")
+    leftovers = [p.name for p in out.iterdir() if p.name.startswith(".")]
+    if leftovers:
+        errors.append(f"temporary files left: {leftovers}")
+
+    # No usable python: still a successful run, with a warning and no PNG.
+    out2 = work / "no_python"
+    env = dict(os.environ, MC_PYTHON=str(work / "no" / "python"))
+    r2 = subprocess.run([motorsim, "--scenario", str(scenario), "--out", str(out2), "--quiet"],
+                        capture_output=True, text=True, timeout=120, env=env)
+    if r2.returncode != 0:
+        errors.append(f"run without python failed: {r2.stderr.strip()}")
+    if "warning: plot skipped" not in r2.stderr:
+        errors.append(f"no plot warning without python (stderr: {r2.stderr.strip()!r})")
+    if (out2 / f"{stem}.png").exists():
+        errors.append("PNG written without python")
+    if r2.stdout:
+        errors.append("--quiet printed to stdout")
+
+    # --metrics-out elsewhere, --seed reflected in the metrics.
+    mjson = work / "elsewhere" / "m.json"
+    r3 = subprocess.run([motorsim, "--scenario", str(scenario), "--out", str(work / "m"), "--no-plot",
+                         "--quiet", "--metrics-out", str(mjson), "--seed", "17"],
+                        capture_output=True, text=True, timeout=120)
+    if r3.returncode != 0 or not mjson.is_file() or json.loads(mjson.read_text()).get("seed") != 17:
+        errors.append(f"--metrics-out/--seed not honoured: {r3.stderr.strip()}")
+    if (work / "m" / f"{stem}_metrics.json").exists():
+        errors.append("metrics JSON also written to the default place")
+
+    for e in errors:
+        print("FAILED:", e)
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
