@@ -39,6 +39,7 @@ void drive_design_defaults(drive_design_input_t *in)
     in->bound_load_rate_Nm_s = 2.0;    /* slow load changes */
     in->bound_model_error_V = 0.05;    /* errata on (57): volts of model error */
     in->load_feedforward = 1;            /* see drive_design.h */
+    in->identify_rl = 1;
 }
 
 static bool fail(char *err, size_t n, const char *field, const char *why, double got)
@@ -187,6 +188,20 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->ref_blend_L_over_tau_ohm = mc_from_double(tau_i > 0 ? L / tau_i : 0.0);
     cfg->load_ff_A_per_Nm = mc_from_double(in->load_feedforward ? 1.0 / K : 0.0);
     cfg->load_ff_max_Nm = mc_from_double(1.5 * in->bound_load_Nm);
+    /* standstill R, L measurement: 25 electrical time constants of the
+     * model, the last 40 % taken as steady state (from 15 tau: still
+     * settled to 1e-3 if the true tau is twice the model's). The window is
+     * valid while the reference stays below 10 % of omega_lim: the rotor
+     * then sits on the f axis, where the back-EMF K w sin(n_p dtheta) is
+     * below 0.1 % of R I_max for the rig. */
+    if (in->identify_rl) {
+        const int32_t n = (int32_t)ceil(25.0 * L / (R > 0.0 ? R : 1.0) / Ts);
+        cfg->rl_id.window_ticks = n < 50 ? 50 : (n > 5000 ? 5000 : n);
+        cfg->rl_id.steady_ticks = (cfg->rl_id.window_ticks * 2) / 5;
+    }
+    cfg->rl_id.R_model_ohm = mc_from_double(R);
+    cfg->rl_id.L_fs_model_ohm = mc_from_double(L / Ts);
+    cfg->rl_id.omega_still_rad_s = mc_from_double(0.1 * in->omega_lim_rad_s);
     cfg->open_loop.R_ohm = cfg->R_ohm;
     cfg->open_loop.npL_ohm_s = cfg->npL_ohm_s;
     cfg->open_loop.K_V_s = cfg->K_V_s;

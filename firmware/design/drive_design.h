@@ -61,6 +61,9 @@ typedef struct {
      * estimate forward shrinks the perturbation the twisting must beat
      * and the torque dip at the open-to-closed switch. 0 = paper as printed. */
     int load_feedforward;
+    /* 1 (default): measure R and L during the first open-loop samples at
+     * standstill (startup/rl_identification.h); 0: trust the motor model. */
+    int identify_rl;
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;

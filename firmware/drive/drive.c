@@ -69,6 +69,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     super_twisting_init(&d->cur, &cfg->cur);
     twisting_init(&d->pos_ctrl, &cfg->pos_ctrl);
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
+    rl_id_init(&d->rl_id, &cfg->rl_id);
     d->tlm = (drive_telemetry_t){0};
     if (!drive_config_ok(cfg) || !traj_ok) {
         drive_set_fault(d, DRIVE_FAULT_BAD_INPUT);
@@ -77,6 +78,23 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     trajectory_eval(&d->traj, 0, &d->ref);
     trajectory_eval(&d->traj, 1, &d->ref_next);
     return true;
+}
+
+/* Puts the measured R and L (L_fs = L/Ts) into every model term that uses
+ * them: the observer (23), the references (39), the decoupling of (48) and
+ * (54), and the open-loop voltage (68). Gains stay as designed. */
+static void drive_use_measured_rl(drive_t *d, mc_t R_ohm, mc_t L_fs_ohm)
+{
+    drive_config_t *c = &d->cfg;
+    c->R_ohm = R_ohm;
+    c->L_H = mc_div_i(L_fs_ohm, c->fs_hz);
+    c->npL_ohm_s = mc_div_i(mc_mul_i(L_fs_ohm, c->n_p), c->fs_hz);
+    c->open_loop.R_ohm = R_ohm;
+    c->open_loop.npL_ohm_s = c->npL_ohm_s;
+    c->emf.R_ohm = R_ohm;
+    c->emf.ts_over_L_A_per_V = mc_div(MC_ONE, L_fs_ohm);
+    d->emf.cfg.R_ohm = c->emf.R_ohm;
+    d->emf.cfg.ts_over_L_A_per_V = c->emf.ts_over_L_A_per_V;
 }
 
 /* Reference currents and voltages of the flat outputs, eqs. (38)-(39):
@@ -255,6 +273,9 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     mc_t v_f_k, v_g_k;
     mc_rot_fwd(rot_k, v_a, v_b, &v_f_k, &v_g_k);
     emf_observer_predict(&d->emf, v_f_k, v_g_k, i_f, i_g, rot_half);
+    if (!closed && rl_id_step(&d->rl_id, i_f, v_f_k, d->ref.omega_rad_s) && d->rl_id.state == RL_ID_DONE) {
+        drive_use_measured_rl(d, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);
+    }
 
     /* telemetry */
     t->mode = d->mode;
@@ -284,6 +305,9 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     t->v_a_V = v_a;
     t->v_b_V = v_b;
     t->v_saturated = sat;
+    t->rl_id_state = d->rl_id.state;
+    t->R_model_ohm = c->R_ohm;
+    t->L_model_H = c->L_H;
 
     /* advance the reference */
     d->tick += 1;

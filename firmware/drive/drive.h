@@ -24,6 +24,7 @@
 #include "observers/mech_observer.h"
 #include "observers/position_estimator.h"
 #include "startup/open_loop.h"
+#include "startup/rl_identification.h"
 #include "trajectory/trajectory.h"
 
 #ifdef __cplusplus
@@ -72,6 +73,7 @@ typedef struct {
     mc_t v_k_i_V_per_A;           /* L (k - f_v/J): voltage form of -(k/J - f_v/J^2) K xi_g in (54) */
     mc_t v_k_w_V_s;               /* (L/K)(k - f_v/J) f_v: same for the xi_omega term */
     open_loop_config_t open_loop;
+    rl_id_config_t rl_id;     /* standstill R, L measurement at the start (window 0: off) */
     trajectory_config_t traj;
 } drive_config_t;
 
@@ -94,6 +96,9 @@ typedef struct {
     /* commands */
     mc_t v_f_V, v_g_V, v_a_V, v_b_V;
     bool v_saturated;
+    /* model in use: the configured one, or the standstill measurement */
+    rl_id_state_t rl_id_state;
+    mc_t R_model_ohm, L_model_H;
 } drive_telemetry_t;
 
 typedef struct {
@@ -107,6 +112,7 @@ typedef struct {
     super_twisting_t cur;
     twisting_t pos_ctrl;
     trajectory_t traj;
+    rl_id_t rl_id;
     mc_t theta_offset_ol_rad;  /* theta_est - theta_r carried through open loop */
     mc_t blend_f_V, blend_g_V; /* decaying offset that removes the voltage step at a switch */
     mc_t i_f_off_A, i_g_off_A; /* decaying current-reference offset that removes the torque step */

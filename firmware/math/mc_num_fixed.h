@@ -7,7 +7,8 @@
  * ======================================================================
  * FORMAT: Q14.17 -- mc_t is int32_t, value = raw / 2^17, for every signal.
  *   MC_FRAC_BITS = 17, LSB = 2^-17 = 7.63e-6, range [-16384, +16384)
- *   (saturated values are +-MC_MAX = +-(2^31-1)/2^17 = +-16383.99999).
+ *   (saturated values are +-MC_MAX = +-(2^31-1)/2^17 = +-16383.99999; the
+ *   raw value INT32_MIN = -16384 exactly can still come out of a product).
  *   Products use a 64-bit intermediate, rounded (half up) and saturated;
  *   add/sub/neg/abs/mul_i/from_i/div saturate instead of wrapping.
  * ======================================================================
@@ -133,8 +134,6 @@ static inline mc_t mc__sat64(int64_t v)
 
 static inline uint32_t mc__uabs(int32_t a) { return (a < 0) ? (0u - (uint32_t)a) : (uint32_t)a; }
 
-/* (a * b) >> 30 on signed Q30 values, no rounding (polynomial kernels). */
-static inline int32_t mc__mul30(int32_t a, int32_t b) { return (int32_t)(((int64_t)a * b) >> 30); }
 
 /* ~2^63 / d for d in [2^31, 2^32): one hardware 32-bit divide for 15 bits,
  * one Newton step for ~30 bits. Never overestimates, never overflows. */
@@ -170,14 +169,16 @@ const uint16_t mc__rsqrt_tab[192] __attribute__((weak)) =
      33394, 33326, 33259, 33192, 33126, 33060, 32994, 32929, 32864, 32800};
 
 /* sqrt(m / 2^32) 2^32 for m in [2^30, 2^32): table, two Newton steps on
- * 1/sqrt (relative error < 2^-25), one multiply. */
+ * 1/sqrt (relative error < 2^-25), one multiply. Every product keeps only
+ * its high word (one umull each on Cortex-M3). */
 static inline uint32_t mc__sqrt_norm(uint32_t m)
 {
     uint32_t r = (uint32_t)mc__rsqrt_tab[(m >> 24) - 64u] << 15; /* Q30 of 1/sqrt(m/2^32) */
     for (int it = 0; it < 2; ++it) {
-        const uint32_t t = (uint32_t)(((uint64_t)m * r) >> 32); /* Q30: x r   */
-        const uint32_t u = (uint32_t)(((uint64_t)t * r) >> 30); /* Q30: x r^2 */
-        r = (uint32_t)(((uint64_t)r * (0xC0000000u - u)) >> 31);
+        const uint32_t t = (uint32_t)(((uint64_t)m * r) >> 32); /* Q30: x r            */
+        const uint32_t u = (uint32_t)(((uint64_t)t * r) >> 32); /* Q28: x r^2 (~1)     */
+        const uint32_t h = 0x30000000u - u;                      /* Q28: 3 - x r^2 (~2) */
+        r = (uint32_t)(((uint64_t)r * h) >> 32) << 3;            /* Q30: r (3 - x r^2)/2 */
     }
     const uint64_t S = ((uint64_t)m * r) >> 30;
     return (S > 0xFFFFFFFFull) ? 0xFFFFFFFFu : (uint32_t)S;
@@ -230,21 +231,25 @@ static inline mc_t mc__rad_of_bam(uint32_t u)
     return r;
 }
 
-/* sin and cos of a binary angle, in Q30 */
+/* high word of a signed 32x32 product: one smull on Cortex-M3 */
+static inline int32_t mc__mulhi(int32_t a, int32_t b) { return (int32_t)(((int64_t)a * b) >> 32); }
+
+/* sin and cos of a binary angle, in Q30. Horner steps are "c + mulhi(z, p) * 4"
+ * (smull + add with shift); truncation errors stay below 2^-28. */
 static inline void mc__sincos_bam_q30(uint32_t u, int32_t *s30, int32_t *c30)
 {
-    const uint32_t q = (u + 0x20000000u) >> 30;         /* nearest quadrant */
-    const int32_t t = (int32_t)(u - (q << 30)) * 2;     /* Q30 of r/(pi/4), |t| <= 1 */
-    const int32_t t2 = mc__mul30(t, t);
-    /* minimax, |err| < 5.6e-7 (sin) and 2.8e-8 (cos) on [-pi/4, pi/4] */
-    int32_t ps = 2606085;
-    ps = -86665996 + mc__mul30(t2, ps);
-    ps = 843310638 + mc__mul30(t2, ps);
-    ps = mc__mul30(t, ps);
-    int32_t pc = -342396;
-    pc = 17018717 + mc__mul30(t2, pc);
-    pc = -331168021 + mc__mul30(t2, pc);
-    pc = 1073741794 + mc__mul30(t2, pc);
+    const uint32_t q = (u + 0x20000000u) >> 30;          /* nearest quadrant */
+    const int32_t t = (int32_t)((u - (q << 30)) << 2);   /* Q31 of r/(pi/4), in [-1, 1) */
+    const int32_t z = mc__mulhi(t, t);                   /* Q30 of t^2 */
+    /* minimax, |err| < 5.6e-7 (sin, degree 5) and 2.8e-8 (cos, degree 6) */
+    int32_t ps = 5212170;                                /* Q31 coefficients */
+    ps = -173331992 + mc__mulhi(z, ps) * 4;
+    ps = 1686621276 + mc__mulhi(z, ps) * 4;
+    ps = mc__mulhi(t, ps);                               /* Q30 */
+    int32_t pc = -342396;                                /* Q30 coefficients */
+    pc = 17018717 + mc__mulhi(z, pc) * 4;
+    pc = -331168021 + mc__mulhi(z, pc) * 4;
+    pc = 1073741794 + mc__mulhi(z, pc) * 4;
     switch (q & 3u) {
     case 0u: *s30 = ps; *c30 = pc; break;
     case 1u: *s30 = pc; *c30 = -ps; break;
@@ -276,13 +281,13 @@ static inline mc_t mc_sub(mc_t a, mc_t b)
 }
 
 /* Round (half up) and saturate a Q34 64-bit product sum to Q17: the result
- * fits iff the high word of p + 2^16 is in [-2^15, 2^15). Written so that
+ * fits iff the high word of p + 2^16 is in [-2^16, 2^16). Written so that
  * it compiles to smull/adds/adc/lsrs/orr + one compare on Cortex-M3. */
 static inline mc_t mc__round_sat_q34(int64_t p)
 {
     p += (int64_t)1 << (MC_FRAC_BITS - 1);
     const uint32_t hi = (uint32_t)((uint64_t)p >> 32);
-    if (hi + 0x8000u >= 0x10000u) {
+    if (hi + 0x10000u >= 0x20000u) {
         return ((int32_t)hi < 0) ? -INT32_MAX : INT32_MAX;
     }
     return (mc_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
@@ -433,20 +438,20 @@ static inline mc_t mc_atan2(mc_t y, mc_t x)
     const uint32_t R = mc__recip(mx << sh);
     mn <<= sh;
     uint32_t z31 = (uint32_t)(((uint64_t)mn * R) >> 32); /* Q31 of mn/mx in [0, 1] */
-    if (z31 > 0x80000000u) {
-        z31 = 0x80000000u;
+    if (z31 > 0x7FFFFFFFu) {
+        z31 = 0x7FFFFFFFu;
     }
-    const int32_t z = (int32_t)(z31 >> 1); /* Q30 */
-    const int32_t z2 = mc__mul30(z, z);
-    /* minimax odd polynomial of degree 13 on [0, 1], |err| < 2.5e-7 */
-    int32_t p = 7314095;
-    p = -36082222 + mc__mul30(z2, p);
-    p = 85495228 + mc__mul30(z2, p);
-    p = -142091908 + mc__mul30(z2, p);
-    p = 212684795 + mc__mul30(z2, p);
-    p = -357742515 + mc__mul30(z2, p);
-    p = 1073737649 + mc__mul30(z2, p);
-    int32_t a = (mc__mul30(z, p) + 1) >> 1; /* Q29, [0, pi/4] */
+    const int32_t z = (int32_t)z31;
+    const int32_t z2 = mc__mulhi(z, z); /* Q30 */
+    /* minimax odd polynomial of degree 13 on [0, 1], |err| < 2.5e-7, Q31 coefficients */
+    int32_t p = 14628191;
+    p = -72164444 + mc__mulhi(z2, p) * 4;
+    p = 170990456 + mc__mulhi(z2, p) * 4;
+    p = -284183817 + mc__mulhi(z2, p) * 4;
+    p = 425369590 + mc__mulhi(z2, p) * 4;
+    p = -715485030 + mc__mulhi(z2, p) * 4;
+    p = 2147475298 + mc__mulhi(z2, p) * 4;
+    int32_t a = (mc__mulhi(z, p) + 1) >> 1; /* Q30 -> Q29, [0, pi/4] */
     if (ay > ax) {
         a = 843314857 - a; /* pi/2 in Q29 */
     }

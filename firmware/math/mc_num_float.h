@@ -133,8 +133,20 @@ static inline mc_t mc_sqrt(mc_t x) { return (x > 0.0f) ? sqrtf(x) : 0.0f; }
 static inline mc_t mc_sqrt_abs_sgn(mc_t x) { return (x >= 0.0f) ? sqrtf(x) : -sqrtf(-x); }
 static inline mc_t mc_hypot(mc_t a, mc_t b) { return sqrtf(a * a + b * b); }
 
+/* sin and cos of r in [-pi/4, pi/4] (cephes sinf/cosf kernels) */
+static inline void mc__sincos_kernel(float r, float *sp, float *cp)
+{
+    const float z = r * r;
+    *sp = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * r + r;
+    *cp = ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z - 0.5f * z + 1.0f;
+}
+
 static inline void mc_sincos(mc_t x, mc_t *s, mc_t *c)
 {
+    if (fabsf(x) <= 0.785398163f) {
+        mc__sincos_kernel(x, s, c); /* small angles (increments, errors): no reduction */
+        return;
+    }
     /* quarter turns: pi/2 = P1 + P2 + P3 (Cody-Waite, cephes constants) */
     float xr = x;
     if (!(fabsf(xr) < 65536.0f)) {
@@ -146,10 +158,9 @@ static inline void mc_sincos(mc_t x, mc_t *s, mc_t *c)
     memcpy(&kbits, &kb, sizeof kbits); /* low bits: k mod 2^22 */
     const float k = kb - MC__MAGIC_RINT;
     const float r = ((xr - k * 1.5703125f) - k * 4.837512969970703125e-4f) - k * 7.54978995489188216e-8f;
-    const float z = r * r;
-    const float sp = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * r + r;
-    const float cp =
-        ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z - 0.5f * z + 1.0f;
+    float sp;
+    float cp;
+    mc__sincos_kernel(r, &sp, &cp);
     switch (kbits & 3u) {
     case 0u: *s = sp; *c = cp; break;
     case 1u: *s = cp; *c = -sp; break;

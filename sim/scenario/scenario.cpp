@@ -392,9 +392,12 @@ Scenario load_scenario(const std::string& path)
 
     // [design] (optional): design switches that are neither gains nor bounds
     if (const auto v = root.table("design")) {
-        v->only({"load_feedforward"});
+        v->only({"load_feedforward", "identify_rl"});
         if (const auto b = v->boolean("load_feedforward")) {
             sc.load_feedforward = *b ? 1 : 0;
+        }
+        if (const auto b = v->boolean("identify_rl")) {
+            sc.identify_rl = *b ? 1 : 0;
         }
     }
 

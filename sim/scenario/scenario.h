@@ -56,6 +56,7 @@ struct Scenario {
 
     // [design]: switches of drive_design_input_t; -1 = the design default.
     int load_feedforward = -1;
+    int identify_rl = -1; // [design] identify_rl; -1: design default
 
     SensorParams sensor;
     std::vector<LoadStep> load;

@@ -12,6 +12,7 @@ extern "C" {
 #include "observers/mech_observer.h"
 #include "observers/position_estimator.h"
 #include "startup/open_loop.h"
+#include "startup/rl_identification.h"
 #include "trajectory/trajectory.h"
 }
 
@@ -382,4 +383,71 @@ TEST(OpenLoop, VoltageOfEq68)
     const double want = std::sqrt((3.01 * 3.01 + std::pow(50 * w * 9e-3, 2)) * 9.0 + std::pow(0.27 * w, 2));
     EXPECT_NEAR(D(open_loop_voltage(&c, M(-w))), want, 1e-3);
     EXPECT_NEAR(D(open_loop_voltage(&c, M(100.0))), 30.0, 1e-4);  // V_max
+}
+
+// ---- standstill R, L measurement (startup/rl_identification.h) ----
+static rl_id_config_t rl_cfg(int n)
+{
+    rl_id_config_t c{};
+    c.window_ticks = n;
+    c.steady_ticks = (n * 2) / 5;
+    c.R_model_ohm = M(3.01);
+    c.L_fs_model_ohm = M(9e-3 / 1e-4);
+    c.omega_still_rad_s = M(0.06);
+    return c;
+}
+
+// exact zero-order-hold response of L di/dt = v - R i, sampled, plus noise
+static bool run_rl(rl_id_t *id, double R, double L, double v, double noise, unsigned seed)
+{
+    const double Ts = 1e-4, a = std::exp(-R * Ts / L);
+    double i = 0.0;
+    unsigned x = seed;
+    for (int k = 0; k < 100000; ++k) {
+        x = x * 1664525u + 1013904223u;
+        const double n = noise * (2.0 * (x >> 8) / 16777216.0 - 1.0);
+        if (rl_id_step(id, M(i + n), M(v), M(0.0))) return true;
+        i = a * i + (1.0 - a) * v / R;
+    }
+    return false;
+}
+
+TEST(RlIdentification, MeasuresRAndLOfAnRlCircuit)
+{
+    for (double scale : {0.7, 1.0, 1.3}) {
+        rl_id_t id;
+        const rl_id_config_t c = rl_cfg(750);
+        rl_id_init(&id, &c);
+        ASSERT_TRUE(run_rl(&id, 3.01 * scale, 9e-3 / scale, 9.03, 0.0, 1));
+        ASSERT_EQ(id.state, RL_ID_DONE);
+        EXPECT_NEAR(D(id.R_ohm), 3.01 * scale, 2e-3 * 3.01 * scale);
+        EXPECT_NEAR(D(id.L_fs_ohm) * 1e-4, 9e-3 / scale, 5e-3 * 9e-3 / scale);
+    }
+    // with the rig's current noise (uniform +-0.03 A): R to 0.2 %, L to 3 %
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+        rl_id_t id;
+        const rl_id_config_t c = rl_cfg(750);
+        rl_id_init(&id, &c);
+        ASSERT_TRUE(run_rl(&id, 3.3, 8e-3, 9.03, 0.03, seed));
+        ASSERT_EQ(id.state, RL_ID_DONE);
+        EXPECT_NEAR(D(id.R_ohm), 3.3, 0.002 * 3.3);
+        EXPECT_NEAR(D(id.L_fs_ohm) * 1e-4, 8e-3, 0.03 * 8e-3);
+    }
+}
+
+TEST(RlIdentification, RejectsMotionAndImplausibleResults)
+{
+    rl_id_t id;
+    const rl_id_config_t c = rl_cfg(750);
+    rl_id_init(&id, &c);
+    EXPECT_TRUE(rl_id_step(&id, M(0.1), M(9.0), M(0.5)));  // reference already moving
+    EXPECT_EQ(id.state, RL_ID_REJECTED);
+    EXPECT_NEAR(D(id.R_ohm), 3.01, kTol * 10);  // model kept
+    rl_id_init(&id, &c);
+    ASSERT_TRUE(run_rl(&id, 3.01 * 3.0, 9e-3, 9.03, 0.0, 1));  // R three times the model
+    EXPECT_EQ(id.state, RL_ID_REJECTED);
+    rl_id_config_t off = rl_cfg(0);
+    rl_id_init(&id, &off);
+    EXPECT_EQ(id.state, RL_ID_OFF);
+    EXPECT_FALSE(rl_id_step(&id, M(1.0), M(9.0), M(0.0)));
 }
