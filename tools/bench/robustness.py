@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Parameter-error study of the paper-000 drive (a benchmark, not a test).
+
+The plant's R, L, K or J is scaled while the drive keeps the nominal motor
+model ([drive_model] = motor file), once with the standstill R/L measurement
+of the start (design.identify_rl = true) and once without. Prints one row per
+case with the closed-loop tracking and estimation errors, and a JSON line.
+
+    .venv/bin/python tools/bench/robustness.py [--scenario FILE] [--jobs 2]
+"""
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import tomllib
+from pathlib import Path
+
+try:
+    import tomli_w
+except ImportError:  # pragma: no cover - the venv has it (tools/requirements.txt)
+    sys.exit("robustness.py: needs tomli-w (run scripts/setup.sh, use .venv/bin/python)")
+
+ROOT = Path(__file__).resolve().parents[2]
+MODEL_KEYS = ("L_H", "R_ohm", "K_Nm_per_A", "J_kgm2", "fv_Nms_per_rad", "n_p")
+CASES = [("nominal", None, 1.0)] + [
+    (f"{key} x{f:g}", key, f)
+    for key, factors in (("R_ohm", (0.7, 0.9, 1.1, 1.3)), ("L_H", (0.8, 0.9, 1.1, 1.2)),
+                         ("K_Nm_per_A", (0.95, 1.05)), ("J_kgm2", (0.5, 2.0)))
+    for f in factors
+]
+
+
+def scenario_variant(base: dict, base_dir: Path, key: str | None, factor: float, identify: bool) -> dict:
+    sc = json.loads(json.dumps(base))  # deep copy
+    motor_file = (base_dir / sc["motor"]["file"]).resolve()
+    motor = tomllib.loads(motor_file.read_text())
+    sc["motor"]["file"] = str(motor_file)
+    sc["drive_model"] = {k: motor[k] for k in MODEL_KEYS}  # the drive keeps the nominal model
+    if key is not None:
+        sc["motor"][key] = motor[key] * factor  # the plant differs
+    sc.setdefault("design", {})["identify_rl"] = identify
+    return sc
+
+
+def run_case(binary: Path, sc: dict, workdir: Path, name: str) -> dict:
+    path = workdir / f"{name}.toml"
+    path.write_text(tomli_w.dumps(sc))
+    metrics = workdir / f"{name}.json"
+    proc = subprocess.run([str(binary), "--scenario", str(path), "--out", str(workdir / name), "--no-plot",
+                           "--metrics-out", str(metrics), "--quiet"], capture_output=True, text=True)
+    if proc.returncode not in (0, 1) or not metrics.exists():
+        raise RuntimeError(f"motorsim failed on {name}: {proc.stderr.strip()}")
+    return json.loads(metrics.read_text())
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scenario", default=str(ROOT / "sim/scenarios/paper000_experiment.toml"))
+    ap.add_argument("--binary", default=str(ROOT / "build/host/sim/motorsim"))
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 unless every case with identify_rl = true tracks within 0.03 rad without fault "
+                         "(the experiment threshold of paper 000); runs only those cases")
+    args = ap.parse_args()
+    binary, scenario = Path(args.binary), Path(args.scenario)
+    if not binary.is_file():
+        print(f"robustness.py: {binary} not found; build it: cmake --preset host && cmake --build --preset host",
+              file=sys.stderr)
+        return 2
+    if args.jobs < 1:
+        print("robustness.py: --jobs must be >= 1", file=sys.stderr)
+        return 2
+    try:
+        base = tomllib.loads(scenario.read_text())
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        print(f"robustness.py: {scenario}: {e}", file=sys.stderr)
+        return 2
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp, cf.ThreadPoolExecutor(args.jobs) as pool:
+        futs = {}
+        for i, (label, key, f) in enumerate(CASES):
+            for identify in ((True,) if args.check else (True, False)):
+                sc = scenario_variant(base, scenario.parent, key, f, identify)
+                name = f"case{i}_{int(identify)}"
+                futs[pool.submit(run_case, binary, sc, Path(tmp), name)] = (i, label, identify)
+        results = {}
+        for fut in cf.as_completed(futs):
+            results[futs[fut]] = fut.result()
+    print(f"plant parameter error, drive on the nominal model; scenario {scenario.name}")
+    print(f"{'case':<16} | {'identify_rl = true':^34} | {'identify_rl = false':^34}")
+    print(f"{'':<16} | {'track max':>10} {'est max':>10} {'fault':>5} {'slip':>5} | "
+          f"{'track max':>10} {'est max':>10} {'fault':>5} {'slip':>5}")
+    for i, (label, key, f) in enumerate(CASES):
+        row = {"case": label}
+        cells = []
+        for identify in (True, False):
+            if (i, label, identify) not in results:
+                cells.append(f"{'(not run)':>34}")
+                continue
+            m = results[(i, label, identify)]
+            track, est = m["theta_track_max_rad"], m["theta_est_max_rad"]
+            slip = bool(m.get("fault", 0)) or track >= 0.063  # half a pole pitch 2pi/(2 n_p)
+            tag = "id" if identify else "noid"
+            row.update({f"{tag}_track_max_rad": track, f"{tag}_est_max_rad": est,
+                        f"{tag}_fault": int(m.get("fault", 0)), f"{tag}_slip": slip})
+            cells.append(f"{track:10.4f} {est:10.4f} {int(m.get('fault', 0)):5d} {'yes' if slip else 'no':>5}")
+        rows.append(row)
+        print(f"{label:<16} | {cells[0]} | {cells[1]}")
+    print(json.dumps({"bench": "robustness", "scenario": str(scenario), "cases": rows}))
+    if args.check:
+        bad = [r["case"] for r in rows if r["id_fault"] or not r["id_track_max_rad"] < 0.03]
+        if bad:
+            print(f"robustness.py: with identify_rl, tracking >= 0.03 rad or fault in: {', '.join(bad)}",
+                  file=sys.stderr)
+            return 1
+        print(f"robustness.py: all {len(rows)} cases track within 0.03 rad with identify_rl")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
