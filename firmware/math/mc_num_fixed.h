@@ -121,6 +121,53 @@ extern "C" {
 
 /* ---- internal helpers (mc__ prefix: not part of the API) ---------------- */
 
+/* 32x32 -> 64-bit multiplies. On ARMv7-M they are spelled as one smull /
+ * umull / smlal each: GCC otherwise sometimes expands a widening multiply
+ * whose operands went through a conditional negate into mul+mla+umull.
+ * Same results on every target (exact integer arithmetic). */
+#if defined(__arm__) && (defined(__ARM_ARCH_7M__) || defined(__ARM_ARCH_7EM__))
+#define MC__ARMV7M_ASM 1
+#endif
+
+static inline int64_t mc__join64(uint32_t lo, uint32_t hi) { return (int64_t)(((uint64_t)hi << 32) | lo); }
+
+static inline int64_t mc__smul64(int32_t a, int32_t b)
+{
+#ifdef MC__ARMV7M_ASM
+    uint32_t lo;
+    uint32_t hi;
+    __asm__("smull %0, %1, %2, %3" : "=r"(lo), "=r"(hi) : "r"(a), "r"(b));
+    return mc__join64(lo, hi);
+#else
+    return (int64_t)a * b;
+#endif
+}
+
+static inline uint64_t mc__umul64(uint32_t a, uint32_t b)
+{
+#ifdef MC__ARMV7M_ASM
+    uint32_t lo;
+    uint32_t hi;
+    __asm__("umull %0, %1, %2, %3" : "=r"(lo), "=r"(hi) : "r"(a), "r"(b));
+    return ((uint64_t)hi << 32) | lo;
+#else
+    return (uint64_t)a * b;
+#endif
+}
+
+/* acc + a b (wrapping modulo 2^64, never reached by the callers' ranges) */
+static inline int64_t mc__smlal64(int64_t acc, int32_t a, int32_t b)
+{
+#ifdef MC__ARMV7M_ASM
+    uint32_t lo = (uint32_t)(uint64_t)acc;
+    uint32_t hi = (uint32_t)((uint64_t)acc >> 32);
+    __asm__("smlal %0, %1, %2, %3" : "+r"(lo), "+r"(hi) : "r"(a), "r"(b));
+    return mc__join64(lo, hi);
+#else
+    return acc + (int64_t)a * b;
+#endif
+}
+
 static inline mc_t mc__sat64(int64_t v)
 {
     if (v > (int64_t)INT32_MAX) {
@@ -140,8 +187,8 @@ static inline uint32_t mc__uabs(int32_t a) { return (a < 0) ? (0u - (uint32_t)a)
 static inline uint32_t mc__recip(uint32_t d)
 {
     uint32_t r = (0xFFFFFFFFu / ((d >> 16) + 1u)) << 15;
-    uint64_t e = ((uint64_t)1 << 63) - (uint64_t)d * r;
-    return r + (uint32_t)(((uint64_t)r * (uint32_t)(e >> 32)) >> 31);
+    uint64_t e = ((uint64_t)1 << 63) - mc__umul64(d, r);
+    return r + (uint32_t)(mc__umul64(r, (uint32_t)(e >> 32)) >> 31);
 }
 
 /* 1/sqrt(x) for x in [1/4, 1), at cell midpoints of 192 cells, Q15. One
@@ -175,12 +222,12 @@ static inline uint32_t mc__sqrt_norm(uint32_t m)
 {
     uint32_t r = (uint32_t)mc__rsqrt_tab[(m >> 24) - 64u] << 15; /* Q30 of 1/sqrt(m/2^32) */
     for (int it = 0; it < 2; ++it) {
-        const uint32_t t = (uint32_t)(((uint64_t)m * r) >> 32); /* Q30: x r            */
-        const uint32_t u = (uint32_t)(((uint64_t)t * r) >> 32); /* Q28: x r^2 (~1)     */
+        const uint32_t t = (uint32_t)(mc__umul64(m, r) >> 32);  /* Q30: x r            */
+        const uint32_t u = (uint32_t)(mc__umul64(t, r) >> 32);  /* Q28: x r^2 (~1)     */
         const uint32_t h = 0x30000000u - u;                      /* Q28: 3 - x r^2 (~2) */
-        r = (uint32_t)(((uint64_t)r * h) >> 32) << 3;            /* Q30: r (3 - x r^2)/2 */
+        r = (uint32_t)(mc__umul64(r, h) >> 32) << 3;             /* Q30: r (3 - x r^2)/2 */
     }
-    const uint64_t S = ((uint64_t)m * r) >> 30;
+    const uint64_t S = mc__umul64(m, r) >> 30;
     return (S > 0xFFFFFFFFull) ? 0xFFFFFFFFu : (uint32_t)S;
 }
 
@@ -223,8 +270,8 @@ static inline uint32_t mc__bam_of_q17_64(int64_t x_raw)
 /* binary angle -> rad Q17 in [-MC_PI, MC_PI) */
 static inline mc_t mc__rad_of_bam(uint32_t u)
 {
-    const int64_t p = (int64_t)(int32_t)u * (int64_t)3373259426ll; /* round(2 pi 2^29) */
-    int32_t r = (int32_t)((p + ((int64_t)1 << 43)) >> 44);
+    const int64_t p = mc__smul64((int32_t)u, 1686629713); /* round(2 pi 2^28) */
+    int32_t r = (int32_t)((p + ((int64_t)1 << 42)) >> 43);
     if (r >= MC_PI) {
         r -= MC_TWO_PI;
     }
@@ -232,7 +279,7 @@ static inline mc_t mc__rad_of_bam(uint32_t u)
 }
 
 /* high word of a signed 32x32 product: one smull on Cortex-M3 */
-static inline int32_t mc__mulhi(int32_t a, int32_t b) { return (int32_t)(((int64_t)a * b) >> 32); }
+static inline int32_t mc__mulhi(int32_t a, int32_t b) { return (int32_t)(mc__smul64(a, b) >> 32); }
 
 /* sin and cos of a binary angle, in Q30. Horner steps are "c + mulhi(z, p) * 4"
  * (smull + add with shift); truncation errors stay below 2^-28. */
@@ -293,7 +340,7 @@ static inline mc_t mc__round_sat_q34(int64_t p)
     return (mc_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
 }
 
-static inline mc_t mc_mul(mc_t a, mc_t b) { return mc__round_sat_q34((int64_t)a * b); }
+static inline mc_t mc_mul(mc_t a, mc_t b) { return mc__round_sat_q34(mc__smul64(a, b)); }
 
 /* round(ua 2^17 / ub) (ties up) for ub > 0, saturated to INT32_MAX: the
  * Newton reciprocal gives the quotient within a few units, one 64-bit
@@ -316,7 +363,7 @@ static inline int32_t mc__udiv_q17(uint32_t ua, uint32_t ub)
     const int sh = __builtin_clz(ub);
     const uint32_t R = mc__recip(ub << sh); /* ~2^63 / (ub 2^sh) */
     /* q ~ ua 2^17 / ub = ua R / 2^(46 - sh); ua <= 2^31 so ua R < 2^63 */
-    uint64_t q = ((uint64_t)ua * R) >> (46 - sh);
+    uint64_t q = mc__umul64(ua, R) >> (46 - sh);
     if (q > (uint64_t)INT32_MAX + 1u) {
         return INT32_MAX;
     }
@@ -358,15 +405,18 @@ static inline mc_t mc_abs(mc_t a) { return (a < 0) ? mc_neg(a) : a; }
 static inline mc_t mc_min(mc_t a, mc_t b) { return (a < b) ? a : b; }
 static inline mc_t mc_max(mc_t a, mc_t b) { return (a > b) ? a : b; }
 static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi) { return (x < lo) ? lo : ((x > hi) ? hi : x); }
-static inline mc_t mc_mul_i(mc_t a, int32_t n) { return mc__sat64((int64_t)a * n); }
+static inline mc_t mc_mul_i(mc_t a, int32_t n) { return mc__sat64(mc__smul64(a, n)); }
 
 /* a b + c d, a b - c d and acc + a b with ONE rounding and saturation of the
  * exact 64-bit sum (cheaper and more accurate than mc_mul + mc_add). */
-static inline mc_t mc_dot2(mc_t a, mc_t b, mc_t c, mc_t d) { return mc__round_sat_q34((int64_t)a * b + (int64_t)c * d); }
-static inline mc_t mc_cross2(mc_t a, mc_t b, mc_t c, mc_t d) { return mc__round_sat_q34((int64_t)a * b - (int64_t)c * d); }
+static inline mc_t mc_dot2(mc_t a, mc_t b, mc_t c, mc_t d) { return mc__round_sat_q34(mc__smlal64(mc__smul64(a, b), c, d)); }
+static inline mc_t mc_cross2(mc_t a, mc_t b, mc_t c, mc_t d)
+{
+    return mc__round_sat_q34(mc__smul64(a, b) - mc__smul64(c, d));
+}
 static inline mc_t mc_mac(mc_t acc, mc_t a, mc_t b)
 {
-    return mc__round_sat_q34((int64_t)a * b + (int64_t)acc * MC_ONE_RAW);
+    return mc__round_sat_q34(mc__smlal64((int64_t)acc * MC_ONE_RAW, a, b));
 }
 
 /* a / n rounded to nearest (ties away from zero); n == 0 saturates. */
@@ -375,15 +425,12 @@ static inline mc_t mc_div_i(mc_t a, int32_t n)
     if (n == 0) {
         return (a >= 0) ? MC_MAX : -MC_MAX;
     }
-    if (n == -1) {
-        return mc_neg(a);
+    const uint32_t un = mc__uabs(n);
+    uint32_t q = (mc__uabs(a) + (un >> 1)) / un; /* <= 2^31 + 2^30: no wrap */
+    if (q > (uint32_t)INT32_MAX) {
+        q = (uint32_t)INT32_MAX;
     }
-    int32_t q = a / n;
-    const int32_t r = a - q * n;
-    if (2u * mc__uabs(r) >= mc__uabs(n)) {
-        q += ((a < 0) != (n < 0)) ? -1 : 1;
-    }
-    return q;
+    return ((a < 0) != (n < 0)) ? -(int32_t)q : (int32_t)q;
 }
 
 static inline mc_t mc_from_i(int32_t n) { return mc__sat64((int64_t)n * MC_ONE_RAW); }
@@ -437,7 +484,7 @@ static inline mc_t mc_atan2(mc_t y, mc_t x)
     const int sh = __builtin_clz(mx);
     const uint32_t R = mc__recip(mx << sh);
     mn <<= sh;
-    uint32_t z31 = (uint32_t)(((uint64_t)mn * R) >> 32); /* Q31 of mn/mx in [0, 1] */
+    uint32_t z31 = (uint32_t)(mc__umul64(mn, R) >> 32); /* Q31 of mn/mx in [0, 1] */
     if (z31 > 0x7FFFFFFFu) {
         z31 = 0x7FFFFFFFu;
     }
