@@ -94,6 +94,13 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         tc->seg[i].v_scale = mc_from_double(d / T);
         tc->seg[i].a_scale = mc_from_double(d / (T * T));
         tc->seg[i].j_scale = mc_from_double(d / (T * T * T));
+        tc->seg[i].c0 = mc_from_double(d * 35.0 / 16.0);
+        tc->seg[i].c1 = mc_from_double(d * 35.0 / 4.0);
+        tc->seg[i].c2 = mc_from_double(d * 21.0);
+        tc->seg[i].c3 = mc_from_double(d * 20.0);
+        tc->seg[i].theta_mid_rad = mc_from_double(from + 0.5 * d);
+        if (fabs(d * 21.0) > 0.9 * mc_max_double() || fabs(d / (T * T * T)) > 0.9 * mc_max_double())
+            return fail(err, err_len, "trajectory.segments", "move too long or too fast for the numeric range; split it", d);
         speed_pk = fmax(speed_pk, POLY7_DP_MAX * fabs(d) / T);
         accel_pk = fmax(accel_pk, POLY7_DDP_MAX * fabs(d) / (T * T));
         from = s->theta_to_rad;

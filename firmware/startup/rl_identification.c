@@ -12,8 +12,23 @@ void rl_id_init(rl_id_t *id, const rl_id_config_t *cfg)
     id->mean_i_A = MC_ZERO;
     id->ss_v_V = MC_ZERO;
     id->ss_i_A = MC_ZERO;
+    for (int j = 0; j < 4; ++j) {
+        id->res[j] = MC_ZERO;
+    }
     id->R_ohm = cfg->R_model_ohm;
     id->L_fs_ohm = cfg->L_fs_model_ohm;
+}
+
+/* mean += x/n with the rounding error of x/n carried into the next sample,
+ * so the mean of a constant input is exact to 1 LSB however long the window
+ * (a plain running sum would leave the fixed-point range; plain x/n would
+ * round the same way every sample). */
+static void mean_add(mc_t *mean, mc_t *res, mc_t x, int32_t n)
+{
+    const mc_t t = mc_add(x, *res);
+    const mc_t q = mc_div_i(t, n);
+    *res = mc_sub(t, mc_mul_i(q, n));
+    *mean = mc_add(*mean, q);
 }
 
 static bool within_factor_two(mc_t x, mc_t ref)
@@ -34,13 +49,12 @@ bool rl_id_step(rl_id_t *id, mc_t i_f_A, mc_t v_f_V, mc_t omega_ref_rad_s)
     if (id->k == 0) {
         id->i0_A = i_f_A;
     }
-    /* running means (sums would leave the fixed-point range on long windows) */
     const int32_t N = c->window_ticks;
-    id->mean_v_V = mc_add(id->mean_v_V, mc_div_i(v_f_V, N));
-    id->mean_i_A = mc_add(id->mean_i_A, mc_div_i(i_f_A, N));
+    mean_add(&id->mean_v_V, &id->res[0], v_f_V, N);
+    mean_add(&id->mean_i_A, &id->res[1], i_f_A, N);
     if (id->k >= N - c->steady_ticks) {
-        id->ss_v_V = mc_add(id->ss_v_V, mc_div_i(v_f_V, c->steady_ticks));
-        id->ss_i_A = mc_add(id->ss_i_A, mc_div_i(i_f_A, c->steady_ticks));
+        mean_add(&id->ss_v_V, &id->res[2], v_f_V, c->steady_ticks);
+        mean_add(&id->ss_i_A, &id->res[3], i_f_A, c->steady_ticks);
     }
     id->k += 1;
     if (id->k < N) {

@@ -53,6 +53,7 @@ typedef struct {
     mc_t i0_A;                /* first sample */
     mc_t mean_v_V, mean_i_A;  /* over the whole window */
     mc_t ss_v_V, ss_i_A;      /* over the steady tail */
+    mc_t res[4];              /* rounding residuals of the four means (error feedback) */
     mc_t R_ohm;               /* result */
     mc_t L_fs_ohm;            /* result L/Ts (= L * fs) */
 } rl_id_t;

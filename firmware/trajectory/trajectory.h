@@ -25,9 +25,15 @@ typedef struct {
     uint32_t start_tick;
     uint32_t duration_ticks;   /* > 0 */
     mc_t theta_to_rad;
-    /* (theta_f - theta_i)/T^n for n = 1..3, [rad/s], [rad/s^2], [rad/s^3];
-     * filled by trajectory_init from fs_hz. */
+    /* Derived by trajectory_init when left at 0 (or at design time, in
+     * double): with delta = theta_f - theta_i and T the duration,
+     * delta/T^n for n = 1..3 [rad/s], [rad/s^2], [rad/s^3], and the
+     * coefficients of theta_r = theta_mid + x (c0 - x^2 (c1 - x^2 (c2 -
+     * c3 x^2))), x = D - 1/2: c0..c3 = delta (35/16, 35/4, 21, 20),
+     * theta_mid = theta_i + delta/2. Multiplying delta in before x keeps
+     * the position to a few LSB in fixed point (p(D) alone would not). */
     mc_t v_scale, a_scale, j_scale;
+    mc_t c0, c1, c2, c3, theta_mid_rad;
 } trajectory_segment_t;
 
 typedef struct {
@@ -48,14 +54,15 @@ typedef struct {
 
 /* Checks ordering and durations, derives the per-segment scales. Pass the
  * per-segment ratios precomputed (design time) or leave them 0 to have them
- * derived here with mc arithmetic. Returns false on an invalid config. */
+ * derived here with mc arithmetic (see trajectory_segment_t). Returns false on an invalid config. */
 bool trajectory_init(trajectory_t *t, const trajectory_config_t *cfg);
 
 /* Reference and its first three derivatives at sample `tick`. */
 void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *out);
 
 /* The normalised polynomial and its derivatives w.r.t. D at D in [0, 1]:
- * p, p', p'', p'''. Exposed for tests. */
+ * p, p', p'', p'''. For tests and tools: trajectory_eval folds the
+ * segment's scale in before rounding. */
 void trajectory_poly7(mc_t D, mc_t *p, mc_t *dp, mc_t *ddp, mc_t *dddp);
 
 /* Last sample at which the reference still moves (end of the last segment). */

@@ -120,16 +120,35 @@ TEST(Trajectory, ChainedSegmentsAreContinuousAndConsistent)
     EXPECT_NEAR(D(a.theta_rad), 0.0, 1e-3);
     EXPECT_NEAR(D(b.theta_rad), 0.0, 1e-3);
     EXPECT_NEAR(D(b.omega_rad_s), 0.0, kTol);
-    // derivatives agree with central differences of the samples
+    // derivatives agree with central differences of the samples. Float:
+    // +-10 samples (truncation h^2 theta(3)/6 < 1e-4, rounding ~1e-3).
+    // Fixed Q14.17: D has 2^-17 resolution (15 us of a 2 s move), so the
+    // samples carry up to ~2e-4 rad of time jitter: +-100 samples, and the
+    // tolerances grow with the truncation error of the wider difference.
+#if MC_FIXED
+    const uint32_t h = 100;
+    const double tol_w = 0.02, tol_a = 0.15, tol_j = 1.5;
+#else
+    const uint32_t h = 10;
+    const double tol_w = 5e-3, tol_a = 2e-2, tol_j = 0.1;
+#endif
+    const double dt2 = 2.0 * h * 1e-4;
     for (uint32_t k : {1234u, 7000u, 15000u, 26000u, 38000u}) {
         trajectory_point_t m, p, c;
-        // +-10 samples: truncation error ~ h^2 theta'''/6 < 1e-4, rounding ~ 1e-3
-        trajectory_eval(&t, k - 10, &m);
-        trajectory_eval(&t, k + 10, &p);
+        trajectory_eval(&t, k - h, &m);
+        trajectory_eval(&t, k + h, &p);
         trajectory_eval(&t, k, &c);
-        EXPECT_NEAR((D(p.theta_rad) - D(m.theta_rad)) / 2e-3, D(c.omega_rad_s), 5e-3) << k;
-        EXPECT_NEAR((D(p.omega_rad_s) - D(m.omega_rad_s)) / 2e-3, D(c.accel_rad_s2), 2e-2) << k;
-        EXPECT_NEAR((D(p.accel_rad_s2) - D(m.accel_rad_s2)) / 2e-3, D(c.jerk_rad_s3), 0.1) << k;
+        EXPECT_NEAR((D(p.theta_rad) - D(m.theta_rad)) / dt2, D(c.omega_rad_s), tol_w) << k;
+        EXPECT_NEAR((D(p.omega_rad_s) - D(m.omega_rad_s)) / dt2, D(c.accel_rad_s2), tol_a) << k;
+        EXPECT_NEAR((D(p.accel_rad_s2) - D(m.accel_rad_s2)) / dt2, D(c.jerk_rad_s3), tol_j) << k;
+    }
+    // the position against eq. (70) evaluated in double
+    for (uint32_t k = 0; k <= 40000; k += 397) {
+        trajectory_point_t c;
+        trajectory_eval(&t, k, &c);
+        const double Dd = (k % 20000) / 20000.0, pd = Dd * Dd * Dd * Dd * (35 - 84 * Dd + 70 * Dd * Dd - 20 * Dd * Dd * Dd);
+        const double want = (k < 20000) ? 18.0 * pd : (k < 40000 ? 18.0 - 18.0 * pd : 0.0);
+        EXPECT_NEAR(D(c.theta_rad), want, MC_FIXED ? 3e-4 : 2e-5) << k;
     }
 }
 
@@ -256,7 +275,7 @@ TEST(PositionEstimator, JumpCounterKeepsThetaContinuousAcrossPiOverNp)
         const double ef = K * w * std::sin(50 * dth), eg = -K * w * std::cos(50 * dth);
         position_estimator_step(&p, M(ef), M(eg), M(0), M(0), M(1.0), M(w));
         EXPECT_NEAR(D(p.theta_est_rad), 1.0 + dth, 1e-4) << k;
-        EXPECT_LE(std::fabs(D(p.dtheta_est_rad)), pitch / 2 + 1e-6);
+        EXPECT_LE(std::fabs(D(p.dtheta_est_rad)), pitch / 2 + kTol);
         if (k > 0) {
             EXPECT_LT(std::fabs(D(p.theta_est_rad) - prev), 0.01);
         }
