@@ -12,6 +12,9 @@ cd "$ROOT"
 # Presets of CMakePresets.json, in this order. Adding one is a one-line change.
 PRESETS=(
     host
+    host-fixed
+    cortex-m4f
+    cortex-m3-fixed
 )
 
 usage() {
