@@ -19,6 +19,14 @@
 
 #include "math/frame_fg.h"
 
+/* One step of an exponential decay, snapped to 0 below 1e-4 (V or A): it
+ * then costs nothing and cannot stall on a rounding fixed point. */
+static mc_t drive_decay(mc_t x, mc_t factor)
+{
+    const mc_t y = mc_mul(factor, x);
+    return (mc_abs(y) < MC_C(1e-4)) ? MC_ZERO : y;
+}
+
 static void drive_zero_output(drive_t *d, mc_t *v_a_V, mc_t *v_b_V)
 {
     *v_a_V = MC_ZERO;
@@ -77,6 +85,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     }
     trajectory_eval(&d->traj, 0, &d->ref);
     trajectory_eval(&d->traj, 1, &d->ref_next);
+    d->phi_rad = mc_elec_angle(d->ref.theta_rad, cfg->n_p);
     return true;
 }
 
@@ -106,19 +115,22 @@ static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_f
     const trajectory_point_t *r = &d->ref;
     /* i_f,r: constant plus the decaying switch offset (a free flat output) */
     *i_fr = mc_add(c->i_f_ref_A, d->i_f_off_A);
-    const mc_t di_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, d->i_f_off_A)); /* L di_f,r/dt [V] */
-    mc_t i_g = mc_add(mc_mul(c->J_over_K_A_s2, r->accel_rad_s2), mc_mul(c->fv_over_K_A_s, r->omega_rad_s));
-    /* (38) with the load of (9c): J w_r' = K i_g,r - f_v w_r - C_r, C_r from (35) */
-    i_g = mc_add(i_g, mc_mul(c->load_ff_A_per_Nm, mc_clamp(d->mech.load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm)));
-    i_g = mc_add(i_g, d->i_g_off_A);
-    *i_gr = mc_clamp(i_g, mc_neg(c->i_max_A), c->i_max_A);
-    mc_t Ldi_gr = mc_mul(c->L_H, mc_add(mc_mul(c->J_over_K_A_s2, r->jerk_rad_s3), mc_mul(c->fv_over_K_A_s, r->accel_rad_s2)));
-    Ldi_gr = mc_sub(Ldi_gr, mc_mul(c->ref_blend_L_over_tau_ohm, d->i_g_off_A));
+    /* (39) with the load of (9c): J w_r' = K i_g,r - f_v w_r - C_r, C_r from (35) */
+    mc_t i_g = mc_dot2(c->J_over_K_A_s2, r->accel_rad_s2, c->fv_over_K_A_s, r->omega_rad_s);
+    i_g = mc_mac(i_g, c->load_ff_A_per_Nm, mc_clamp(d->mech.load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm));
+    *i_gr = mc_clamp(mc_add(i_g, d->i_g_off_A), mc_neg(c->i_max_A), c->i_max_A);
+    /* L di_r/dt of both references [V]: the flat part, and -L/tau of the offsets */
+    mc_t Ldi_gr = mc_mul(c->L_H, mc_dot2(c->J_over_K_A_s2, r->jerk_rad_s3, c->fv_over_K_A_s, r->accel_rad_s2));
+    mc_t Ldi_fr = MC_ZERO;
+    if (d->i_f_off_A != MC_ZERO || d->i_g_off_A != MC_ZERO) {
+        Ldi_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, d->i_f_off_A));
+        Ldi_gr = mc_sub(Ldi_gr, mc_mul(c->ref_blend_L_over_tau_ohm, d->i_g_off_A));
+    }
     const mc_t npLw = mc_mul(c->npL_ohm_s, r->omega_rad_s);
     /* L di_f,r/dt = v_f,r - R i_f,r + n_p L w_r i_g,r   (38) */
-    *v_fr = mc_add(mc_sub(mc_mul(c->R_ohm, *i_fr), mc_mul(npLw, *i_gr)), di_fr);
+    *v_fr = mc_add(mc_cross2(c->R_ohm, *i_fr, npLw, *i_gr), Ldi_fr);
     /* L di_g,r/dt = v_g,r - R i_g,r - n_p L w_r i_f,r - K w_r   (38) */
-    *v_gr = mc_add(mc_add(Ldi_gr, mc_mul(c->R_ohm, *i_gr)), mc_add(mc_mul(npLw, *i_fr), mc_mul(c->K_V_s, r->omega_rad_s)));
+    *v_gr = mc_mac(mc_add(Ldi_gr, mc_dot2(c->R_ohm, *i_gr, npLw, *i_fr)), c->K_V_s, r->omega_rad_s);
 }
 
 /* Closed-loop law: eq. (44) errors, (48) super-twisting on xi_f, (52)-(54)
@@ -143,23 +155,20 @@ static void drive_closed_loop(drive_t *d, mc_rot_t u, mc_t i_d, mc_t i_q, mc_t *
     const mc_t xi_w = mc_sub(d->mech.omega_est_rad_s, w_r);
 
     /* (48): v_f-bar = -L mu_1 + L u_st(xi_f), mu_1 of (45a) */
-    const mc_t cross_f = mc_add(mc_mul(xi_w, mc_add(xi_g, i_gr)), mc_mul(w_r, xi_g));
+    const mc_t cross_f = mc_dot2(xi_w, mc_add(xi_g, i_gr), w_r, xi_g);
     const mc_t u_st = super_twisting_step(&d->cur, xi_f, d->sat_prev);
-    const mc_t vb_f = mc_add(mc_sub(mc_mul(c->R_ohm, xi_f), mc_mul(c->npL_ohm_s, cross_f)), u_st);
+    const mc_t vb_f = mc_add(mc_cross2(c->R_ohm, xi_f, c->npL_ohm_s, cross_f), u_st);
 
     /* (52)-(54): S = k xi_theta + xi_omega, dS/dt from the observed acceleration */
-    const mc_t S = mc_add(mc_mul(c->k_surface_per_s, xi_theta), xi_w);
-    const mc_t S_dot = mc_add(mc_mul(c->k_surface_per_s, xi_w), mc_sub(d->mech.accel_est_rad_s2, d->ref.accel_rad_s2));
+    const mc_t S = mc_mac(xi_w, c->k_surface_per_s, xi_theta);
+    const mc_t S_dot = mc_mac(mc_sub(d->mech.accel_est_rad_s2, d->ref.accel_rad_s2), c->k_surface_per_s, xi_w);
     const mc_t w_tw = twisting_step(&d->pos_ctrl, S, S_dot);
     /* (JL/K) times (54), with mu_2 of (42) after the errata:
      * v_g-bar = R xi_g + n_p L (xi_w (xi_f + i_f,r) + w_r xi_f) + K xi_w
      *           - L (k - f_v/J) xi_g + (L/K)(k - f_v/J) f_v xi_w + (JL/K) w_t */
-    const mc_t cross_g = mc_add(mc_mul(xi_w, mc_add(xi_f, i_fr)), mc_mul(w_r, xi_f));
-    mc_t vb_g = mc_add(mc_mul(c->R_ohm, xi_g), mc_mul(c->npL_ohm_s, cross_g));
-    vb_g = mc_add(vb_g, mc_mul(c->K_V_s, xi_w));
-    vb_g = mc_sub(vb_g, mc_mul(c->v_k_i_V_per_A, xi_g));
-    vb_g = mc_add(vb_g, mc_mul(c->v_k_w_V_s, xi_w));
-    vb_g = mc_add(vb_g, w_tw);
+    const mc_t cross_g = mc_dot2(xi_w, mc_add(xi_f, i_fr), w_r, xi_f);
+    const mc_t vb_g = mc_add(mc_dot2(mc_sub(c->R_ohm, c->v_k_i_V_per_A), xi_g, c->npL_ohm_s, cross_g),
+                             mc_mac(w_tw, mc_add(c->K_V_s, c->v_k_w_V_s), xi_w));
 
     /* v_dq = v_ref + v-bar, then back to (f-g): v_fg = U(xi_theta)^T v_dq */
     mc_rot_inv(u, mc_add(v_fr, vb_f), mc_add(v_gr, vb_g), v_f, v_g);
@@ -181,8 +190,9 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     }
 
     /* 1. frame of this sample and its rotation over the sample */
-    const mc_t phi_k = mc_elec_angle(d->ref.theta_rad, c->n_p);
-    const mc_t dphi = mc_wrap_pi(mc_sub(mc_elec_angle(d->ref_next.theta_rad, c->n_p), phi_k));
+    const mc_t phi_k = d->phi_rad;
+    const mc_t phi_next = mc_elec_angle(d->ref_next.theta_rad, c->n_p);
+    const mc_t dphi = mc_wrap_pi(mc_sub(phi_next, phi_k));
     const mc_rot_t rot_k = mc_rot_from_angle(phi_k);
     const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
     const mc_rot_t rot_mid = mc_rot_compose(rot_k, rot_half);
@@ -244,12 +254,16 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
         d->blend_f_V = mc_add(d->blend_f_V, mc_sub(d->v_f_prev_V, v_f));
         d->blend_g_V = mc_add(d->blend_g_V, mc_sub(d->v_g_prev_V, v_g));
     }
-    v_f = mc_add(v_f, d->blend_f_V);
-    v_g = mc_add(v_g, d->blend_g_V);
-    d->blend_f_V = mc_mul(c->blend_decay, d->blend_f_V);
-    d->blend_g_V = mc_mul(c->blend_decay, d->blend_g_V);
-    d->i_f_off_A = mc_mul(c->ref_blend_decay, d->i_f_off_A);
-    d->i_g_off_A = mc_mul(c->ref_blend_decay, d->i_g_off_A);
+    if (d->blend_f_V != MC_ZERO || d->blend_g_V != MC_ZERO) {
+        v_f = mc_add(v_f, d->blend_f_V);
+        v_g = mc_add(v_g, d->blend_g_V);
+        d->blend_f_V = drive_decay(d->blend_f_V, c->blend_decay);
+        d->blend_g_V = drive_decay(d->blend_g_V, c->blend_decay);
+    }
+    if (d->i_f_off_A != MC_ZERO || d->i_g_off_A != MC_ZERO) {
+        d->i_f_off_A = drive_decay(d->i_f_off_A, c->ref_blend_decay);
+        d->i_g_off_A = drive_decay(d->i_g_off_A, c->ref_blend_decay);
+    }
 
     /* 4. to the phases at the mid-sample angle (the average (f-g) voltage over
      * the hold is then the commanded one), limited per phase to +-V_max with
@@ -269,11 +283,9 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     d->v_f_prev_V = v_f;
     d->v_g_prev_V = v_g;
 
-    /* 5. observer prediction with the applied voltage in this sample's frame */
-    mc_t v_f_k, v_g_k;
-    mc_rot_fwd(rot_k, v_a, v_b, &v_f_k, &v_g_k);
-    emf_observer_predict(&d->emf, v_f_k, v_g_k, i_f, i_g, rot_half);
-    if (!closed && rl_id_step(&d->rl_id, i_f, v_f_k, d->ref.omega_rad_s) && d->rl_id.state == RL_ID_DONE) {
+    /* 5. observer prediction with the applied voltage (mid-sample frame) */
+    emf_observer_predict(&d->emf, v_f, v_g, i_f, i_g, rot_half);
+    if (!closed && rl_id_step(&d->rl_id, i_f, v_f, d->ref.omega_rad_s) && d->rl_id.state == RL_ID_DONE) {
         drive_use_measured_rl(d, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);
     }
 
@@ -312,6 +324,7 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     /* advance the reference */
     d->tick += 1;
     d->ref = d->ref_next;
+    d->phi_rad = phi_next;
     trajectory_eval(&d->traj, d->tick + 1, &d->ref_next);
     *v_a_V = v_a;
     *v_b_V = v_b;

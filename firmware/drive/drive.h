@@ -120,6 +120,7 @@ typedef struct {
     bool sat_prev;               /* last command hit the voltage limit */
     trajectory_point_t ref;      /* reference of this sample */
     trajectory_point_t ref_next; /* reference of the next sample */
+    mc_t phi_rad;                /* n_p theta_r of this sample, wrapped (eq. (8)) */
     drive_telemetry_t tlm;
 } drive_t;
 

@@ -37,6 +37,7 @@
  *   mc_t mc_from_i(int32_t n), int32_t mc_round_i(mc_t x)
  *   mc_t mc_ratio_i(int32_t num, int32_t den)   num/den exactly rounded, 0 if den == 0
  *   mc_t mc_sgn(mc_t x)              -1, 0 or +1
+ *   mc_t mc_mul_sgn(mc_t m, mc_t x)  m sgn(x) for m >= 0, exact (a select)
  *   mc_t mc_sqrt(mc_t x)             x >= 0
  *   mc_t mc_sqrt_abs_sgn(mc_t x)     |x|^(1/2) sgn(x), the super-twisting term
  *   mc_t mc_hypot(mc_t a, mc_t b)

@@ -439,6 +439,8 @@ static inline mc_t mc_from_i(int32_t n) { return mc__sat64((int64_t)n * MC_ONE_R
 static inline int32_t mc_round_i(mc_t x) { return (x >> MC_FRAC_BITS) + ((x >> (MC_FRAC_BITS - 1)) & 1); }
 
 static inline mc_t mc_sgn(mc_t x) { return (x > 0) ? MC_ONE : ((x < 0) ? -MC_ONE : 0); }
+/* m sgn(x) for m >= 0, exact (a select, no multiply) */
+static inline mc_t mc_mul_sgn(mc_t m, mc_t x) { return (x > 0) ? m : ((x < 0) ? -m : 0); }
 
 static inline mc_t mc_sqrt(mc_t x)
 {

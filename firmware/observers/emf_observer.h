@@ -12,7 +12,7 @@
  * reference electrical angle over the sample (exp(Ts A_fg)); the voltage,
  * held constant in the phase frame, is carried exactly by that rotation;
  * the back-EMF and resistive drop, constant in the (f-g) frame, enter with
- * the mid-sample rotation.
+ * the mid-sample rotation (two half turns in all).
  *
  * Use per sample: emf_observer_correct() with the measured (f-g) currents
  * (updates e-hat, the equivalent injections and the error), read the
@@ -55,8 +55,8 @@ void emf_observer_reset(emf_observer_t *o, mc_t i_f_A, mc_t i_g_A);
 void emf_observer_correct(emf_observer_t *o, mc_t i_f_A, mc_t i_g_A);
 
 /* Propagates i_hat to the next sample's frame.
- *   v_f_V, v_g_V : the voltage applied over the sample, expressed in this
- *                  sample's frame (U(n_p theta_r[k]) v_ab);
+ *   v_f_V, v_g_V : the voltage applied over the sample, expressed in the
+ *                  mid-sample frame (U(n_p (theta_r[k] + theta_r[k+1])/2) v_ab);
  *   i_f_A, i_g_A : measured currents of this sample (resistive drop);
  *   half         : rotation by half the change of n_p theta_r over the sample. */
 void emf_observer_predict(emf_observer_t *o, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A, mc_rot_t half);

@@ -9,14 +9,13 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
     p->dtheta_est_rad = MC_ZERO;
     p->theta_est_rad = MC_ZERO;
     p->omega_est_rad_s = MC_ZERO;
-    p->omega_abs_rad_s = MC_ZERO;
 }
 
 void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
                              mc_t theta_r_rad, mc_t omega_r_rad_s)
 {
     const position_estimator_config_t *c = &p->cfg;
-    const mc_t e2 = mc_add(mc_mul(e_f_V, e_f_V), mc_mul(e_g_V, e_g_V));
+    const mc_t e2 = mc_dot2(e_f_V, e_f_V, e_g_V, e_g_V);
     p->valid = !(e2 < c->e2_min_V2);
 
     /* eq. (29) (errata form): the sign of the speed is taken from the reference */
@@ -37,11 +36,10 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
     p->dtheta_est_rad = dth;
     p->theta_est_rad = mc_add(mc_add(theta_r_rad, dth), mc_mul_i(c->pitch_rad, p->k));
 
-    /* eqs. (30)-(32) */
-    p->omega_abs_rad_s = mc_mul(c->inv_K_rad_s_per_V, mc_sqrt(e2));
+    /* eqs. (31)-(32) */
     mc_t dw = MC_ZERO;
     if (p->valid) {
-        const mc_t num = mc_sub(mc_mul(z_g_V_s, e_f_V), mc_mul(z_f_V_s, e_g_V));
+        const mc_t num = mc_cross2(z_g_V_s, e_f_V, z_f_V_s, e_g_V);
         /* divide by n_p first: e2 * n_p would leave the fixed-point range at speed */
         dw = mc_div(mc_div_i(num, c->n_p), e2);
     }
@@ -53,4 +51,9 @@ void position_estimator_set_branch(position_estimator_t *p, mc_t theta_r_rad, mc
     const mc_t off = mc_sub(theta_near_rad, mc_add(theta_r_rad, p->dtheta_est_rad));
     p->k = mc_round_i(mc_div(off, p->cfg.pitch_rad));
     p->theta_est_rad = mc_add(mc_add(theta_r_rad, p->dtheta_est_rad), mc_mul_i(p->cfg.pitch_rad, p->k));
+}
+
+mc_t position_estimator_speed_magnitude(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V)
+{
+    return mc_mul(p->cfg.inv_K_rad_s_per_V, mc_hypot(e_f_V, e_g_V)); /* (30) */
 }

@@ -38,7 +38,6 @@ typedef struct {
     mc_t dtheta_est_rad;
     mc_t theta_est_rad;
     mc_t omega_est_rad_s;
-    mc_t omega_abs_rad_s; /* eq. (30) */
 } position_estimator_t;
 
 void position_estimator_init(position_estimator_t *p, const position_estimator_config_t *cfg);
@@ -47,6 +46,10 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
  * injections [V/s]; theta_r, omega_r: the reference of this sample. */
 void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
                              mc_t theta_r_rad, mc_t omega_r_rad_s);
+
+/* |omega| of eq. (30) (errata factor L/K: |e|/K); not needed by the
+ * control, so computed only on request. */
+mc_t position_estimator_speed_magnitude(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V);
 
 /* Chooses the jump count k that puts theta_est closest to theta_near_rad
  * (used at the open-to-closed-loop switch) and updates theta_est. */

@@ -188,8 +188,8 @@ TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
     emf_observer_init(&o, &c);
     double i_f = 0.0, i_g = 0.0;
     // As in the drive: a constant (f-g) command, put on the phases with the
-    // mid-sample angle and held there over the sample; the observer gets it
-    // expressed in the frame at the start of the sample.
+    // mid-sample angle and held there over the sample; the observer gets the
+    // command (the voltage in the mid-sample frame).
     const double vf_cmd = 2.0, vg_cmd = 5.0;
     const double c_h = std::cos(w_e * Ts / 2), s_h = std::sin(w_e * Ts / 2);
     const double vf = c_h * vf_cmd - s_h * vg_cmd, vg = s_h * vf_cmd + c_h * vg_cmd;
@@ -203,7 +203,7 @@ TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
             mean_f += (D(o.e_f_hat_V) - ef) / 1000.0;
             mean_g += (D(o.e_g_hat_V) - eg) / 1000.0;
         }
-        emf_observer_predict(&o, M(vf), M(vg), M(i_f), M(i_g), half);
+        emf_observer_predict(&o, M(vf_cmd), M(vg_cmd), M(i_f), M(i_g), half);
         // plant (23): voltage constant in the phase frame (so it turns in
         // (f-g)), back-EMF constant in (f-g); RK2 on fine substeps
         const int sub = 200;
@@ -256,7 +256,7 @@ TEST(PositionEstimator, AngleForBothSignsOfSpeed)
             const double ef = K * w * std::sin(50 * dth), eg = -K * w * std::cos(50 * dth);
             position_estimator_step(&p, M(ef), M(eg), M(0), M(0), M(3.0), M(w));
             EXPECT_NEAR(D(p.dtheta_est_rad), dth, 2e-5) << w << " " << dth;
-            EXPECT_NEAR(D(p.omega_abs_rad_s), std::fabs(w), 1e-3);  // (30)
+            EXPECT_NEAR(D(position_estimator_speed_magnitude(&p, M(ef), M(eg))), std::fabs(w), 1e-3);  // (30)
             EXPECT_NEAR(D(p.theta_est_rad), 3.0 + dth, 2e-5);
         }
     }
