@@ -2,7 +2,13 @@
 // software plant: scenario in, CSV log + metrics (+ PNG plot) out.
 //
 //   motorsim --scenario FILE [--out DIR] [--metrics-out FILE.json]
-//            [--seed N] [--no-plot] [--quiet]
+//            [--seed N] [--no-plot] [--no-csv] [--quiet]
+//
+// Outputs (kOutputModes below, also in --help):
+//   --out DIR given        CSV + metrics JSON + PNG into DIR
+//   only --metrics-out     the metrics JSON alone: no per-sample log is even
+//                          recorded (the fast mode for many variants)
+//   neither                as --out out
 //
 // Each 100 us period the sw_plant HAL backend samples the currents through
 // the sensor model, calls the drive (drive_glue.cpp), clamps the voltages in
@@ -39,16 +45,29 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// 4e6 samples = 400 s at 10 kHz, ~1.1 GB of log.
+// 4e6 samples = 400 s at 10 kHz, ~1.1 GB of log (metrics-only runs keep no log).
 constexpr std::uint32_t kMaxLoggedSamples = 4000000;
+
+constexpr const char* kOutputModes =
+    "Outputs:\n"
+    "  --out DIR given       DIR/<stem>.csv, DIR/<stem>_metrics.json (or --metrics-out) and\n"
+    "                        DIR/<stem>.png; --no-plot: no PNG, --no-csv: no CSV and no PNG\n"
+    "  only --metrics-out    the metrics JSON alone: no CSV, no PNG, no per-sample log at all\n"
+    "                        (fastest; the metrics are the same as in a full run)\n"
+    "  neither               as --out out\n"
+    "The metrics are also printed on stdout unless --quiet. Nothing is written\n"
+    "before the run has succeeded, and each file appears whole or not at all.\n"
+    "Exit status: 0 ok, 1 run or I/O failure, 2 bad command line or scenario.";
 
 struct Options {
     std::string scenario;
     std::string out_dir = "out";
+    bool out_given = false;
     std::string metrics_out;
     std::int64_t seed = 0;
     bool seed_given = false;
     bool no_plot = false;
+    bool no_csv = false;
     bool quiet = false;
 };
 
@@ -113,18 +132,32 @@ int run(const Options& opt)
     if (opt.seed_given) {
         sc.seed = static_cast<std::uint64_t>(opt.seed);
     }
-    check_output_dir(opt.out_dir, "--out");
+    // Metrics only: --metrics-out without --out. Else DIR gets the CSV (no
+    // --no-csv), the PNG (drawn from the CSV; no --no-plot) and, without
+    // --metrics-out, the metrics JSON.
+    const bool metrics_only = !opt.out_given && !opt.metrics_out.empty();
+    const bool write_csv = !metrics_only && !opt.no_csv;
+    const bool write_png = write_csv && !opt.no_plot;
+    if (write_csv || opt.metrics_out.empty()) {
+        check_output_dir(opt.out_dir, "--out");
+    }
     const std::string csv_path = (fs::path(opt.out_dir) / (sc.stem + ".csv")).string();
     const std::string png_path = (fs::path(opt.out_dir) / (sc.stem + ".png")).string();
     const std::string json_path =
         opt.metrics_out.empty() ? (fs::path(opt.out_dir) / (sc.stem + "_metrics.json")).string() : opt.metrics_out;
+    {
+        std::error_code ec;
+        if (!opt.metrics_out.empty() && fs::is_directory(json_path, ec)) {
+            throw std::invalid_argument("--metrics-out: '" + json_path + "' is a directory");
+        }
+    }
     if (fs::path(json_path).has_parent_path()) {
         check_output_dir(fs::path(json_path).parent_path().string(), "--metrics-out");
     }
 
     // The whole log stays in memory until the run is over (no file I/O in
     // the loop): ~300 bytes per sample. Refuse runs that would not fit.
-    if (sc.n_ticks() > kMaxLoggedSamples) {
+    if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
         throw std::invalid_argument(sc.path + ": run.duration_s: " + std::to_string(sc.n_ticks()) +
                                     " samples exceed the in-memory log limit of " +
                                     std::to_string(kMaxLoggedSamples) + " (" +
@@ -144,7 +177,7 @@ int run(const Options& opt)
     mcsim::Amplifier amp;
     amp.v_max_V = sc.v_max_V;
     const mcsim::Reference ref(sc.segments, 0.0);
-    mcsim::Recorder rec(sc, plant, *drive, ref);
+    mcsim::Recorder rec(sc, plant, *drive, ref, /*record_rows=*/write_csv);
 
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
     hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, &rec);
@@ -171,18 +204,26 @@ int run(const Options& opt)
     const mcsim::MetricList metrics = rec.metrics(wall_s);
 
     // ---- outputs ----------------------------------------------------------
-    fs::create_directories(opt.out_dir);
+    if (write_csv) {
+        fs::create_directories(opt.out_dir);
+    }
     if (fs::path(json_path).has_parent_path()) {
         fs::create_directories(fs::path(json_path).parent_path());
     }
-    mcsim::write_csv_atomic(csv_path, rec.data(), rec.size());
+    if (write_csv) {
+        mcsim::write_csv_atomic(csv_path, rec.data(), rec.size());
+    }
     mcsim::write_metrics_json_atomic(json_path, metrics);
     if (!opt.quiet) {
         mcsim::print_metrics(stdout, metrics);
         std::fflush(stdout);
-        std::fprintf(stderr, "motorsim: wrote %s, %s\n", csv_path.c_str(), json_path.c_str());
+        if (write_csv) {
+            std::fprintf(stderr, "motorsim: wrote %s, %s\n", csv_path.c_str(), json_path.c_str());
+        } else {
+            std::fprintf(stderr, "motorsim: wrote %s\n", json_path.c_str());
+        }
     }
-    if (!opt.no_plot) {
+    if (write_png) {
         const char* env_py = std::getenv("MC_PYTHON");
         const std::string python = (env_py != nullptr && env_py[0] != '\0') ? env_py : MOTORSIM_PYTHON;
         const std::string why = mcsim::run_plot(python, MOTORSIM_PLOT_SCRIPT, csv_path, png_path);
@@ -204,10 +245,13 @@ int main(int argc, char** argv)
     app.add_option("--scenario", opt.scenario, "scenario TOML file (format: sim/scenarios/README.md)")
         ->required()
         ->type_name("FILE");
-    app.add_option("--out", opt.out_dir, "output directory for <stem>.csv, <stem>_metrics.json, <stem>.png")
-        ->type_name("DIR")
-        ->capture_default_str();
-    app.add_option("--metrics-out", opt.metrics_out, "metrics JSON path (default DIR/<stem>_metrics.json)")
+    CLI::Option* out_opt =
+        app.add_option("--out", opt.out_dir,
+                       "output directory for <stem>.csv, <stem>_metrics.json, <stem>.png (default: out, "
+                       "unless --metrics-out is given alone: then metrics only)")
+            ->type_name("DIR");
+    app.add_option("--metrics-out", opt.metrics_out,
+                   "metrics JSON path (default DIR/<stem>_metrics.json); without --out, the only output")
         ->type_name("FILE.json");
     // Signed so that "-3" is an error rather than a wrapped 2^64 - 3.
     CLI::Option* seed_opt = app.add_option("--seed", opt.seed, "noise seed >= 0, overrides [run] seed")
@@ -219,7 +263,9 @@ int main(int argc, char** argv)
                                     },
                                     ">= 0"));
     app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
+    app.add_flag("--no-csv", opt.no_csv, "do not record or write the CSV log (and so no PNG either)");
     app.add_flag("--quiet", opt.quiet, "print nothing but warnings and errors");
+    app.footer(kOutputModes);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -229,6 +275,7 @@ int main(int argc, char** argv)
         return 2;
     }
     opt.seed_given = seed_opt->count() > 0;
+    opt.out_given = out_opt->count() > 0;
 
     try {
         return run(opt);

@@ -15,7 +15,8 @@ const char* const kColumnNames[kNumColumns] = {
     "v_g",       "delta_theta_est", "jump_count", "delta_theta", "i_f_ref",   "i_g_ref",   "fault",
 };
 
-Recorder::Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref)
+Recorder::Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref,
+                   bool record_rows)
     : sc_(sc),
       plant_(plant),
       drive_(drive),
@@ -23,11 +24,14 @@ Recorder::Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t&
       n_p_(static_cast<double>(plant.motor().n_p)),
       K_over_L_(plant.motor().K_Nm_per_A / plant.motor().L_H),
       inv_L_drive_(1.0 / sc.drive_model.L_H),
-      omega_lim_rad_s_(sc.omega_lim_rad_s)
+      omega_lim_rad_s_(sc.omega_lim_rad_s),
+      n_max_(sc.n_ticks())
 {
     // One row per period, allocated and touched (zeroed) here: the loop
     // itself neither allocates nor takes first-touch page faults.
-    rows_.resize(static_cast<std::size_t>(sc.n_ticks()));
+    if (record_rows) {
+        rows_.resize(static_cast<std::size_t>(n_max_));
+    }
 }
 
 void Recorder::monitor(void* ctx, const hal_sw_plant_period_t* p) { static_cast<Recorder*>(ctx)->on_period(*p); }
@@ -63,45 +67,47 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     const double i_f_hat = to_double(tl.i_f_hat_A);
     const double i_g_hat = to_double(tl.i_g_hat_A);
 
-    if (n_ >= rows_.size()) {
+    if (n_ >= n_max_) {
         return;  // more periods than the scenario asked for: keep the log bounded
     }
-    Row& r = rows_[n_];
-    r[kColT] = p.t_s;
-    r[kColMode] = static_cast<double>(tl.mode);
-    r[kColThetaRef] = theta_ref;
-    r[kColOmegaRef] = to_double(tl.omega_ref_rad_s);
-    r[kColAccelRef] = to_double(tl.accel_ref_rad_s2);
-    r[kColTheta] = theta;
-    r[kColThetaEst] = theta_est;
-    r[kColOmega] = omega;
-    r[kColOmegaEst] = omega_est;
-    r[kColAccel] = plant_.accel_rad_s2();
-    r[kColAccelEst] = to_double(tl.accel_est_rad_s2);
-    r[kColLoadTrue] = plant_.load_torque_Nm();
-    r[kColLoadEst] = to_double(tl.load_est_Nm);
-    r[kColIa] = i_a;
-    r[kColIb] = i_b;
-    r[kColIaMeas] = p.i_a_meas_A;
-    r[kColIbMeas] = p.i_b_meas_A;
-    r[kColIf] = i_f;
-    r[kColIg] = i_g;
-    r[kColIfHat] = i_f_hat;
-    r[kColIgHat] = i_g_hat;
-    r[kColDf] = d_f;
-    r[kColDg] = d_g;
-    r[kColDfHat] = to_double(tl.e_f_hat_V) * inv_L_drive_;
-    r[kColDgHat] = to_double(tl.e_g_hat_V) * inv_L_drive_;
-    r[kColVa] = p.v_a_V;
-    r[kColVb] = p.v_b_V;
-    r[kColVf] = to_double(tl.v_f_V);
-    r[kColVg] = to_double(tl.v_g_V);
-    r[kColDeltaThetaEst] = to_double(tl.delta_theta_est_rad);
-    r[kColJumpCount] = static_cast<double>(tl.jump_count);
-    r[kColDeltaTheta] = dtheta;
-    r[kColIfRef] = to_double(tl.i_f_ref_A);
-    r[kColIgRef] = to_double(tl.i_g_ref_A);
-    r[kColFault] = static_cast<double>(tl.fault);
+    if (!rows_.empty()) {
+        Row& r = rows_[n_];
+        r[kColT] = p.t_s;
+        r[kColMode] = static_cast<double>(tl.mode);
+        r[kColThetaRef] = theta_ref;
+        r[kColOmegaRef] = to_double(tl.omega_ref_rad_s);
+        r[kColAccelRef] = to_double(tl.accel_ref_rad_s2);
+        r[kColTheta] = theta;
+        r[kColThetaEst] = theta_est;
+        r[kColOmega] = omega;
+        r[kColOmegaEst] = omega_est;
+        r[kColAccel] = plant_.accel_rad_s2();
+        r[kColAccelEst] = to_double(tl.accel_est_rad_s2);
+        r[kColLoadTrue] = plant_.load_torque_Nm();
+        r[kColLoadEst] = to_double(tl.load_est_Nm);
+        r[kColIa] = i_a;
+        r[kColIb] = i_b;
+        r[kColIaMeas] = p.i_a_meas_A;
+        r[kColIbMeas] = p.i_b_meas_A;
+        r[kColIf] = i_f;
+        r[kColIg] = i_g;
+        r[kColIfHat] = i_f_hat;
+        r[kColIgHat] = i_g_hat;
+        r[kColDf] = d_f;
+        r[kColDg] = d_g;
+        r[kColDfHat] = to_double(tl.e_f_hat_V) * inv_L_drive_;
+        r[kColDgHat] = to_double(tl.e_g_hat_V) * inv_L_drive_;
+        r[kColVa] = p.v_a_V;
+        r[kColVb] = p.v_b_V;
+        r[kColVf] = to_double(tl.v_f_V);
+        r[kColVg] = to_double(tl.v_g_V);
+        r[kColDeltaThetaEst] = to_double(tl.delta_theta_est_rad);
+        r[kColJumpCount] = static_cast<double>(tl.jump_count);
+        r[kColDeltaTheta] = dtheta;
+        r[kColIfRef] = to_double(tl.i_f_ref_A);
+        r[kColIgRef] = to_double(tl.i_g_ref_A);
+        r[kColFault] = static_cast<double>(tl.fault);
+    }
 
     // --- metrics: scored against the scenario's own reference -----------
     const RefPoint ref = ref_.eval(p.t_s);

@@ -2,7 +2,8 @@
 // Recorder::on_period() per control period (installed as the sw_plant
 // backend's monitor): it reads the true plant state at the sampling instant
 // and the drive's telemetry of the same sample, appends one preallocated row
-// and updates the metrics. No allocation and no I/O per sample.
+// (unless built without a log) and updates the metrics. No allocation and no
+// I/O per sample.
 #ifndef MCSIM_MOTORSIM_RECORDER_H
 #define MCSIM_MOTORSIM_RECORDER_H
 
@@ -71,14 +72,17 @@ using MetricList = std::vector<std::pair<std::string, MetricValue>>;
 
 class Recorder {
 public:
-    Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref);
+    // record_rows = false: metrics only, no per-sample log (data() is empty);
+    // the metrics are the same either way.
+    Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref,
+             bool record_rows = true);
 
     // hal_sw_plant_monitor_fn; ctx is the Recorder.
     static void monitor(void* ctx, const hal_sw_plant_period_t* p);
 
     // The rows recorded so far (the log is sized for the scenario's n_ticks).
     const Row* data() const { return rows_.data(); }
-    std::size_t size() const { return static_cast<std::size_t>(n_); }
+    std::size_t size() const { return rows_.empty() ? 0 : static_cast<std::size_t>(n_); }
 
     // Final metrics; wall_loop_s is the wall time of the simulation loop.
     MetricList metrics(double wall_loop_s) const;
@@ -94,7 +98,8 @@ private:
     double K_over_L_;           // true plant, for d_f, d_g of eq. (23)
     double inv_L_drive_;        // drive model, for d_hat = e_hat / L
     double omega_lim_rad_s_;
-    std::vector<Row> rows_;
+    std::uint64_t n_max_;       // periods scored: the scenario's n_ticks
+    std::vector<Row> rows_;     // n_max_ rows, or none (metrics only)
 
     // metric accumulators
     std::uint64_t n_ = 0, n_closed_ = 0, n_mode_closed_ = 0, n_peak_ = 0, n_vsat_ = 0;

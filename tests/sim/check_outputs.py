@@ -7,6 +7,9 @@ Checks: exit 0; stdout is `key value` lines matching the metrics JSON (a
 flat object); the CSV has every documented column and one row per sample;
 the PNG exists (needs the venv's matplotlib); no temporary files are left;
 with a missing python the run still succeeds, warns, and writes no PNG.
+Metrics only (--metrics-out without --out): exactly one file written, no
+./out, the same metrics as the full run of the same seed (but the wall time
+and realtime factor). --no-csv: the metrics JSON alone in DIR.
 Standard library only.
 """
 from __future__ import annotations
@@ -89,6 +92,41 @@ def main() -> int:
         errors.append(f"--metrics-out/--seed not honoured: {r3.stderr.strip()}")
     if (work / "m" / f"{stem}_metrics.json").exists():
         errors.append("metrics JSON also written to the default place")
+
+    # Metrics only: exactly one file, nothing in the current directory, the
+    # metrics of the full runs above (same seeds) but for the timing ones.
+    timing = {"wall_time_s", "realtime_factor"}
+    full_default = metrics
+    full_17 = json.loads(mjson.read_text()) if mjson.is_file() else {}
+    for seed, full in ((None, full_default), (17, full_17)):
+        cwd = work / f"metrics_only_cwd_{seed}"
+        cwd.mkdir(parents=True)
+        only = work / f"metrics_only_{seed}" / "sub" / "m.json"
+        cmd = [motorsim, "--scenario", str(scenario.resolve()), "--metrics-out", str(only)]
+        cmd += ["--seed", str(seed)] if seed is not None else []
+        r4 = subprocess.run(cmd, capture_output=True, text=True, timeout=120, cwd=cwd)
+        if r4.returncode != 0:
+            errors.append(f"metrics-only run (seed {seed}) failed: {r4.stderr.strip()}")
+            continue
+        written = [p for p in (work / f"metrics_only_{seed}").rglob("*") if p.is_file()]
+        written += [p for p in cwd.rglob("*")]
+        if written != [only]:
+            errors.append(f"metrics-only run (seed {seed}) wrote {[str(p) for p in written]}, want [{only}]")
+        got = json.loads(only.read_text()) if only.is_file() else {}
+        diff = sorted(k for k in set(got) | set(full) if k not in timing and got.get(k) != full.get(k))
+        if diff or not full:
+            errors.append(f"metrics-only run (seed {seed}) differs from the full run in {diff}")
+        printed = dict(line.split(" ", 1) for line in r4.stdout.strip().splitlines())
+        if set(printed) != set(got):
+            errors.append("metrics-only run: stdout keys differ from its JSON keys")
+
+    # --out DIR --no-csv: the metrics JSON alone, in DIR.
+    nocsv = work / "no_csv"
+    r5 = subprocess.run([motorsim, "--scenario", str(scenario), "--out", str(nocsv), "--no-csv", "--quiet"],
+                        capture_output=True, text=True, timeout=120)
+    listed = sorted(p.name for p in nocsv.iterdir()) if nocsv.is_dir() else []
+    if r5.returncode != 0 or listed != [f"{stem}_metrics.json"]:
+        errors.append(f"--out --no-csv wrote {listed} (exit {r5.returncode}: {r5.stderr.strip()})")
 
     for e in errors:
         print("FAILED:", e)

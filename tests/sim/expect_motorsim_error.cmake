@@ -4,9 +4,12 @@
 #   - exactly one line on stderr, starting with "error: " and containing
 #     every EXPECT substring (file and key),
 #   - nothing on stdout,
-#   - no output file or directory created.
+#   - no output file or directory created (motorsim runs in WORK, so a
+#     default ./out would be seen too).
 # Variables: MOTORSIM (binary), WORK (scratch dir, wiped), ARGS (motorsim
-# arguments separated by '|'), EXPECT (substrings separated by '|').
+# arguments separated by '|'), EXPECT (substrings separated by '|'), MODE
+# (the output arguments added to ARGS: "full", the default: --out and
+# --metrics-out; "metrics_only": --metrics-out alone; "none": nothing).
 foreach(v MOTORSIM WORK ARGS)
   if(NOT DEFINED ${v})
     message(FATAL_ERROR "expect_motorsim_error.cmake: ${v} not set")
@@ -18,8 +21,18 @@ file(MAKE_DIRECTORY "${WORK}")
 string(REPLACE "|" ";" arg_list "${ARGS}")
 # Outputs would go to a directory that does not exist yet and to a metrics
 # path below another missing one: neither may appear.
+if(NOT DEFINED MODE OR MODE STREQUAL "" OR MODE STREQUAL "full")
+  set(out_args --out "${WORK}/out" --metrics-out "${WORK}/m/metrics.json" --no-plot)
+elseif(MODE STREQUAL "metrics_only")
+  set(out_args --metrics-out "${WORK}/m/metrics.json")
+elseif(MODE STREQUAL "none")
+  set(out_args "")
+else()
+  message(FATAL_ERROR "expect_motorsim_error.cmake: unknown MODE '${MODE}'")
+endif()
 execute_process(
-  COMMAND "${MOTORSIM}" ${arg_list} --out "${WORK}/out" --metrics-out "${WORK}/m/metrics.json" --no-plot
+  COMMAND "${MOTORSIM}" ${arg_list} ${out_args}
+  WORKING_DIRECTORY "${WORK}"
   RESULT_VARIABLE rc
   OUTPUT_VARIABLE out
   ERROR_VARIABLE err)

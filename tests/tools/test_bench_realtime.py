@@ -24,6 +24,7 @@ p.add_argument("--scenario", required=True)
 p.add_argument("--out")
 p.add_argument("--metrics-out")
 p.add_argument("--seed", type=int)
+p.add_argument("--quiet", action="store_true")
 if os.environ.get("FAKE_NO_PLOT_FLAG") != "0":
     p.add_argument("--no-plot", action="store_true")
 a = p.parse_args()
@@ -31,7 +32,7 @@ log = os.environ.get("FAKE_LOG")
 if log:
     with open(log, "a") as f:
         f.write(json.dumps(sys.argv[1:]) + "\\n")
-if os.environ.get("FAKE_FAIL"):
+if os.environ.get("FAKE_FAIL") or (a.seed is not None and str(a.seed) == os.environ.get("FAKE_FAIL_SEED")):
     print("boom: scenario rejected", file=sys.stderr)
     sys.exit(3)
 metrics = {"theta_track_max_rad": 0.01}
@@ -70,7 +71,7 @@ def calls(log: Path) -> list[list[str]]:
 def test_help():
     r = bench("--help")
     assert r.returncode == 0
-    for flag in ("--runs", "--variants", "--binary", "--no-pin"):
+    for flag in ("--runs", "--variants", "--jobs", "--binary", "--no-pin"):
         assert flag in r.stdout
 
 
@@ -103,6 +104,7 @@ def test_missing_scenario(fake):
     (["--runs", "0"], "must be >= 1"),
     (["--runs", "two"], "not an integer"),
     (["--variants", "-1"], "must be >= 0"),
+    (["--jobs", "0"], "must be >= 1"),
     (["--cpu", "0", "--no-pin"], "not allowed with"),
     (["--bogus"], "unrecognized arguments"),
 ])
@@ -124,7 +126,10 @@ def test_full_run_reports_median_and_json(fake):
     assert result["realtime_factor_runs"] == [250.0] * 3
     assert result["runs"] == 3
     assert result["variants"] == 4
+    assert result["variants_jobs"] == 1
     assert result["variants_total_s"] > 0
+    assert result["variants_per_variant_s"] == pytest.approx(result["variants_total_s"] / 4, rel=1e-3)
+    assert result["variants_run_wall_s_median"] > 0
     assert result["wall_full_s_median"] > 0
     assert result["wall_full_no_plot_s_median"] > 0
     assert "realtime_factor" in r.stdout and "250.0x" in r.stdout
@@ -135,6 +140,41 @@ def test_full_run_reports_median_and_json(fake):
     seeds = [c[c.index("--seed") + 1] for c in made if "--seed" in c]
     assert seeds == ["10", "11", "12", "13"]
     assert all(c[:2] == ["--scenario", str(fake["scenario"])] for c in made)
+    # variants and realtime runs: metrics only (--metrics-out, no --out)
+    metrics_only = [c for c in made if "--out" not in c]
+    assert len(metrics_only) == 3 + 4
+    assert all("--metrics-out" in c for c in metrics_only)
+    assert "variants: 4 seeds (metrics only), 1 at a time" in r.stdout
+    assert "ms per variant" in r.stdout
+
+
+@pytest.mark.parametrize("pin", [[], ["--no-pin"]])
+def test_variants_in_parallel(fake, pin):
+    env = {"FAKE_LOG": str(fake["log"])}
+    r = bench("--binary", str(fake["exe"]), "--scenario", str(fake["scenario"]), "--runs", "1",
+              "--no-full", "--variants", "7", "--jobs", "3", *pin, env=env)
+    assert r.returncode == 0, r.stderr
+    result = json.loads(r.stdout.strip().splitlines()[-1])
+    assert result["variants"] == 7
+    assert result["variants_jobs"] == 3
+    assert result["variants_total_s"] > 0
+    made = calls(fake["log"])
+    seeds = sorted(int(c[c.index("--seed") + 1]) for c in made if "--seed" in c)
+    assert seeds == list(range(1, 8))
+    assert all("--out" not in c for c in made)
+    # every variant wrote its own metrics file
+    outs = [c[c.index("--metrics-out") + 1] for c in made if "--seed" in c]
+    assert len(set(outs)) == 7
+    assert "3 at a time" in r.stdout
+
+
+def test_parallel_variant_failure_is_reported(fake):
+    r = bench("--binary", str(fake["exe"]), "--scenario", str(fake["scenario"]), "--runs", "1",
+              "--no-full", "--variants", "4", "--jobs", "2", env={"FAKE_FAIL_SEED": "3"})
+    assert r.returncode == 1
+    assert "motorsim failed (exit 3)" in r.stderr
+    assert "--seed 3" in r.stderr
+    assert "boom: scenario rejected" in r.stderr
 
 
 def test_without_no_plot_flag_and_json_out(fake):

@@ -6,11 +6,15 @@ pinned to one CPU (taskset) when possible, and reports:
 
   * realtime_factor: the simulator's own figure, read from its metrics JSON
     (--metrics-out), median of --runs runs;
-  * the wall time of a metrics-only run, of a whole run writing CSV + PNG
-    (--out DIR), and of a whole run with --no-plot (CSV only) when motorsim
-    has that flag; medians of --runs runs;
-  * with --variants N: N seeds run back to back, total wall time (a user
-    running a thousand variants should wait seconds, not minutes).
+  * the wall time of a metrics-only run (--metrics-out without --out: no
+    CSV, no PNG), of a whole run writing CSV + PNG (--out DIR), and of a
+    whole run with --no-plot (CSV only) when motorsim has that flag; medians
+    of --runs runs;
+  * with --variants N: N seeds as metrics-only runs, --jobs J at a time,
+    total wall time and time per variant (a user running a thousand variants
+    should wait seconds, not minutes). With pinning, job slot k runs on the
+    k-th CPU this process may use from the chosen one on (round robin), so
+    each run still has one core.
 
 Prints a small table, then one JSON line (also written to --json-out FILE).
 Standard library only. Exit codes: 0 ok, 1 a motorsim run failed or its
@@ -22,12 +26,15 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import queue
 import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -77,7 +84,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--runs", type=positive_int, default=5,
                    help="runs per measurement, the median is reported (default: 5)")
     p.add_argument("--variants", type=non_negative_int, default=0, metavar="N",
-                   help="also run N seeds back to back and report the total wall time")
+                   help="also run N seeds (metrics only) and report the total wall time")
+    p.add_argument("--jobs", type=positive_int, default=1, metavar="J",
+                   help="--variants runs at a time, each pinned to its own CPU when "
+                   "pinning (default: 1)")
     p.add_argument("--seed-base", type=non_negative_int, default=1,
                    help="first seed of --variants (default: 1)")
     p.add_argument("--no-full", action="store_true",
@@ -110,6 +120,13 @@ def check_inputs(args: argparse.Namespace) -> None:
         raise BenchError(f"scenario not found: {args.scenario}", 2)
 
 
+def allowed_cpus() -> list[int]:
+    try:
+        return sorted(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return [0]
+
+
 def pin_prefix(args: argparse.Namespace) -> tuple[list[str], int | None, str]:
     """Command prefix that pins to one CPU, the CPU, and a note for the table."""
     if args.no_pin:
@@ -117,13 +134,7 @@ def pin_prefix(args: argparse.Namespace) -> tuple[list[str], int | None, str]:
     taskset = shutil.which("taskset")
     if taskset is None:
         return [], None, "not pinned (no taskset)"
-    if args.cpu is not None:
-        cpu = args.cpu
-    else:
-        try:
-            cpu = min(os.sched_getaffinity(0))
-        except (AttributeError, OSError):
-            cpu = 0
+    cpu = args.cpu if args.cpu is not None else allowed_cpus()[0]
     probe = subprocess.run([taskset, "-c", str(cpu), "true"],
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if probe.returncode != 0:
@@ -150,16 +161,31 @@ def find_key(obj, key: str):
     return None
 
 
+def slot_prefixes(prefix: list[str], cpu: int | None, jobs: int) -> list[list[str]]:
+    """One command prefix per job slot: slot k pinned to the k-th allowed CPU
+    from cpu on (round robin); unpinned if prefix is."""
+    if not prefix or cpu is None or jobs == 1:
+        return [prefix] * jobs
+    cpus = allowed_cpus()
+    if cpu not in cpus:
+        cpus = sorted(set(cpus) | {cpu})
+    start = cpus.index(cpu)
+    return [prefix[:-1] + [str(cpus[(start + k) % len(cpus)])] for k in range(jobs)]
+
+
 class Runner:
     def __init__(self, args: argparse.Namespace, prefix: list[str], workdir: Path):
         self.args = args
         self.prefix = prefix
         self.workdir = workdir
         self.count = 0
+        self._lock = threading.Lock()
 
-    def run(self, extra: list[str]) -> float:
-        """Runs motorsim once with extra arguments; returns the wall time in s."""
-        cmd = self.prefix + [str(self.args.binary), "--scenario", str(self.args.scenario)] + extra
+    def run(self, extra: list[str], prefix: list[str] | None = None) -> float:
+        """Runs motorsim once with extra arguments; returns the wall time in s.
+        Thread-safe (the variants run from a thread pool)."""
+        prefix = self.prefix if prefix is None else prefix
+        cmd = prefix + [str(self.args.binary), "--scenario", str(self.args.scenario)] + extra
         t0 = time.perf_counter()
         try:
             proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
@@ -170,15 +196,18 @@ class Runner:
         if proc.returncode != 0:
             tail = "\n".join(proc.stderr.strip().splitlines()[-10:])
             raise BenchError(f"motorsim failed (exit {proc.returncode}): {' '.join(cmd)}\n{tail}")
-        self.count += 1
+        with self._lock:
+            self.count += 1
         return wall
 
-    def metrics_run(self, tag: str, seed: int | None = None) -> tuple[float, dict]:
+    def metrics_run(self, tag: str, seed: int | None = None,
+                    prefix: list[str] | None = None) -> tuple[float, dict]:
+        """A metrics-only run: --metrics-out without --out (no CSV, no PNG)."""
         path = self.workdir / f"metrics_{tag}.json"
-        extra = ["--metrics-out", str(path)]
+        extra = ["--metrics-out", str(path), "--quiet"]
         if seed is not None:
             extra += ["--seed", str(seed)]
-        wall = self.run(extra)
+        wall = self.run(extra, prefix)
         try:
             metrics = json.loads(path.read_text())
         except FileNotFoundError:
@@ -263,15 +292,42 @@ def bench(args: argparse.Namespace, workdir: Path) -> dict:
             rows.append((label, fmt_s(s["median"]), fmt_s(s["min"]), fmt_s(s["max"])))
             result[key] = s["median"]
 
-    # 3. many variants back to back.
+    # 3. many variants, metrics only, --jobs at a time.
     result["variants"] = args.variants
+    result["variants_jobs"] = args.jobs
     result["variants_total_s"] = None
+    result["variants_per_variant_s"] = None
+    result["variants_run_wall_s_median"] = None
+    variants_note = ""
     if args.variants:
+        prefixes = slot_prefixes(prefix, cpu, args.jobs)
+        slots: queue.Queue = queue.Queue()
+        for k in range(args.jobs):
+            slots.put(k)
+
+        def variant(seed: int) -> float:
+            slot = slots.get()
+            try:
+                return runner.metrics_run(f"seed{seed}", seed=seed, prefix=prefixes[slot])[0]
+            finally:
+                slots.put(slot)
+
+        seeds = range(args.seed_base, args.seed_base + args.variants)
         t0 = time.perf_counter()
-        for k in range(args.variants):
-            runner.metrics_run(f"seed{args.seed_base + k}", seed=args.seed_base + k)
+        if args.jobs == 1:
+            walls = [variant(s) for s in seeds]
+        else:
+            pool = ThreadPoolExecutor(max_workers=args.jobs)
+            try:
+                walls = list(pool.map(variant, seeds))
+            finally:  # on a failure, start no more runs
+                pool.shutdown(wait=True, cancel_futures=True)
         total = time.perf_counter() - t0
         result["variants_total_s"] = round(total, 6)
+        result["variants_per_variant_s"] = round(total / args.variants, 6)
+        result["variants_run_wall_s_median"] = round(statistics.median(walls), 6)
+        pinned = sorted({p[-1] for p in prefixes if p})
+        variants_note = (f"pinned to CPU {', '.join(pinned)}" if pinned else "not pinned")
 
     print(f"motorsim benchmark: {result['binary']} --scenario {result['scenario']}")
     print(f"{pin_note}, {args.runs} run(s) per measurement, {runner.count} motorsim runs in all")
@@ -282,8 +338,9 @@ def bench(args: argparse.Namespace, workdir: Path) -> dict:
               .rstrip())
     if args.variants:
         total = result["variants_total_s"]
-        print(f"variants: {args.variants} seeds back to back in {total:.3f} s "
-              f"({total / args.variants:.3f} s per run)")
+        print(f"variants: {args.variants} seeds (metrics only), {args.jobs} at a time "
+              f"({variants_note}): {total:.3f} s in all, {1e3 * total / args.variants:.1f} ms per "
+              f"variant, {1e3 * result['variants_run_wall_s_median']:.1f} ms per run (median wall)")
     return result
 
 
