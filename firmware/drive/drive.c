@@ -201,8 +201,7 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
 
     /* 2. estimates */
     emf_observer_correct(&d->emf, i_f, i_g);
-    position_estimator_step(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->emf.z_f_V_s, d->emf.z_g_V_s,
-                            d->ref.theta_rad, d->ref.omega_rad_s);
+    position_estimator_step(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->ref.theta_rad, d->ref.omega_rad_s);
 
     /* 3. mode */
     const bool want_closed = !(mc_abs(d->ref.omega_rad_s) < c->omega_lim_rad_s) && d->pos.valid;
@@ -224,6 +223,10 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
      * in open loop the rotor follows the reference, so theta_r' serves as
      * the measurement and the angle is the observer's once observable. */
     const bool closed = d->mode == DRIVE_MODE_CLOSED_LOOP;
+    if (closed) {
+        position_estimator_speed(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->emf.z_f_V_s, d->emf.z_g_V_s,
+                                 d->ref.omega_rad_s);
+    }
     const mc_t dth_ctrl = closed ? mc_sub(d->pos.theta_est_rad, d->ref.theta_rad)
                                  : (d->pos.valid ? d->pos.dtheta_est_rad : MC_ZERO);
     const mc_rot_t u_est = mc_rot_from_angle(mc_mul_i(dth_ctrl, c->n_p));

@@ -9,13 +9,14 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
     p->dtheta_est_rad = MC_ZERO;
     p->theta_est_rad = MC_ZERO;
     p->omega_est_rad_s = MC_ZERO;
+    p->e2_V2 = MC_ZERO;
 }
 
-void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
-                             mc_t theta_r_rad, mc_t omega_r_rad_s)
+void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
 {
     const position_estimator_config_t *c = &p->cfg;
     const mc_t e2 = mc_dot2(e_f_V, e_f_V, e_g_V, e_g_V);
+    p->e2_V2 = e2;
     p->valid = !(e2 < c->e2_min_V2);
 
     /* eq. (29) (errata form): the sign of the speed is taken from the reference */
@@ -35,13 +36,17 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
     p->dtheta_prev_rad = dth;
     p->dtheta_est_rad = dth;
     p->theta_est_rad = mc_add(mc_add(theta_r_rad, dth), mc_mul_i(c->pitch_rad, p->k));
+}
 
+void position_estimator_speed(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
+                              mc_t omega_r_rad_s)
+{
     /* eqs. (31)-(32) */
     mc_t dw = MC_ZERO;
     if (p->valid) {
         const mc_t num = mc_cross2(z_g_V_s, e_f_V, z_f_V_s, e_g_V);
         /* divide by n_p first: e2 * n_p would leave the fixed-point range at speed */
-        dw = mc_div(mc_div_i(num, c->n_p), e2);
+        dw = mc_div(mc_div_i(num, p->cfg.n_p), p->e2_V2);
     }
     p->omega_est_rad_s = mc_add(omega_r_rad_s, dw);
 }

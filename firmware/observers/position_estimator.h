@@ -35,6 +35,7 @@ typedef struct {
     mc_t dtheta_prev_rad;
     int32_t k;          /* jump counter of eq. (71) */
     bool valid;         /* |e|^2 >= e2_min: estimate usable */
+    mc_t e2_V2;         /* |e|^2 of the last step */
     mc_t dtheta_est_rad;
     mc_t theta_est_rad;
     mc_t omega_est_rad_s;
@@ -42,10 +43,15 @@ typedef struct {
 
 void position_estimator_init(position_estimator_t *p, const position_estimator_config_t *cfg);
 
-/* One sample. e_*: back-EMF estimates [V]; z_*: filtered equivalent
- * injections [V/s]; theta_r, omega_r: the reference of this sample. */
-void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
-                             mc_t theta_r_rad, mc_t omega_r_rad_s);
+/* One sample of (29) and (71). e_*: back-EMF estimates [V]; theta_r,
+ * omega_r: the reference of this sample. */
+void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s);
+
+/* (31)-(32) for the sample of the last position_estimator_step (separate:
+ * the open-loop start does not need it). z_*: filtered equivalent
+ * injections [V/s]. */
+void position_estimator_speed(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
+                              mc_t omega_r_rad_s);
 
 /* |omega| of eq. (30) (errata factor L/K: |e|/K); not needed by the
  * control, so computed only on request. */

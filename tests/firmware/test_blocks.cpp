@@ -254,7 +254,7 @@ TEST(PositionEstimator, AngleForBothSignsOfSpeed)
             position_estimator_init(&p, &c);
             // L d_f = K w sin(n_p dth), L d_g = -K w cos(n_p dth)  (23)
             const double ef = K * w * std::sin(50 * dth), eg = -K * w * std::cos(50 * dth);
-            position_estimator_step(&p, M(ef), M(eg), M(0), M(0), M(3.0), M(w));
+            position_estimator_step(&p, M(ef), M(eg), M(3.0), M(w));
             EXPECT_NEAR(D(p.dtheta_est_rad), dth, 2e-5) << w << " " << dth;
             EXPECT_NEAR(D(position_estimator_speed_magnitude(&p, M(ef), M(eg))), std::fabs(w), 1e-3);  // (30)
             EXPECT_NEAR(D(p.theta_est_rad), 3.0 + dth, 2e-5);
@@ -273,7 +273,7 @@ TEST(PositionEstimator, JumpCounterKeepsThetaContinuousAcrossPiOverNp)
     for (int k = 0; k <= 4000; ++k) {
         const double dth = 2.5 * pitch * std::sin(kPi * k / 4000.0);
         const double ef = K * w * std::sin(50 * dth), eg = -K * w * std::cos(50 * dth);
-        position_estimator_step(&p, M(ef), M(eg), M(0), M(0), M(1.0), M(w));
+        position_estimator_step(&p, M(ef), M(eg), M(1.0), M(w));
         EXPECT_NEAR(D(p.theta_est_rad), 1.0 + dth, 1e-4) << k;
         EXPECT_LE(std::fabs(D(p.dtheta_est_rad)), pitch / 2 + kTol);
         if (k > 0) {
@@ -297,7 +297,8 @@ TEST(PositionEstimator, SpeedErrorFromRotatingBackEmf)
     position_estimator_t p;
     const position_estimator_config_t c = pos_cfg();
     position_estimator_init(&p, &c);
-    position_estimator_step(&p, M(ef), M(eg), M(zf), M(zg), M(0), M(w - dw));
+    position_estimator_step(&p, M(ef), M(eg), M(0), M(w - dw));
+    position_estimator_speed(&p, M(ef), M(eg), M(zf), M(zg), M(w - dw));
     EXPECT_NEAR(D(p.omega_est_rad_s), w, 1e-3);  // (31)-(32)
 }
 
@@ -307,7 +308,7 @@ TEST(PositionEstimator, BranchClosestToTheOpenLoopAngle)
     const position_estimator_config_t c = pos_cfg();
     position_estimator_init(&p, &c);
     const double K = 0.27, w = 4.0, dth = 0.01, pitch = 2 * kPi / 50;
-    position_estimator_step(&p, M(K * w * std::sin(0.5)), M(-K * w * std::cos(0.5)), M(0), M(0), M(2.0), M(w));
+    position_estimator_step(&p, M(K * w * std::sin(0.5)), M(-K * w * std::cos(0.5)), M(2.0), M(w));
     position_estimator_set_branch(&p, M(2.0), M(2.0 + dth + 3 * pitch + 0.02));
     EXPECT_EQ(p.k, 3);
     EXPECT_NEAR(D(p.theta_est_rad), 2.0 + dth + 3 * pitch, 1e-4);
