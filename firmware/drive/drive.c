@@ -31,12 +31,11 @@ static void drive_zero_output(drive_t *d, mc_t *v_a_V, mc_t *v_b_V)
 {
     *v_a_V = MC_ZERO;
     *v_b_V = MC_ZERO;
-    d->tlm.v_a_V = MC_ZERO;
-    d->tlm.v_b_V = MC_ZERO;
-    d->tlm.v_f_V = MC_ZERO;
-    d->tlm.v_g_V = MC_ZERO;
-    d->tlm.mode = DRIVE_MODE_FAULT;
-    d->tlm.fault = d->fault;
+    d->last.v_a_V = MC_ZERO;
+    d->last.v_b_V = MC_ZERO;
+    d->last.v_f_V = MC_ZERO;
+    d->last.v_g_V = MC_ZERO;
+    d->last.v_saturated = false;
 }
 
 static void drive_set_fault(drive_t *d, drive_fault_t f)
@@ -78,7 +77,12 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     twisting_init(&d->pos_ctrl, &cfg->pos_ctrl);
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
     rl_id_init(&d->rl_id, &cfg->rl_id);
-    d->tlm = (drive_telemetry_t){0};
+    d->last.tick = 0;
+    d->last.i_f_A = MC_ZERO;
+    d->last.i_g_A = MC_ZERO;
+    d->last.i_f_ref_A = MC_ZERO;
+    d->last.i_g_ref_A = MC_ZERO;
+    drive_zero_output(d, &d->last.v_a_V, &d->last.v_b_V);
     if (!drive_config_ok(cfg) || !traj_ok) {
         drive_set_fault(d, DRIVE_FAULT_BAD_INPUT);
         return false;
@@ -139,11 +143,10 @@ static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_f
 static void drive_closed_loop(drive_t *d, mc_rot_t u, mc_t i_d, mc_t i_q, mc_t *v_f, mc_t *v_g)
 {
     const drive_config_t *c = &d->cfg;
-    drive_telemetry_t *t = &d->tlm;
     mc_t i_fr, i_gr, v_fr, v_gr;
     drive_references(d, &i_fr, &i_gr, &v_fr, &v_gr);
-    t->i_f_ref_A = i_fr;
-    t->i_g_ref_A = i_gr;
+    d->last.i_f_ref_A = i_fr;
+    d->last.i_g_ref_A = i_gr;
 
     const mc_t xi_theta = mc_sub(d->pos.theta_est_rad, d->ref.theta_rad);
     const mc_t w_r = d->ref.omega_rad_s;
@@ -177,8 +180,7 @@ static void drive_closed_loop(drive_t *d, mc_rot_t u, mc_t i_d, mc_t i_q, mc_t *
 bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
 {
     const drive_config_t *c = &d->cfg;
-    drive_telemetry_t *t = &d->tlm;
-    t->tick = d->tick;
+    d->last.tick = d->tick;
     if (d->mode == DRIVE_MODE_FAULT) {
         drive_zero_output(d, v_a_V, v_b_V);
         return false;
@@ -190,8 +192,15 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     }
 
     /* 1. frame of this sample and its rotation over the sample */
+    if (d->tick > 0) {
+        /* advance the reference: this sample's is the one computed last time */
+        d->ref = d->ref_next;
+        d->phi_rad = d->phi_next_rad;
+        trajectory_eval(&d->traj, d->tick + 1, &d->ref_next);
+    }
     const mc_t phi_k = d->phi_rad;
     const mc_t phi_next = mc_elec_angle(d->ref_next.theta_rad, c->n_p);
+    d->phi_next_rad = phi_next;
     const mc_t dphi = mc_wrap_pi(mc_sub(phi_next, phi_k));
     const mc_rot_t rot_k = mc_rot_from_angle(phi_k);
     const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
@@ -227,9 +236,17 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
         position_estimator_speed(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->emf.z_f_V_s, d->emf.z_g_V_s,
                                  d->ref.omega_rad_s);
     }
-    const mc_t dth_ctrl = closed ? mc_sub(d->pos.theta_est_rad, d->ref.theta_rad)
-                                 : (d->pos.valid ? d->pos.dtheta_est_rad : MC_ZERO);
-    const mc_rot_t u_est = mc_rot_from_angle(mc_mul_i(dth_ctrl, c->n_p));
+    /* U(n_p (theta_est - theta_r)) of (44): n_p dtheta_est is the arctan of
+     * (29) and the jump count adds whole turns, so its sine and cosine are
+     * the normalised arguments of that arctan (no sincos needed). Open
+     * loop before the back-EMF is observable: the reference frame. */
+    mc_rot_t u_est = {MC_ZERO, MC_ONE};
+    if (d->pos.valid) {
+        const mc_t inv_e = mc_rsqrt(d->pos.e2_V2);
+        const bool neg = d->ref.omega_rad_s < MC_ZERO;
+        u_est.s = mc_mul(neg ? mc_neg(d->emf.e_f_hat_V) : d->emf.e_f_hat_V, inv_e);
+        u_est.c = mc_mul(neg ? d->emf.e_g_hat_V : mc_neg(d->emf.e_g_hat_V), inv_e);
+    }
     mc_t i_d_est, i_q_est; /* (44): currents in the estimated rotor frame */
     mc_rot_fwd(u_est, i_f, i_g, &i_d_est, &i_q_est);
     mech_observer_step(&d->mech, closed ? d->pos.omega_est_rad_s : d->ref.omega_rad_s, i_q_est);
@@ -250,8 +267,8 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     } else {
         v_f = open_loop_voltage(&c->open_loop, d->ref.omega_rad_s); /* eq. (68) */
         v_g = MC_ZERO;
-        t->i_f_ref_A = c->open_loop.i_max_A;
-        t->i_g_ref_A = MC_ZERO;
+        d->last.i_f_ref_A = c->open_loop.i_max_A;
+        d->last.i_g_ref_A = MC_ZERO;
     }
     if (switched) {
         d->blend_f_V = mc_add(d->blend_f_V, mc_sub(d->v_f_prev_V, v_f));
@@ -292,44 +309,50 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
         drive_use_measured_rl(d, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);
     }
 
-    /* telemetry */
+    d->last.i_f_A = i_f;
+    d->last.i_g_A = i_g;
+    d->last.v_f_V = v_f;
+    d->last.v_g_V = v_g;
+    d->last.v_a_V = v_a;
+    d->last.v_b_V = v_b;
+    d->last.v_saturated = sat;
+    d->tick += 1;
+    *v_a_V = v_a;
+    *v_b_V = v_b;
+    return true;
+}
+
+void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
+{
+    const bool closed = d->mode == DRIVE_MODE_CLOSED_LOOP;
     t->mode = d->mode;
     t->fault = d->fault;
+    t->tick = d->last.tick;
     t->theta_ref_rad = d->ref.theta_rad;
     t->omega_ref_rad_s = d->ref.omega_rad_s;
     t->accel_ref_rad_s2 = d->ref.accel_rad_s2;
-    t->i_f_A = i_f;
-    t->i_g_A = i_g;
-    t->i_f_hat_A = mc_sub(i_f, d->emf.err_f_A); /* the estimate this sample was corrected with */
-    t->i_g_hat_A = mc_sub(i_g, d->emf.err_g_A);
+    t->i_f_ref_A = d->last.i_f_ref_A;
+    t->i_g_ref_A = d->last.i_g_ref_A;
+    t->i_f_A = d->last.i_f_A;
+    t->i_g_A = d->last.i_g_A;
+    /* the estimate the last sample was corrected with */
+    t->i_f_hat_A = mc_sub(d->last.i_f_A, d->emf.err_f_A);
+    t->i_g_hat_A = mc_sub(d->last.i_g_A, d->emf.err_g_A);
     t->e_f_hat_V = d->emf.e_f_hat_V;
     t->e_g_hat_V = d->emf.e_g_hat_V;
     t->delta_theta_est_rad = d->pos.dtheta_est_rad;
     t->jump_count = d->pos.k;
-    if (closed) {
-        t->theta_est_rad = d->pos.theta_est_rad;
-        t->omega_est_rad_s = d->mech.omega_est_rad_s;
-    } else {
-        t->theta_est_rad = mc_add(d->ref.theta_rad, d->theta_offset_ol_rad);
-        t->omega_est_rad_s = d->ref.omega_rad_s;
-    }
+    /* in open loop the rotor follows the reference (Fig. 7 of the paper) */
+    t->theta_est_rad = closed ? d->pos.theta_est_rad : mc_add(d->ref.theta_rad, d->theta_offset_ol_rad);
+    t->omega_est_rad_s = closed ? d->mech.omega_est_rad_s : d->ref.omega_rad_s;
     t->accel_est_rad_s2 = closed ? d->mech.accel_est_rad_s2 : d->ref.accel_rad_s2;
     t->load_est_Nm = d->mech.load_est_Nm;
-    t->v_f_V = v_f;
-    t->v_g_V = v_g;
-    t->v_a_V = v_a;
-    t->v_b_V = v_b;
-    t->v_saturated = sat;
+    t->v_f_V = d->last.v_f_V;
+    t->v_g_V = d->last.v_g_V;
+    t->v_a_V = d->last.v_a_V;
+    t->v_b_V = d->last.v_b_V;
+    t->v_saturated = d->last.v_saturated;
     t->rl_id_state = d->rl_id.state;
-    t->R_model_ohm = c->R_ohm;
-    t->L_model_H = c->L_H;
-
-    /* advance the reference */
-    d->tick += 1;
-    d->ref = d->ref_next;
-    d->phi_rad = phi_next;
-    trajectory_eval(&d->traj, d->tick + 1, &d->ref_next);
-    *v_a_V = v_a;
-    *v_b_V = v_b;
-    return true;
+    t->R_model_ohm = d->cfg.R_ohm;
+    t->L_model_H = d->cfg.L_H;
 }

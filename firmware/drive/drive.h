@@ -121,7 +121,13 @@ typedef struct {
     trajectory_point_t ref;      /* reference of this sample */
     trajectory_point_t ref_next; /* reference of the next sample */
     mc_t phi_rad;                /* n_p theta_r of this sample, wrapped (eq. (8)) */
-    drive_telemetry_t tlm;
+    mc_t phi_next_rad;           /* the same for the next sample */
+    /* what the last step computed that is not kept in a block's state */
+    struct {
+        uint32_t tick;
+        mc_t i_f_A, i_g_A, i_f_ref_A, i_g_ref_A, v_f_V, v_g_V, v_a_V, v_b_V;
+        bool v_saturated;
+    } last;
 } drive_t;
 
 /* Validates cfg, copies it and resets every state. Returns false (drive in
@@ -132,7 +138,9 @@ bool drive_init(drive_t *d, const drive_config_t *cfg);
  * *v_a_V and *v_b_V (0 V in FAULT). Returns false when in FAULT. */
 bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V);
 
-static inline const drive_telemetry_t *drive_telemetry(const drive_t *d) { return &d->tlm; }
+/* Telemetry of the last step, assembled from the state on request (the
+ * step itself stores only what no block keeps). */
+void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t);
 
 #ifdef __cplusplus
 }

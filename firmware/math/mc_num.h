@@ -40,6 +40,7 @@
  *   mc_t mc_mul_sgn(mc_t m, mc_t x)  m sgn(x) for m >= 0, exact (a select)
  *   mc_t mc_sqrt(mc_t x)             x >= 0
  *   mc_t mc_sqrt_abs_sgn(mc_t x)     |x|^(1/2) sgn(x), the super-twisting term
+ *   mc_t mc_rsqrt(mc_t x)            1/sqrt(x) for x > 0 (largest value for x <= 0)
  *   mc_t mc_hypot(mc_t a, mc_t b)
  *   void mc_sincos(mc_t x, mc_t *s, mc_t *c)   x in rad, any value
  *   mc_t mc_atan2(mc_t y, mc_t x)    result in (-pi, pi]

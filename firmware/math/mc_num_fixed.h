@@ -75,7 +75,9 @@
  *   mc_div           <= 0.5 LSB (exactly rounded), also mc_ratio_i
  *   mc_dot2, mc_cross2, mc_mac  <= 0.5 LSB (one rounding of the exact sum)
  *   mc_sqrt          <= 0.8 LSB (table + 2 Newton steps, 32-bit only)
- *   mc_sqrt_abs_sgn  <= 0.8 LSB
+ *   mc_rsqrt         <= 0.8 LSB + 2e-7 relative
+ *   mc_sqrt_abs_sgn  <= 0.8 LSB + 2.5e-5 |result| (one Newton step: it only
+ *                    scales super-twisting injections, where 1e-4 would do)
  *   mc_hypot         <= 0.8 LSB for results below 256, 2^-24 relative above
  *   mc_sincos        <= 1.0 LSB = 7.6e-6     (any int32 x)
  *   mc_atan2         <= 1.0 LSB = 7.6e-6 rad (any int32 y, x; 0 for (0,0))
@@ -232,9 +234,28 @@ static inline uint32_t mc__sqrt_norm_n(uint32_t m, int iterations)
 }
 static inline uint32_t mc__sqrt_norm(uint32_t m) { return mc__sqrt_norm_n(m, 2); }
 
+/* round(2^17 / sqrt(x / 2^17)) for 0 < x < 2^31: Q17 of 1/sqrt of a Q17
+ * value (at most 362.04 for x = 1 LSB, so it never saturates). The same
+ * table and two Newton steps as the square root. */
+static inline uint32_t mc__rsqrt_q17(uint32_t x)
+{
+    int s = __builtin_clz(x);     /* >= 1 */
+    s -= ((s & 1) == 0) ? 1 : 0;  /* odd, m = x 2^s in [2^30, 2^32) */
+    const uint32_t m = x << s;
+    uint32_t r = (uint32_t)mc__rsqrt_tab[(m >> 24) - 64u] << 15; /* Q30 of 1/sqrt(m/2^32) */
+    for (int it = 0; it < 2; ++it) {
+        const uint32_t t = (uint32_t)(mc__umul64(m, r) >> 32);
+        const uint32_t u = (uint32_t)(mc__umul64(t, r) >> 32);
+        r = (uint32_t)(mc__umul64(r, 0x30000000u - u) >> 32) << 3;
+    }
+    /* 1/sqrt(x/2^17) 2^17 = r 2^((s - 41)/2), s odd, shift in 5..20 */
+    const int sh = (41 - s) >> 1;
+    return ((r >> (sh - 1)) + 1u) >> 1;
+}
+
 /* round(sqrt(x 2^17)) for 0 < x < 2^31: the Q17 square root of a Q17 value;
- * `iterations` Newton steps after the table (2: within 0.8 LSB; 1 would
- * give 2.3e-5 relative for about 5 instructions less) */
+ * `iterations` Newton steps after the table (2: within 0.8 LSB; 1: within
+ * 2.5e-5 relative, a few instructions less) */
 static inline uint32_t mc__sqrt_q17_n(uint32_t x, int iterations)
 {
     int s = __builtin_clz(x);      /* >= 1 */
@@ -469,12 +490,14 @@ static inline mc_t mc_sqrt(mc_t x)
     return (x > 0) ? (mc_t)mc__sqrt_q17((uint32_t)x) : 0;
 }
 
+static inline mc_t mc_rsqrt(mc_t x) { return (x > 0) ? (mc_t)mc__rsqrt_q17((uint32_t)x) : INT32_MAX; }
+
 static inline mc_t mc_sqrt_abs_sgn(mc_t x)
 {
     if (x == 0) {
         return 0;
     }
-    const mc_t r = (mc_t)mc__sqrt_q17((x == INT32_MIN) ? (uint32_t)INT32_MAX : mc__uabs(x));
+    const mc_t r = (mc_t)mc__sqrt_q17_n((x == INT32_MIN) ? (uint32_t)INT32_MAX : mc__uabs(x), 1);
     return (x < 0) ? -r : r;
 }
 

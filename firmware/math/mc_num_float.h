@@ -131,6 +131,7 @@ static inline int32_t mc_round_i(mc_t x)
 static inline mc_t mc_sgn(mc_t x) { return (x > 0.0f) ? 1.0f : ((x < 0.0f) ? -1.0f : 0.0f); }
 static inline mc_t mc_mul_sgn(mc_t m, mc_t x) { return (x > 0.0f) ? m : ((x < 0.0f) ? -m : 0.0f); }
 static inline mc_t mc_sqrt(mc_t x) { return (x > 0.0f) ? sqrtf(x) : 0.0f; }
+static inline mc_t mc_rsqrt(mc_t x) { return (x > 0.0f) ? 1.0f / sqrtf(x) : MC_MAX; }
 static inline mc_t mc_sqrt_abs_sgn(mc_t x) { return (x >= 0.0f) ? sqrtf(x) : -sqrtf(-x); }
 static inline mc_t mc_hypot(mc_t a, mc_t b) { return sqrtf(a * a + b * b); }
 

@@ -3,6 +3,7 @@
 void position_estimator_init(position_estimator_t *p, const position_estimator_config_t *cfg)
 {
     p->cfg = *cfg;
+    p->cfg.half_pitch_rad = mc_div_i(cfg->pitch_rad, 2);
     p->dtheta_prev_rad = MC_ZERO;
     p->k = 0;
     p->valid = false;
@@ -26,11 +27,10 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
     const mc_t dth = p->valid ? mc_div_i(mc_atan2(y, x), c->n_p) : p->dtheta_prev_rad;
 
     /* eq. (71): a step of more than half a pitch is a wrap of the arctan */
-    const mc_t half_pitch = mc_div_i(c->pitch_rad, 2);
     const mc_t step = mc_sub(dth, p->dtheta_prev_rad);
-    if (step < mc_neg(half_pitch)) {
+    if (step < mc_neg(c->half_pitch_rad)) {
         p->k += 1;
-    } else if (step > half_pitch) {
+    } else if (step > c->half_pitch_rad) {
         p->k -= 1;
     }
     p->dtheta_prev_rad = dth;

@@ -18,6 +18,12 @@ drive_design_input_t paper_input()
     return in;
 }
 double D(mc_t x) { return mc_to_double(x); }
+drive_telemetry_t tlm_of(const drive_t &d)
+{
+    drive_telemetry_t t;
+    drive_get_telemetry(&d, &t);
+    return t;
+}
 mc_t M(double x) { return mc_from_double(x); }
 }  // namespace
 
@@ -74,8 +80,8 @@ TEST(Drive, BadConfigGoesToSafeState)
     EXPECT_FALSE(drive_step(&d, M(0), M(0), &va, &vb));
     EXPECT_EQ(D(va), 0.0);
     EXPECT_EQ(D(vb), 0.0);
-    EXPECT_EQ(drive_telemetry(&d)->mode, DRIVE_MODE_FAULT);
-    EXPECT_EQ(drive_telemetry(&d)->fault, DRIVE_FAULT_BAD_INPUT);
+    EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_FAULT);
+    EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_BAD_INPUT);
 }
 
 TEST(Drive, OvercurrentTripsAndStaysSafe)
@@ -91,7 +97,7 @@ TEST(Drive, OvercurrentTripsAndStaysSafe)
     EXPECT_GT(std::fabs(D(va)) + std::fabs(D(vb)), 1.0);  // open loop holds the rotor
     EXPECT_FALSE(drive_step(&d, M(7.0), M(0.0), &va, &vb));
     EXPECT_EQ(D(va), 0.0);
-    EXPECT_EQ(drive_telemetry(&d)->fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_OVERCURRENT);
     for (int k = 0; k < 10; ++k) {  // latched until drive_init
         EXPECT_FALSE(drive_step(&d, M(0.0), M(0.0), &va, &vb));
         EXPECT_EQ(D(va), 0.0);
@@ -112,7 +118,7 @@ TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
     // theta_r = 0 at t = 0: v along phase a with magnitude R I_max (68)
     EXPECT_NEAR(D(va), 3.01 * 3.0, 1e-3);
     EXPECT_NEAR(D(vb), 0.0, 1e-3);
-    EXPECT_EQ(drive_telemetry(&d)->mode, DRIVE_MODE_OPEN_LOOP);
+    EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_OPEN_LOOP);
     // absurd currents just below the trip: whatever the law asks, |v| <= V_max
     for (int k = 0; k < 200; ++k) {
         const double ia = 5.9 * std::sin(0.3 * k), ib = -5.9 * std::cos(0.7 * k);

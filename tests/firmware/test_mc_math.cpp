@@ -242,13 +242,37 @@ TEST(McMathFixed, SqrtExactlyRoundedOverWholeRange)
         e.add(std::sqrt((long double)x / 131072.0L) - D(r), D(x));
     });
     e.report(0.8 * LSB);
-    MaxErr e2("mc_sqrt_abs_sgn");
+    // mc_sqrt_abs_sgn (the super-twisting root term) uses one Newton step:
+    // bound 0.8 LSB + 2.5e-5 |sqrt|, checked as the worst ratio to it
+    double worst_ratio = 0.0, worst_at = 0.0;
     for_raw_inputs(97, 1 << 16, 1000000, [&](int32_t x) {
         const long double ax = std::fabs((long double)x) / 131072.0L;
         const long double ex = (x < 0 ? -1 : 1) * std::sqrt(ax);
-        e2.add((double)(ex - (long double)D(mc_sqrt_abs_sgn(x))), D(x));
+        const double err = std::fabs((double)(ex - (long double)D(mc_sqrt_abs_sgn(x))));
+        const double ratio = err / (0.8 * LSB + 2.5e-5 * std::sqrt((double)ax));
+        if (ratio > worst_ratio) {
+            worst_ratio = ratio;
+            worst_at = D(x);
+        }
     });
-    e2.report(0.8 * LSB);
+    std::printf("[ max-err ] fixed mc_sqrt_abs_sgn  %.3f of (0.8 LSB + 2.5e-5 |sqrt|), worst at %.6f\n", worst_ratio,
+                worst_at);
+    EXPECT_LE(worst_ratio, 1.0);
+}
+
+TEST(McMathFixed, RsqrtOverWholeRange)
+{
+    MaxErr e("mc_rsqrt");
+    for_raw_inputs(61, 1 << 20, 1000000, [&](int32_t x) {
+        if (x <= 0) return;
+        const long double ex = 1.0L / std::sqrt((long double)x / 131072.0L);
+        // bound 0.8 LSB + 2e-7 relative: report the error scaled to the LSB part
+        const long double err = std::fabs(ex - (long double)D(mc_rsqrt(x)));
+        e.add((double)(err - 2e-7L * ex > 0 ? err - 2e-7L * ex : 0.0L), D(x));
+    });
+    e.report(0.8 * LSB);
+    EXPECT_EQ(mc_rsqrt(0), INT32_MAX);
+    EXPECT_EQ(mc_rsqrt(-5), INT32_MAX);
 }
 
 TEST(McMathFixed, HypotExactlyRounded)
