@@ -19,6 +19,9 @@
 
 #include "math/frame_fg.h"
 
+/* samples between exact recomputations of the (f-g) frame rotation */
+#define DRIVE_FRAME_RESYNC 32u
+
 /* One step of an exponential decay, snapped to 0 below 1e-4 (V or A): it
  * then costs nothing and cannot stall on a rounding fixed point. */
 static mc_t drive_decay(mc_t x, mc_t factor)
@@ -89,7 +92,8 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     }
     trajectory_eval(&d->traj, 0, &d->ref);
     trajectory_eval(&d->traj, 1, &d->ref_next);
-    d->phi_rad = mc_elec_angle(d->ref.theta_rad, cfg->n_p);
+    d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, cfg->n_p));
+    d->rot_next = d->rot_k;
     return true;
 }
 
@@ -195,16 +199,21 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     if (d->tick > 0) {
         /* advance the reference: this sample's is the one computed last time */
         d->ref = d->ref_next;
-        d->phi_rad = d->phi_next_rad;
         trajectory_eval(&d->traj, d->tick + 1, &d->ref_next);
+        /* the frame turns by the rotation applied last sample; every
+         * DRIVE_FRAME_RESYNC samples it is recomputed from theta_r, so the
+         * rounding of the products cannot accumulate */
+        d->rot_k = ((d->tick % DRIVE_FRAME_RESYNC) == 0u)
+                       ? mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, c->n_p))
+                       : d->rot_next;
     }
-    const mc_t phi_k = d->phi_rad;
-    const mc_t phi_next = mc_elec_angle(d->ref_next.theta_rad, c->n_p);
-    d->phi_next_rad = phi_next;
-    const mc_t dphi = mc_wrap_pi(mc_sub(phi_next, phi_k));
-    const mc_rot_t rot_k = mc_rot_from_angle(phi_k);
+    /* n_p (theta_r[k+1] - theta_r[k]): exact (difference, then an integer
+     * multiple), small, so no wrap */
+    const mc_t dphi = mc_mul_i(mc_sub(d->ref_next.theta_rad, d->ref.theta_rad), c->n_p);
+    const mc_rot_t rot_k = d->rot_k;
     const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
     const mc_rot_t rot_mid = mc_rot_compose(rot_k, rot_half);
+    d->rot_next = mc_rot_compose(rot_mid, rot_half);
     mc_t i_f, i_g;
     mc_rot_fwd(rot_k, i_a_A, i_b_A, &i_f, &i_g); /* eq. (6) */
 

@@ -19,6 +19,7 @@
 
 #include "control/super_twisting.h"
 #include "control/twisting.h"
+#include "math/frame_fg.h"
 #include "math/mc_num.h"
 #include "observers/emf_observer.h"
 #include "observers/mech_observer.h"
@@ -120,8 +121,8 @@ typedef struct {
     bool sat_prev;               /* last command hit the voltage limit */
     trajectory_point_t ref;      /* reference of this sample */
     trajectory_point_t ref_next; /* reference of the next sample */
-    mc_t phi_rad;                /* n_p theta_r of this sample, wrapped (eq. (8)) */
-    mc_t phi_next_rad;           /* the same for the next sample */
+    mc_rot_t rot_k;              /* U(n_p theta_r) of this sample, eq. (8) */
+    mc_rot_t rot_next;           /* the same for the next sample */
     /* what the last step computed that is not kept in a block's state */
     struct {
         uint32_t tick;
