@@ -182,6 +182,8 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->K_V_s = mc_from_double(K);
     cfg->J_over_K_A_s2 = mc_from_double(J / K);
     cfg->fv_over_K_A_s = mc_from_double(fv / K);
+    cfg->LJ_over_KTs_V_s2 = mc_from_double(L * J / (K * Ts));
+    cfg->Lfv_over_KTs_V_s = mc_from_double(L * fv / (K * Ts));
     cfg->v_max_V = mc_from_double(in->v_max_V);
     cfg->i_max_A = mc_from_double(in->i_max_A);
     cfg->i_trip_A = mc_from_double(in->i_trip_A);

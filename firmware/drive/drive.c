@@ -108,6 +108,8 @@ static void drive_use_measured_rl(drive_t *d, mc_t R_ohm, mc_t L_fs_ohm)
     c->npL_ohm_s = mc_div_i(mc_mul_i(L_fs_ohm, c->n_p), c->fs_hz);
     c->open_loop.R_ohm = R_ohm;
     c->open_loop.npL_ohm_s = c->npL_ohm_s;
+    c->LJ_over_KTs_V_s2 = mc_mul(L_fs_ohm, c->J_over_K_A_s2);
+    c->Lfv_over_KTs_V_s = mc_mul(L_fs_ohm, c->fv_over_K_A_s);
     c->emf.R_ohm = R_ohm;
     c->emf.ts_over_L_A_per_V = mc_div(MC_ONE, L_fs_ohm);
     d->emf.cfg.R_ohm = c->emf.R_ohm;
@@ -127,8 +129,13 @@ static void drive_references(const drive_t *d, mc_t *i_fr, mc_t *i_gr, mc_t *v_f
     mc_t i_g = mc_dot2(c->J_over_K_A_s2, r->accel_rad_s2, c->fv_over_K_A_s, r->omega_rad_s);
     i_g = mc_mac(i_g, c->load_ff_A_per_Nm, mc_clamp(d->mech.load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm));
     *i_gr = mc_clamp(mc_add(i_g, d->i_g_off_A), mc_neg(c->i_max_A), c->i_max_A);
-    /* L di_r/dt of both references [V]: the flat part, and -L/tau of the offsets */
-    mc_t Ldi_gr = mc_mul(c->L_H, mc_dot2(c->J_over_K_A_s2, r->jerk_rad_s3, c->fv_over_K_A_s, r->accel_rad_s2));
+    /* L di_g,r/dt of (39), (JL/K) theta_r''' + (L f_v/K) theta_r'', taken as
+     * the change of i_g,r over the sample (L/Ts times the difference of the
+     * references at k+1 and k): the voltage is held over that sample, so its
+     * average is what moves the current there */
+    const trajectory_point_t *rn = &d->ref_next;
+    mc_t Ldi_gr = mc_dot2(c->LJ_over_KTs_V_s2, mc_sub(rn->accel_rad_s2, r->accel_rad_s2), c->Lfv_over_KTs_V_s,
+                          mc_sub(rn->omega_rad_s, r->omega_rad_s));
     mc_t Ldi_fr = MC_ZERO;
     if (d->i_f_off_A != MC_ZERO || d->i_g_off_A != MC_ZERO) {
         Ldi_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, d->i_f_off_A));
@@ -189,7 +196,8 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
         drive_zero_output(d, v_a_V, v_b_V);
         return false;
     }
-    if (mc_abs(i_a_A) > c->i_trip_A || mc_abs(i_b_A) > c->i_trip_A) {
+    const mc_t trip_neg = mc_neg(c->i_trip_A);
+    if (i_a_A > c->i_trip_A || i_a_A < trip_neg || i_b_A > c->i_trip_A || i_b_A < trip_neg) {
         drive_set_fault(d, DRIVE_FAULT_OVERCURRENT);
         drive_zero_output(d, v_a_V, v_b_V);
         return false;

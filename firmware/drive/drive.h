@@ -55,6 +55,8 @@ typedef struct {
     mc_t K_V_s;               /* back-EMF constant [V s/rad = N m/A] */
     mc_t J_over_K_A_s2;       /* J/K: current per unit acceleration, eq. (39) */
     mc_t fv_over_K_A_s;       /* f_v/K: current per unit speed, eq. (39) */
+    mc_t LJ_over_KTs_V_s2;    /* L J/(K Ts): L di_g,r/dt per change of theta_r'' over a sample */
+    mc_t Lfv_over_KTs_V_s;    /* L f_v/(K Ts): the same per change of theta_r' */
     mc_t v_max_V;             /* supply limit per phase */
     mc_t i_max_A;             /* current limit (references, open loop) */
     mc_t i_trip_A;            /* over-current trip on a measured phase */

@@ -4,6 +4,7 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
 {
     p->cfg = *cfg;
     p->cfg.half_pitch_rad = mc_div_i(cfg->pitch_rad, 2);
+    p->cfg.inv_n_p = mc_ratio_i(1, cfg->n_p);
     p->dtheta_prev_rad = MC_ZERO;
     p->k = 0;
     p->valid = false;
@@ -24,7 +25,7 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
     const bool neg = omega_r_rad_s < MC_ZERO;
     const mc_t y = neg ? mc_neg(e_f_V) : e_f_V;
     const mc_t x = neg ? e_g_V : mc_neg(e_g_V);
-    const mc_t dth = p->valid ? mc_div_i(mc_atan2(y, x), c->n_p) : p->dtheta_prev_rad;
+    const mc_t dth = p->valid ? mc_mul(mc_atan2(y, x), c->inv_n_p) : p->dtheta_prev_rad;
 
     /* eq. (71): a step of more than half a pitch is a wrap of the arctan */
     const mc_t step = mc_sub(dth, p->dtheta_prev_rad);

@@ -27,6 +27,7 @@ typedef struct {
     int32_t n_p;
     mc_t pitch_rad;     /* 2 pi / n_p: one electrical period in mechanical rad */
     mc_t half_pitch_rad; /* set by position_estimator_init */
+    mc_t inv_n_p;        /* 1/n_p, set by position_estimator_init */
     mc_t inv_K_rad_s_per_V; /* 1/K for eq. (30) */
     mc_t e2_min_V2;     /* below this |e|^2 the angle is not observable (w ~ 0) */
 } position_estimator_config_t;

@@ -70,7 +70,6 @@ void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *o
     out->theta_rad = t->cfg.theta_start_rad;
     out->omega_rad_s = MC_ZERO;
     out->accel_rad_s2 = MC_ZERO;
-    out->jerk_rad_s3 = MC_ZERO;
     for (int32_t i = 0; i < t->cfg.n_segments; ++i) {
         const trajectory_segment_t *s = &t->cfg.seg[i];
         if (tick < s->start_tick) {
@@ -95,7 +94,25 @@ void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *o
         const mc_t u2 = mc_mul(u, u);
         out->omega_rad_s = mc_mul(mc_mul(mc_mul_i(u2, 140), u), s->v_scale);
         out->accel_rad_s2 = mc_mul(mc_mul(mc_mul_i(x, -840), u2), s->a_scale);
-        out->jerk_rad_s3 = mc_mul(mc_mul(mc_mul_i(u, 840), mc_sub(MC_ONE, mc_mul_i(u, 5))), s->j_scale);
         return;
     }
+}
+
+mc_t trajectory_jerk(const trajectory_t *t, uint32_t tick)
+{
+    for (int32_t i = 0; i < t->cfg.n_segments; ++i) {
+        const trajectory_segment_t *s = &t->cfg.seg[i];
+        if (tick < s->start_tick) {
+            break;
+        }
+        if (tick >= s->start_tick + s->duration_ticks) {
+            continue;
+        }
+        const int32_t n = (int32_t)(tick - s->start_tick);
+        const int32_t N = (int32_t)s->duration_ticks;
+        const mc_t x = mc_ratio_i(2 * n - N, 2 * N);
+        const mc_t u = mc_sub(MC_C(0.25), mc_mul(x, x));
+        return mc_mul(mc_mul(mc_mul_i(u, 840), mc_sub(MC_ONE, mc_mul_i(u, 5))), s->j_scale);
+    }
+    return MC_ZERO;
 }

@@ -44,7 +44,7 @@ typedef struct {
 } trajectory_config_t;
 
 typedef struct {
-    mc_t theta_rad, omega_rad_s, accel_rad_s2, jerk_rad_s3;
+    mc_t theta_rad, omega_rad_s, accel_rad_s2;
 } trajectory_point_t;
 
 typedef struct {
@@ -57,8 +57,13 @@ typedef struct {
  * derived here with mc arithmetic (see trajectory_segment_t). Returns false on an invalid config. */
 bool trajectory_init(trajectory_t *t, const trajectory_config_t *cfg);
 
-/* Reference and its first three derivatives at sample `tick`. */
+/* Reference and its first two derivatives at sample `tick`. */
 void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *out);
+
+/* Third derivative theta_r^(3) at sample `tick` [rad/s^3]. The drive takes
+ * the jerk term of (39) as the change of the references over the sample
+ * instead (see drive_references), so this is for tests and tools. */
+mc_t trajectory_jerk(const trajectory_t *t, uint32_t tick);
 
 /* The normalised polynomial and its derivatives w.r.t. D at D in [0, 1]:
  * p, p', p'', p'''. For tests and tools: trajectory_eval folds the
