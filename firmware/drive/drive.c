@@ -227,10 +227,15 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
 
     /* 2. estimates */
     emf_observer_correct(&d->emf, i_f, i_g);
-    position_estimator_step(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->ref.theta_rad, d->ref.omega_rad_s);
+    /* (29) and (71) only where they are used: in closed loop and at the
+     * switch (the branch is chosen there); in open loop only observability */
+    position_estimator_observe(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V);
 
     /* 3. mode */
     const bool want_closed = !(mc_abs(d->ref.omega_rad_s) < c->omega_lim_rad_s) && d->pos.valid;
+    if (want_closed) {
+        position_estimator_step(&d->pos, d->emf.e_f_hat_V, d->emf.e_g_hat_V, d->ref.theta_rad, d->ref.omega_rad_s);
+    }
     bool switched = false;
     if (d->mode == DRIVE_MODE_OPEN_LOOP && want_closed) {
         position_estimator_set_branch(&d->pos, d->ref.theta_rad, mc_add(d->ref.theta_rad, d->theta_offset_ol_rad));
@@ -357,7 +362,10 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     t->i_g_hat_A = mc_sub(d->last.i_g_A, d->emf.err_g_A);
     t->e_f_hat_V = d->emf.e_f_hat_V;
     t->e_g_hat_V = d->emf.e_g_hat_V;
-    t->delta_theta_est_rad = d->pos.dtheta_est_rad;
+    t->delta_theta_est_rad = closed ? d->pos.dtheta_est_rad
+                                    : (d->pos.valid ? position_estimator_angle(&d->pos, d->emf.e_f_hat_V,
+                                                                               d->emf.e_g_hat_V, d->ref.omega_rad_s)
+                                                    : MC_ZERO);
     t->jump_count = d->pos.k;
     /* in open loop the rotor follows the reference (Fig. 7 of the paper) */
     t->theta_est_rad = closed ? d->pos.theta_est_rad : mc_add(d->ref.theta_rad, d->theta_offset_ol_rad);

@@ -14,18 +14,26 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
     p->e2_V2 = MC_ZERO;
 }
 
-void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
+void position_estimator_observe(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V)
 {
-    const position_estimator_config_t *c = &p->cfg;
-    const mc_t e2 = mc_dot2(e_f_V, e_f_V, e_g_V, e_g_V);
-    p->e2_V2 = e2;
-    p->valid = !(e2 < c->e2_min_V2);
+    p->e2_V2 = mc_dot2(e_f_V, e_f_V, e_g_V, e_g_V);
+    p->valid = !(p->e2_V2 < p->cfg.e2_min_V2);
+}
 
+mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t omega_r_rad_s)
+{
     /* eq. (29) (errata form): the sign of the speed is taken from the reference */
     const bool neg = omega_r_rad_s < MC_ZERO;
     const mc_t y = neg ? mc_neg(e_f_V) : e_f_V;
     const mc_t x = neg ? e_g_V : mc_neg(e_g_V);
-    const mc_t dth = p->valid ? mc_mul(mc_atan2(y, x), c->inv_n_p) : p->dtheta_prev_rad;
+    return mc_mul(mc_atan2(y, x), p->cfg.inv_n_p);
+}
+
+void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
+{
+    const position_estimator_config_t *c = &p->cfg;
+    position_estimator_observe(p, e_f_V, e_g_V);
+    const mc_t dth = p->valid ? position_estimator_angle(p, e_f_V, e_g_V, omega_r_rad_s) : p->dtheta_prev_rad;
 
     /* eq. (71): a step of more than half a pitch is a wrap of the arctan */
     const mc_t step = mc_sub(dth, p->dtheta_prev_rad);

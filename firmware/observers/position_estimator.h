@@ -45,7 +45,13 @@ typedef struct {
 
 void position_estimator_init(position_estimator_t *p, const position_estimator_config_t *cfg);
 
-/* One sample of (29) and (71). e_*: back-EMF estimates [V]; theta_r,
+/* |e|^2 and observability only (what the open-loop start needs each sample). */
+void position_estimator_observe(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V);
+
+/* dtheta_est of (29) from e and the sign of omega_r, in (-pi/n_p, pi/n_p]. */
+mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t omega_r_rad_s);
+
+/* One sample of (29) and (71) (includes position_estimator_observe). e_*: back-EMF estimates [V]; theta_r,
  * omega_r: the reference of this sample. */
 void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s);
 
