@@ -73,6 +73,9 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->v_f_prev_V = MC_ZERO;
     d->v_g_prev_V = MC_ZERO;
     d->sat_prev = false;
+    d->v_ext_set = false;
+    d->v_a_ext_V = MC_ZERO;
+    d->v_b_ext_V = MC_ZERO;
     emf_observer_init(&d->emf, &cfg->emf);
     position_estimator_init(&d->pos, &cfg->pos);
     mech_observer_init(&d->mech, &cfg->mech);
@@ -326,7 +329,12 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     d->v_g_prev_V = v_g;
 
     /* 5. observer prediction with the applied voltage (mid-sample frame) */
-    emf_observer_predict(&d->emf, v_f, v_g, i_f, i_g, rot_half);
+    mc_t v_f_obs = v_f, v_g_obs = v_g;
+    if (d->v_ext_set) {
+        mc_rot_fwd(rot_mid, d->v_a_ext_V, d->v_b_ext_V, &v_f_obs, &v_g_obs);
+        d->v_ext_set = false;
+    }
+    emf_observer_predict(&d->emf, v_f_obs, v_g_obs, i_f, i_g, rot_half);
     if (!closed && rl_id_step(&d->rl_id, i_f, v_f, d->ref.omega_rad_s) && d->rl_id.state == RL_ID_DONE) {
         drive_use_measured_rl(d, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);
     }
@@ -380,4 +388,11 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     t->rl_id_state = d->rl_id.state;
     t->R_model_ohm = d->cfg.R_ohm;
     t->L_model_H = d->cfg.L_H;
+}
+
+void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V)
+{
+    d->v_a_ext_V = v_a_V;
+    d->v_b_ext_V = v_b_V;
+    d->v_ext_set = true;
 }

@@ -121,6 +121,8 @@ typedef struct {
     mc_t i_f_off_A, i_g_off_A; /* decaying current-reference offset that removes the torque step */
     mc_t v_f_prev_V, v_g_prev_V; /* last command in the (f-g) frame */
     bool sat_prev;               /* last command hit the voltage limit */
+    bool v_ext_set;              /* drive_set_applied_voltage() for the next step */
+    mc_t v_a_ext_V, v_b_ext_V;
     trajectory_point_t ref;      /* reference of this sample */
     trajectory_point_t ref_next; /* reference of the next sample */
     mc_rot_t rot_k;              /* U(n_p theta_r) of this sample, eq. (8) */
@@ -140,6 +142,13 @@ bool drive_init(drive_t *d, const drive_config_t *cfg);
 /* One sample: phase currents [A] in, phase voltages [V] out. Always writes
  * *v_a_V and *v_b_V (0 V in FAULT). Returns false when in FAULT. */
 bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V);
+
+/* The phase voltages that will really be applied over the coming sample,
+ * when they differ from what drive_step commands: the observer of that
+ * step then uses them. For replays of recorded runs (sim/replay), or a
+ * power stage whose output is known better than the command. One-shot:
+ * applies to the next drive_step only. */
+void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V);
 
 /* Telemetry of the last step, assembled from the state on request (the
  * step itself stores only what no block keeps). */

@@ -38,7 +38,8 @@ void Recorder::monitor(void* ctx, const hal_sw_plant_period_t* p) { static_cast<
 
 void Recorder::on_period(const hal_sw_plant_period_t& p)
 {
-    const drive_telemetry_t& tl = *drive_telemetry(&drive_);
+    drive_telemetry_t tl;
+    drive_get_telemetry(&drive_, &tl);
     const StepperPlant::State& x = plant_.state();
     const double theta = x[StepperPlant::kTheta];
     const double omega = x[StepperPlant::kOmega];
