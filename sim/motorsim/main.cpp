@@ -30,6 +30,7 @@
 #include "drive/drive.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
+#include "scenario/rig.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
 #include "model/reference.h"
@@ -169,13 +170,10 @@ int run(const Options& opt)
     auto drive = std::make_unique<drive_t>();
     mcsim::design_and_init_drive(sc, drive.get());
 
-    mcsim::StepperPlant plant(sc.motor, mcsim::LoadProfile(sc.load), sc.substeps);
-    mcsim::StepperPlant::State x0 = mcsim::StepperPlant::State::Zero();
-    x0[mcsim::StepperPlant::kTheta] = sc.theta0_rad;
-    plant.reset(x0, 0.0);
-    mcsim::CurrentSensor sensor(sc.sensor, sc.seed);
-    mcsim::Amplifier amp;
-    amp.v_max_V = sc.v_max_V;
+    mcsim::Rig rig(sc);
+    mcsim::StepperPlant& plant = rig.plant;
+    mcsim::CurrentSensor& sensor = rig.sensor;
+    const mcsim::Amplifier& amp = rig.amp;
     const mcsim::Reference ref(sc.segments, 0.0);
     mcsim::Recorder rec(sc, plant, *drive, ref, /*record_rows=*/write_csv);
 

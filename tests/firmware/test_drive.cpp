@@ -18,6 +18,15 @@ drive_design_input_t paper_input()
     return in;
 }
 double D(mc_t x) { return mc_to_double(x); }
+// the paper-000 rig and trajectory, designed and initialised
+bool init_paper_drive(drive_t *d)
+{
+    drive_design_input_t in = paper_input();
+    drive_config_t cfg;
+    char err[160];
+    return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+}
+
 drive_telemetry_t tlm_of(const drive_t &d)
 {
     drive_telemetry_t t;
@@ -86,12 +95,8 @@ TEST(Drive, BadConfigGoesToSafeState)
 
 TEST(Drive, OvercurrentTripsAndStaysSafe)
 {
-    drive_design_input_t in = paper_input();
-    drive_config_t cfg;
-    char err[160];
-    ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err));
     drive_t d;
-    ASSERT_TRUE(drive_init(&d, &cfg));
+    ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
     EXPECT_TRUE(drive_step(&d, M(0.1), M(0.0), &va, &vb));
     EXPECT_GT(std::fabs(D(va)) + std::fabs(D(vb)), 1.0);  // open loop holds the rotor
@@ -107,12 +112,8 @@ TEST(Drive, OvercurrentTripsAndStaysSafe)
 
 TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
 {
-    drive_design_input_t in = paper_input();
-    drive_config_t cfg;
-    char err[160];
-    ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err));
     drive_t d;
-    ASSERT_TRUE(drive_init(&d, &cfg));
+    ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
     ASSERT_TRUE(drive_step(&d, M(0), M(0), &va, &vb));
     // theta_r = 0 at t = 0: v along phase a with magnitude R I_max (68)

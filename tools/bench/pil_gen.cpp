@@ -21,6 +21,7 @@
 #include "drive/drive.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
+#include "scenario/rig.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
 #include "model/stepper_plant.h"
@@ -74,13 +75,10 @@ int main(int argc, char** argv)
         mcsim::design_and_init_drive(sc, drive.get());
         const drive_config_t cfg = drive->cfg;  // what drive_init got
 
-        mcsim::StepperPlant plant(sc.motor, mcsim::LoadProfile(sc.load), sc.substeps);
-        mcsim::StepperPlant::State x0 = mcsim::StepperPlant::State::Zero();
-        x0[mcsim::StepperPlant::kTheta] = sc.theta0_rad;
-        plant.reset(x0, 0.0);
-        mcsim::CurrentSensor sensor(sc.sensor, sc.seed);
-        mcsim::Amplifier amp;
-        amp.v_max_V = sc.v_max_V;
+        mcsim::Rig rig(sc);
+        mcsim::StepperPlant& plant = rig.plant;
+        mcsim::CurrentSensor& sensor = rig.sensor;
+        const mcsim::Amplifier& amp = rig.amp;
 
         Rec rec;
         rec.drive = drive.get();

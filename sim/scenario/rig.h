@@ -1,0 +1,32 @@
+// rig.h - the simulated bench of a scenario: plant at its initial state,
+// current sensor and amplifier, as motorsim and the PIL recorder attach them
+// to the software-plant HAL backend. One place that turns a scenario into
+// hardware models, so the tools cannot disagree on it.
+#ifndef MCSIM_SCENARIO_RIG_H
+#define MCSIM_SCENARIO_RIG_H
+
+#include "model/amplifier.h"
+#include "model/current_sensor.h"
+#include "model/load_profile.h"
+#include "model/stepper_plant.h"
+#include "scenario/scenario.h"
+
+namespace mcsim {
+
+struct Rig {
+    explicit Rig(const Scenario& sc)
+        : plant(sc.motor, LoadProfile(sc.load), sc.substeps), sensor(sc.sensor, sc.seed)
+    {
+        StepperPlant::State x0 = StepperPlant::State::Zero();
+        x0[StepperPlant::kTheta] = sc.theta0_rad;
+        plant.reset(x0, 0.0);
+        amp.v_max_V = sc.v_max_V;
+    }
+    StepperPlant plant;
+    CurrentSensor sensor;
+    Amplifier amp;
+};
+
+}  // namespace mcsim
+
+#endif  // MCSIM_SCENARIO_RIG_H
