@@ -65,7 +65,6 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->mode = DRIVE_MODE_OPEN_LOOP;
     d->fault = DRIVE_FAULT_NONE;
     d->tick = 0;
-    d->theta_offset_ol_rad = MC_ZERO;
     d->blend_f_V = MC_ZERO;
     d->blend_g_V = MC_ZERO;
     d->i_f_off_A = MC_ZERO;
@@ -241,14 +240,13 @@ bool drive_step(drive_t *d, mc_t i_a_A, mc_t i_b_A, mc_t *v_a_V, mc_t *v_b_V)
     }
     bool switched = false;
     if (d->mode == DRIVE_MODE_OPEN_LOOP && want_closed) {
-        position_estimator_set_branch(&d->pos, d->ref.theta_rad, mc_add(d->ref.theta_rad, d->theta_offset_ol_rad));
+        /* in open loop the rotor sits on the reference: take the branch of
+         * theta_est closest to theta_r */
+        position_estimator_set_branch(&d->pos, d->ref.theta_rad, d->ref.theta_rad);
         super_twisting_reset(&d->cur, MC_ZERO);
         d->mode = DRIVE_MODE_CLOSED_LOOP;
         switched = true;
     } else if (d->mode == DRIVE_MODE_CLOSED_LOOP && !want_closed) {
-        /* the open-loop drive pulls the rotor onto theta_r: keep the last
-         * estimate of the offset only as the position estimate's memory */
-        d->theta_offset_ol_rad = MC_ZERO;
         d->mode = DRIVE_MODE_OPEN_LOOP;
         switched = true;
     }
@@ -376,7 +374,7 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
                                                     : MC_ZERO);
     t->jump_count = d->pos.k;
     /* in open loop the rotor follows the reference (Fig. 7 of the paper) */
-    t->theta_est_rad = closed ? d->pos.theta_est_rad : mc_add(d->ref.theta_rad, d->theta_offset_ol_rad);
+    t->theta_est_rad = closed ? d->pos.theta_est_rad : d->ref.theta_rad;
     t->omega_est_rad_s = closed ? d->mech.omega_est_rad_s : d->ref.omega_rad_s;
     t->accel_est_rad_s2 = closed ? d->mech.accel_est_rad_s2 : d->ref.accel_rad_s2;
     t->load_est_Nm = d->mech.load_est_Nm;

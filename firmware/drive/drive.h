@@ -116,7 +116,6 @@ typedef struct {
     twisting_t pos_ctrl;
     trajectory_t traj;
     rl_id_t rl_id;
-    mc_t theta_offset_ol_rad;  /* theta_est - theta_r carried through open loop */
     mc_t blend_f_V, blend_g_V; /* decaying offset that removes the voltage step at a switch */
     mc_t i_f_off_A, i_g_off_A; /* decaying current-reference offset that removes the torque step */
     mc_t v_f_prev_V, v_g_prev_V; /* last command in the (f-g) frame */

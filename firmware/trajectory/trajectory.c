@@ -56,15 +56,6 @@ bool trajectory_init(trajectory_t *t, const trajectory_config_t *cfg)
     return true;
 }
 
-uint32_t trajectory_end_tick(const trajectory_t *t)
-{
-    if (t->cfg.n_segments == 0) {
-        return 0;
-    }
-    const trajectory_segment_t *s = &t->cfg.seg[t->cfg.n_segments - 1];
-    return s->start_tick + s->duration_ticks;
-}
-
 void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *out)
 {
     out->theta_rad = t->cfg.theta_start_rad;

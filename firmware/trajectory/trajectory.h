@@ -70,8 +70,6 @@ mc_t trajectory_jerk(const trajectory_t *t, uint32_t tick);
  * segment's scale in before rounding. */
 void trajectory_poly7(mc_t D, mc_t *p, mc_t *dp, mc_t *ddp, mc_t *dddp);
 
-/* Last sample at which the reference still moves (end of the last segment). */
-uint32_t trajectory_end_tick(const trajectory_t *t);
 
 #ifdef __cplusplus
 }
