@@ -1,0 +1,273 @@
+#!/usr/bin/env python3
+"""Mutation score of the tests: small changes to firmware/, which ones no test catches.
+
+Copies the working tree to a scratch directory (your checkout is never
+touched), configures and builds it with a host preset and checks that ctest
+passes there. Then, for each mutant of MUTANTS (a sign, a dropped term, a
+gain, a branch, an index: one small change to firmware/), applies it,
+rebuilds and runs ctest, stopping at the first failure: a mutant is killed
+when the build or any test fails, and survives when everything passes.
+Prints progress on stderr and one JSON object on stdout:
+
+  {"mutants": N, "killed": K, "survived": S, "score": K/N,
+   "survivors": [{"id", "file", "why"}], "results": [{"id", "killed", "by", "seconds"}]}
+
+Every survivor is either killed by a new test or listed in docs/testing.md
+as equivalent, with the reason.
+
+  --check-list     only check that every mutant still applies to the tree
+                   (its text occurs exactly once); fast, run by ctest
+  --only ID,...    run these mutants only
+  --preset P       host (default) or host-fixed
+  --workdir DIR    scratch copy (default: a temporary directory, removed)
+  --jobs N         ctest -j (default 2)
+
+Standard library only. A full run takes about a minute per mutant here.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@dataclass(frozen=True)
+class Mutant:
+    id: str
+    file: str            # path under firmware/
+    edits: tuple         # ((original, replacement), ...): each original occurs exactly once
+    why: str             # what the change breaks
+
+
+def m(id_: str, file: str, why: str, *edits: tuple[str, str]) -> Mutant:
+    return Mutant(id_, file, tuple(edits), why)
+
+
+MUTANTS = [
+    # ---- back-EMF observer, paper 000 eqs. (25)-(28)
+    m("emf_no_super_twisting_term", "observers/emf_observer.c",
+      "(25) without the lambda |eps|^(1/2) sgn(eps) term on both axes",
+      ("mc_dot2(c->lambda_A, mc_sqrt_abs_sgn(o->err_f_A), c->l_ts, o->err_f_A)", "mc_mul(c->l_ts, o->err_f_A)"),
+      ("mc_dot2(c->lambda_A, mc_sqrt_abs_sgn(o->err_g_A), c->l_ts, o->err_g_A)", "mc_mul(c->l_ts, o->err_g_A)")),
+    m("emf_alpha_sign_f", "observers/emf_observer.c", "(25) lower row, f axis: d_hat' = -alpha sgn(eps)",
+      ("mc_add(o->e_f_hat_V, mc_mul_sgn(c->alpha_V, o->err_f_A))",
+       "mc_sub(o->e_f_hat_V, mc_mul_sgn(c->alpha_V, o->err_f_A))")),
+    m("emf_resistive_drop_sign_f", "observers/emf_observer.c", "(23): +R i_f instead of -R i_f",
+      ("mc_cross2(MC_ONE, mc_add(v_f_V, o->e_f_hat_V), c->R_ohm, i_f_A)",
+       "mc_dot2(MC_ONE, mc_add(v_f_V, o->e_f_hat_V), c->R_ohm, i_f_A)")),
+    m("emf_no_injection_filter_g", "observers/emf_observer.c", "(28d) raw injection, no low-pass, g axis",
+      ("o->z_g_V_s = mc_mac(o->z_g_V_s, c->lpf_coeff,", "o->z_g_V_s = mc_mac(o->z_g_V_s, MC_ONE,")),
+    m("emf_one_half_turn", "observers/emf_observer.c", "exp(Ts A_fg) with one half turn left out",
+      ("mc_rot_fwd(half, xf, xg, &yf, &yg);", "yf = xf; yg = xg; (void)half;")),
+    # ---- position and speed reconstruction, (29)-(32), (71)
+    m("pos_jump_counter_sign", "observers/position_estimator.c", "(71): k counts the wrong way",
+      ("p->k += 1;", "p->k -= 1;")),
+    m("pos_angle_negative_speed", "observers/position_estimator.c", "(29) errata: wrong sign for w_r < 0",
+      ("const mc_t x = neg ? e_g_V : mc_neg(e_g_V);", "const mc_t x = mc_neg(e_g_V);")),
+    m("pos_speed_without_np", "observers/position_estimator.c", "(31) without the 1/n_p",
+      ("dw = mc_div(mc_div_i(num, p->cfg.n_p), p->e2_V2);", "dw = mc_div(num, p->e2_V2);")),
+    m("pos_branch_not_chosen", "observers/position_estimator.c", "switch: jump count not set to the nearest branch",
+      ("p->k = mc_round_i(mc_div(off, p->cfg.pitch_rad));", "p->k = 0 * mc_round_i(mc_div(off, p->cfg.pitch_rad));")),
+    m("pos_observable_threshold", "observers/position_estimator.c", "observability test inverted at the boundary",
+      ("p->valid = !(p->e2_V2 < p->cfg.e2_min_V2);", "p->valid = !(p->e2_V2 < mc_mul_i(p->cfg.e2_min_V2, 4));")),
+    # ---- mechanical observer (33)-(37)
+    m("mech_friction_sign", "observers/mech_observer.c", "(33): +f_v w instead of -f_v w",
+      ("mc_cross2(c->K_Nm_per_A, i_q_A, c->fv_Nm_s, m->omega_hat_rad_s)",
+       "mc_dot2(c->K_Nm_per_A, i_q_A, c->fv_Nm_s, m->omega_hat_rad_s)")),
+    m("mech_load_injection_sign", "observers/mech_observer.c", "(35): load estimate integrates the wrong way",
+      ("mc_add(m->tau_hat_Nm, mc_mul_sgn(c->alpha_Nm, e))", "mc_sub(m->tau_hat_Nm, mc_mul_sgn(c->alpha_Nm, e))")),
+    m("mech_no_root_term", "observers/mech_observer.c", "(35) without lambda |e|^(1/2) sgn(e)",
+      ("mc_dot2(c->lambda_ts, mc_sqrt_abs_sgn(e), c->l_ts, e)", "mc_mul(c->l_ts, e)")),
+    # ---- controllers
+    m("st_no_antiwindup", "control/super_twisting.c", "integral keeps running while the voltage saturates",
+      ("if (!hold_integral) {", "if (!hold_integral || MC_ONE > MC_ZERO) {")),
+    m("st_integral_sign", "control/super_twisting.c", "(14): du_1/dt = +alpha sgn(S)",
+      ("mc_sub(st->u1, mc_mul_sgn(st->cfg.alpha_ts, S))", "mc_add(st->u1, mc_mul_sgn(st->cfg.alpha_ts, S))")),
+    m("twisting_gains_swapped", "control/twisting.c", "(21): lambda_m and lambda_M swapped",
+      ("const mc_t gain = away ? tw->cfg.lambda_M : tw->cfg.lambda_m;",
+       "const mc_t gain = away ? tw->cfg.lambda_m : tw->cfg.lambda_M;")),
+    # ---- start-up
+    m("open_loop_no_back_emf", "startup/open_loop.c", "(68) without the K w term",
+      ("mc_mul(c->K_V_s, omega_ref_rad_s));", "MC_ZERO);")),
+    m("rl_id_no_trapezoid_correction", "startup/rl_identification.c", "L without the -R/2 trapezoid term",
+      ("mc_sub(mc_mul_i(mc_div(excess, di), N), mc_div_i(R, 2))", "mc_mul_i(mc_div(excess, di), N)")),
+    # ---- trajectory (70)
+    m("traj_acceleration_sign", "trajectory/trajectory.c", "(70): theta_r'' with the wrong sign",
+      ("out->accel_rad_s2 = mc_mul(mc_mul(mc_mul_i(x, -840), u2), s->a_scale);",
+       "out->accel_rad_s2 = mc_mul(mc_mul(mc_mul_i(x, 840), u2), s->a_scale);")),
+    # ---- the drive composition
+    m("drive_never_closes_loop", "drive/drive.c", "the drive stays in open loop for the whole move",
+      ("const bool want_closed = !(mc_abs(d->ref.omega_rad_s) < c->omega_lim_rad_s) && d->pos.valid;",
+       "const bool want_closed = (mc_abs(d->ref.omega_rad_s) < MC_ZERO) && d->pos.valid;")),
+    m("drive_voltage_start_of_sample", "drive/drive.c", "phase voltage at the start-of-sample angle",
+      ("mc_rot_inv(rot_mid, v_f, v_g, &v_a, &v_b);", "mc_rot_inv(rot_k, v_f, v_g, &v_a, &v_b);")),
+    m("drive_no_jerk_term", "drive/drive.c", "(39): L di_g,r/dt without the theta_r''' part",
+      ("mc_sub(rn->accel_rad_s2, r->accel_rad_s2)", "MC_ZERO")),
+    m("drive_load_feedforward_sign", "drive/drive.c", "observed load fed forward with the wrong sign",
+      ("i_g = mc_mac(i_g, c->load_ff_A_per_Nm, mc_clamp(", "i_g = mc_mac(i_g, mc_neg(c->load_ff_A_per_Nm), mc_clamp(")),
+    m("drive_no_back_emf_reference", "drive/drive.c", "(38): v_g,r without K w_r",
+      ("*v_gr = mc_mac(mc_add(Ldi_gr, mc_dot2(c->R_ohm, *i_gr, npLw, *i_fr)), c->K_V_s, r->omega_rad_s);",
+       "*v_gr = mc_add(Ldi_gr, mc_dot2(c->R_ohm, *i_gr, npLw, *i_fr));")),
+    m("drive_cross_coupling_f_sign", "drive/drive.c", "(48): +n_p L mu_1 instead of -",
+      ("mc_add(mc_cross2(c->R_ohm, xi_f, c->npL_ohm_s, cross_f), u_st)",
+       "mc_add(mc_dot2(c->R_ohm, xi_f, c->npL_ohm_s, cross_f), u_st)")),
+    m("drive_twisting_sign", "drive/drive.c", "(54): twisting output with the wrong sign",
+      ("mc_mac(w_tw, mc_add(c->K_V_s, c->v_k_w_V_s), xi_w)", "mc_mac(mc_neg(w_tw), mc_add(c->K_V_s, c->v_k_w_V_s), xi_w)")),
+    m("drive_trip_phase_a_only", "drive/drive.c", "over-current trip ignores phase b",
+      ("|| i_b_A > c->i_trip_A || i_b_A < trip_neg", "")),
+    m("drive_limit_twice_vmax", "drive/drive.c", "voltage limited at 2 V_max",
+      ("const bool sat = v_peak > c->v_max_V;", "const bool sat = v_peak > mc_mul_i(c->v_max_V, 2);")),
+    m("drive_blend_sign", "drive/drive.c", "switch offset doubles the voltage step instead of removing it",
+      ("d->blend_f_V = mc_add(d->blend_f_V, mc_sub(d->v_f_prev_V, v_f));",
+       "d->blend_f_V = mc_add(d->blend_f_V, mc_sub(v_f, d->v_f_prev_V));")),
+    m("drive_frame_resync_phase", "drive/drive.c", "frame rotation recomputed one sample later in each cycle",
+      ("((d->tick % DRIVE_FRAME_RESYNC) == 0u)", "((d->tick % DRIVE_FRAME_RESYNC) == 1u)")),
+    m("drive_mech_observer_id", "drive/drive.c", "mechanical observer fed i_d instead of i_q",
+      ("mech_observer_step(&d->mech, closed ? d->pos.omega_est_rad_s : d->ref.omega_rad_s, i_q_est);",
+       "mech_observer_step(&d->mech, closed ? d->pos.omega_est_rad_s : d->ref.omega_rad_s, i_d_est);")),
+    m("drive_measured_rl_ignored", "drive/drive.c", "the standstill R/L measurement is never used",
+      ("drive_use_measured_rl(d, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);", "(void)drive_use_measured_rl;")),
+    # ---- gain design
+    m("design_twisting_no_margin", "design/drive_design.c", "(22) met with no margin (1.0 instead of 1.2)",
+      ("pick(ov->tw_lambda_m_rad_s3, 1.2 * C0)", "pick(ov->tw_lambda_m_rad_s3, 1.0 * C0)")),
+    m("design_observer_pole", "design/drive_design.c", "observer linear term at fs/20 instead of fs/10",
+      ("pick(ov->emf_l_per_s, 0.1 * fs)", "pick(ov->emf_l_per_s, 0.05 * fs)")),
+]
+
+
+def apply(text: str, mut: Mutant) -> str:
+    for orig, repl in mut.edits:
+        n = text.count(orig)
+        if n != 1:
+            raise ValueError(f"mutant {mut.id}: text occurs {n} times in firmware/{mut.file} (want 1): {orig!r}")
+        text = text.replace(orig, repl)
+    return text
+
+
+def check_list(src: Path) -> int:
+    bad = 0
+    ids = set()
+    for mut in MUTANTS:
+        if mut.id in ids:
+            print(f"mutants.py: duplicate id {mut.id}", file=sys.stderr)
+            bad += 1
+        ids.add(mut.id)
+        path = src / "firmware" / mut.file
+        try:
+            apply(path.read_text(encoding="utf-8"), mut)
+        except (OSError, ValueError) as e:
+            print(f"mutants.py: {e}", file=sys.stderr)
+            bad += 1
+    print(json.dumps({"mutants": len(MUTANTS), "not_applicable": bad}))
+    return 1 if bad else 0
+
+
+def sh(cmd: list[str], cwd: Path, log: Path) -> int:
+    with open(log, "w", encoding="utf-8") as f:
+        return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT).returncode
+
+
+def copy_tree(dst: Path) -> None:
+    files = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, check=True,
+                           capture_output=True).stdout.decode().split("\0")
+    for rel in filter(None, files):
+        s = ROOT / rel
+        if s.is_file():
+            d = dst / rel
+            d.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(s, d)
+
+
+def first_failure(log: Path) -> str:
+    for line in log.read_text(encoding="utf-8", errors="replace").splitlines():
+        if "***Failed" in line or "(Failed)" in line or "***Exception" in line or "***Timeout" in line:
+            return line.split(":", 1)[-1].split("...")[0].strip()
+    return "build" if "error" in log.read_text(encoding="utf-8", errors="replace") else "?"
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--check-list", action="store_true")
+    ap.add_argument("--only", default="")
+    ap.add_argument("--preset", default="host", choices=["host", "host-fixed"])
+    ap.add_argument("--workdir", default="")
+    ap.add_argument("--jobs", type=int, default=2)
+    a = ap.parse_args()
+    if a.check_list:
+        return check_list(ROOT)
+    chosen = MUTANTS
+    if a.only:
+        want = set(a.only.split(","))
+        unknown = want - {x.id for x in MUTANTS}
+        if unknown:
+            print(f"mutants.py: --only: unknown mutant(s) {', '.join(sorted(unknown))}", file=sys.stderr)
+            return 2
+        chosen = [x for x in MUTANTS if x.id in want]
+    if check_list(ROOT) != 0:
+        return 2
+    tmp = None
+    if a.workdir:
+        work = Path(a.workdir)
+        shutil.rmtree(work, ignore_errors=True)
+        work.mkdir(parents=True)
+    else:
+        tmp = tempfile.TemporaryDirectory(prefix="mc_mutants_")
+        work = Path(tmp.name)
+    src = work / "src"
+    copy_tree(src)
+    logs = work / "logs"
+    logs.mkdir()
+    ctest = ["ctest", "--preset", a.preset, "-j", str(a.jobs), "--stop-on-failure", "--timeout", "300"]
+    print(f"mutants.py: building the unmutated copy in {src}", file=sys.stderr)
+    if sh(["cmake", "--preset", a.preset], src, logs / "configure.log") != 0 or \
+            sh(["cmake", "--build", "--preset", a.preset], src, logs / "build.log") != 0:
+        print(f"mutants.py: the unmutated tree does not build (see {logs})", file=sys.stderr)
+        return 1
+    if sh(ctest, src, logs / "ctest_clean.log") != 0:
+        print(f"mutants.py: ctest fails on the unmutated tree: {first_failure(logs / 'ctest_clean.log')}",
+              file=sys.stderr)
+        return 1
+    results = []
+    for i, mut in enumerate(chosen, 1):
+        path = src / "firmware" / mut.file
+        original = path.read_text(encoding="utf-8")
+        t0 = time.monotonic()
+        try:
+            path.write_text(apply(original, mut), encoding="utf-8")
+            log = logs / f"{mut.id}.log"
+            if sh(["cmake", "--build", "--preset", a.preset], src, log) != 0:
+                killed, by = True, "build"
+            else:
+                killed = sh(ctest, src, log) != 0
+                by = first_failure(log) if killed else ""
+        finally:
+            path.write_text(original, encoding="utf-8")
+        dt = time.monotonic() - t0
+        results.append({"id": mut.id, "killed": killed, "by": by, "seconds": round(dt, 1)})
+        print(f"[{i}/{len(chosen)}] {mut.id}: {'killed by ' + by if killed else 'SURVIVED'} ({dt:.0f} s)",
+              file=sys.stderr)
+    # leave the copy as unmutated as it started
+    sh(["cmake", "--build", "--preset", a.preset], src, logs / "build_final.log")
+    killed = sum(r["killed"] for r in results)
+    by_id = {x.id: x for x in chosen}
+    out = {"mutants": len(results), "killed": killed, "survived": len(results) - killed,
+           "score": round(killed / len(results), 3) if results else None, "preset": a.preset,
+           "survivors": [{"id": r["id"], "file": "firmware/" + by_id[r["id"]].file, "why": by_id[r["id"]].why}
+                         for r in results if not r["killed"]],
+           "results": results}
+    print(json.dumps(out, indent=1))
+    if tmp is not None:
+        tmp.cleanup()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
