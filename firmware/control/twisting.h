@@ -8,6 +8,8 @@
 #ifndef CONTROL_TWISTING_H
 #define CONTROL_TWISTING_H
 
+#include <stdbool.h>
+
 #include "math/mc_num.h"
 
 #ifdef __cplusplus
@@ -26,7 +28,12 @@ typedef struct {
 void twisting_init(twisting_t *tw, const twisting_config_t *cfg);
 
 /* The product S*dS is decided from the signs, so it cannot overflow. */
-mc_t twisting_step(const twisting_t *tw, mc_t S, mc_t S_dot);
+static inline mc_t twisting_step(const twisting_t *tw, mc_t S, mc_t S_dot)
+{
+    const bool away = (S > MC_ZERO && S_dot > MC_ZERO) || (S < MC_ZERO && S_dot < MC_ZERO);
+    const mc_t gain = away ? tw->cfg.lambda_M : tw->cfg.lambda_m;
+    return mc_neg(mc_mul_sgn(gain, S));
+}
 
 #ifdef __cplusplus
 }

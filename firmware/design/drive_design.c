@@ -20,22 +20,76 @@
 
 #include "math/mc_convert.h"
 
-/* Maximum of |p'| and |p''| of the degree-7 polynomial over D in [0, 1]. */
+/* Maximum of |p'| and |p''| of the degree-7 polynomial of (70) over D in
+ * [0, 1]: p'(1/2) = 35/16, and |p''| peaks where p^(3) = 840 u (1 - 5u) = 0
+ * with u = D(1 - D) = 1/5, i.e. D = 1/2 -+ 1/(2 sqrt(5)): 7.5132. */
 #define POLY7_DP_MAX 2.1875
 #define POLY7_DDP_MAX 7.5132
+
+/* Design constants: each named, each with its reason. */
+/* Super-twisting (13)-(16): alpha = 2 Pi, the middle of alpha > Pi (finite
+ * time) and small enough that the chattering step L alpha Ts stays a few
+ * times the perturbation's change per sample; lambda then follows from
+ * Levant's condition with equality. */
+#define ST_ALPHA_OVER_PI 2.0
+/* (22) asks strict inequalities of the twisting gains; 20 % above each
+ * bound absorbs the discretisation of S-dot and the rounding of the gains. */
+#define TWISTING_MARGIN 1.2
+/* Linear term of the electrical observer (26): a pole at fs/10 (1000 rad/s
+ * at 10 kHz) settles in about 10 samples, fast against the mechanics, and
+ * its discrete pole 1 - l Ts = 0.9 is well inside the unit circle. */
+#define EMF_POLE_OVER_FS 0.1
+/* Linear term of the mechanical observer (35): fs/100 (100 rad/s), a
+ * decade below the electrical observer whose output it filters, so the
+ * noise of (32) is not passed on. */
+#define MECH_POLE_OVER_FS 0.01
+/* First-order filter of the equivalent injections (28c)-(28d): 1 ms, ten
+ * samples, attenuates the sample-rate chattering of alpha sgn(eps) (-30 dB
+ * at fs/2) while passing the speed error (31) up to 160 Hz. */
+#define INJECTION_FILTER_S 1e-3
+/* The observed load is clamped to twice the largest torque the drive can
+ * make (K I_max): a true load beyond it cannot be held anyway, and the
+ * clamp stops the estimate from winding up while the rotor is blocked. */
+#define LOAD_ESTIMATE_CLAMP_OVER_KIMAX 2.0
+/* Sliding surface (52): xi_theta' = -k xi_theta on S = 0, a 20 ms time
+ * constant: 6 times slower than the current loop's L/R = 3 ms of the rig,
+ * and fast against the 2 s moves of section 5.4. */
+#define SURFACE_POLE_PER_S 50.0
+/* The load feed-forward trusts the estimate up to 1.5 times the design's
+ * load bound: room for the estimate's overshoot on a step of the bounded
+ * load, but not for a runaway estimate (which the twisting loop would then
+ * have to fight at more than its design load). */
+#define LOAD_FF_TRUST_OVER_BOUND 1.5
+/* Open-to-closed switch: the voltage offset decays in 2 ms (20 samples:
+ * smooth for the current loop, L/R = 3 ms), the current-reference offset
+ * in 10 ms (slow against the current loop, fast against the motion). */
+#define BLEND_TAU_S 2e-3
+#define CURRENT_BLEND_TAU_S 10e-3
+/* The back-EMF angle is trusted once |e| = K|w| exceeds a quarter of its
+ * value at omega_lim (0.2 V for the rig): below, sensor noise and model
+ * errors of that order turn it by tens of degrees. */
+#define EMF_OBSERVABLE_OVER_EMF_AT_LIMIT 0.25
+/* Standstill R, L measurement: a window of 25 model time constants L/R, the
+ * last 40 % taken as steady state (from 15 tau: settled to 3e-7, and to
+ * 1e-3 even if the true tau is twice the model's); 50 to 5000 samples.
+ * Valid while the reference stays below 10 % of omega_lim: the rotor then
+ * sits on the f axis, where the back-EMF K w sin(n_p dtheta) is below
+ * 0.1 % of R I_max for the rig. */
+#define RL_WINDOW_TAUS 25.0
+#define RL_STEADY_TAIL_FIFTHS 2 /* steady tail = 2/5 of the window */
+#define RL_WINDOW_MIN 50
+#define RL_WINDOW_MAX 5000
+#define RL_STILL_OVER_OMEGA_LIM 0.1
 
 void drive_design_defaults(drive_design_input_t *in)
 {
     memset(in, 0, sizeof(*in));
-    in->ts_s = 1e-4;
-    in->v_max_V = 30.0;
-    in->i_max_A = 3.0;
-    in->i_trip_A = 6.0;
-    in->omega_lim_rad_s = 3.0;
+    /* ts_s, v_max_V, i_max_A, i_trip_A, omega_lim_rad_s: the caller's
+     * (scenario, board file); left at 0 they fail the checks of drive_design */
     in->bound_accel_rad_s2 = 0.0;      /* 0: from the trajectory */
     in->bound_speed_rad_s = 0.0;       /* 0: from the trajectory */
     in->bound_delta_omega_rad_s = 1.0; /* closed-loop velocity error (Fig. 8: ~1 rad/s) */
-    in->bound_load_Nm = 0.0752;        /* Coulomb friction of the rig, section 5.3 */
+    in->bound_load_Nm = 0.0;           /* 0: the motor's Coulomb friction (section 5.3) */
     in->bound_load_rate_Nm_s = 2.0;    /* slow load changes */
     in->bound_model_error_V = 0.05;    /* errata on (57): volts of model error */
     in->load_feedforward = 1;            /* see drive_design.h */
@@ -60,6 +114,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     if (!(m->K_Nm_per_A > 0.0)) return fail(err, err_len, "motor.K_Nm_per_A", "must be > 0", m->K_Nm_per_A);
     if (!(m->J_kgm2 > 0.0)) return fail(err, err_len, "motor.J_kgm2", "must be > 0", m->J_kgm2);
     if (!(m->fv_Nms_per_rad >= 0.0)) return fail(err, err_len, "motor.fv_Nms_per_rad", "must be >= 0", m->fv_Nms_per_rad);
+    if (!(m->coulomb_Nm >= 0.0)) return fail(err, err_len, "motor.coulomb_Nm", "must be >= 0", m->coulomb_Nm);
     if (m->n_p < 1) return fail(err, err_len, "motor.n_p", "must be >= 1", (double)m->n_p);
     if (!(in->ts_s > 0.0)) return fail(err, err_len, "run.Ts_s", "must be > 0", in->ts_s);
     if (!(in->v_max_V > 0.0)) return fail(err, err_len, "supply.v_max_V", "must be > 0", in->v_max_V);
@@ -109,115 +164,103 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     const double a_max = fmax(in->bound_accel_rad_s2, accel_pk);
     const double w_max = fmax(fmax(in->bound_speed_rad_s, speed_pk), in->omega_lim_rad_s);
     const double dw_max = in->bound_delta_omega_rad_s;
+    const double load_max = in->bound_load_Nm > 0.0 ? in->bound_load_Nm : m->coulomb_Nm;
     const drive_gain_override_t *ov = &in->override;
 
     /* Electrical observer, section 3.1.1: Pi_d = (K/L)(|w'|max + n_p |w dw|max) */
     const double Pi_d = (K / L) * (a_max + np * w_max * dw_max);
-    const double alpha_e = pick(ov->emf_alpha_A_s2, 2.0 * Pi_d);
+    const double alpha_e = pick(ov->emf_alpha_A_s2, ST_ALPHA_OVER_PI * Pi_d);
     const double lambda_e = pick(ov->emf_lambda, sqrt(4.0 * Pi_d * (alpha_e + Pi_d) / fmax(alpha_e - Pi_d, 1e-9 * alpha_e)));
-    /* linear term: the error dynamics (26) get a pole at l; one tenth of
-     * the sample rate keeps the discrete loop well damped */
-    const double l_e = pick(ov->emf_l_per_s, 0.1 * fs);
-    const double tau_f = pick(ov->injection_filter_s, 1e-3);
-    cfg->emf.ts_over_L_A_per_V = mc_from_double(Ts / L);
-    cfg->emf.R_ohm = mc_from_double(R);
-    cfg->emf.lambda_A = mc_from_double(lambda_e * Ts);
-    cfg->emf.l_ts = mc_from_double(l_e * Ts);
-    cfg->emf.alpha_V = mc_from_double(L * alpha_e * Ts);
-    cfg->emf.alpha_V_s = mc_from_double(L * alpha_e);
-    cfg->emf.lpf_coeff = mc_from_double(Ts / (tau_f + Ts));
+    const double l_e = pick(ov->emf_l_per_s, EMF_POLE_OVER_FS * fs);
+    const double tau_f = pick(ov->injection_filter_s, INJECTION_FILTER_S);
+    fg_estimator_config_t *ec = &cfg->est;
+    ec->emf.lambda_A = mc_from_double(lambda_e * Ts);
+    ec->emf.l_ts = mc_from_double(l_e * Ts);
+    ec->emf.alpha_V = mc_from_double(L * alpha_e * Ts);
+    ec->emf.alpha_V_s = mc_from_double(L * alpha_e);
+    ec->emf.lpf_coeff = mc_from_double(Ts / (tau_f + Ts));
 
-    /* Position estimator: observable once |e| = K|w| exceeds a quarter of
-     * its value at omega_lim */
-    cfg->pos.n_p = np;
-    cfg->pos.pitch_rad = mc_from_double(2.0 * 3.14159265358979323846 / np);
-    cfg->pos.inv_K_rad_s_per_V = mc_from_double(1.0 / K);
-    const double e_min = 0.25 * K * in->omega_lim_rad_s;
-    cfg->pos.e2_min_V2 = mc_from_double(e_min * e_min);
+    /* Position estimator (29)-(32), (71) */
+    ec->pos.n_p = np;
+    ec->pos.pitch_rad = mc_from_double(2.0 * 3.14159265358979323846 / np);
+    ec->pos.inv_K_rad_s_per_V = mc_from_double(1.0 / K);
+    const double e_min = EMF_OBSERVABLE_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s;
+    ec->pos.e2_min_V2 = mc_from_double(e_min * e_min);
 
     /* Mechanical observer, section 3.2: Pi = |dC_r/dt|max / J */
     const double Pi_m = in->bound_load_rate_Nm_s / J;
-    const double alpha_m = pick(ov->mech_alpha_rad_s3, 2.0 * Pi_m);
+    const double alpha_m = pick(ov->mech_alpha_rad_s3, ST_ALPHA_OVER_PI * Pi_m);
     const double lambda_m = pick(ov->mech_lambda, sqrt(4.0 * Pi_m * (alpha_m + Pi_m) / fmax(alpha_m - Pi_m, 1e-9 * alpha_m)));
-    const double l_m = pick(ov->mech_l_per_s, 0.01 * fs);
-    cfg->mech.ts_over_J = mc_from_double(Ts / J);
-    cfg->mech.inv_J = mc_from_double(1.0 / J);
-    cfg->mech.K_Nm_per_A = mc_from_double(K);
-    cfg->mech.fv_Nm_s = mc_from_double(fv);
-    cfg->mech.lambda_ts = mc_from_double(lambda_m * Ts);
-    cfg->mech.l_ts = mc_from_double(l_m * Ts);
-    cfg->mech.alpha_Nm = mc_from_double(J * alpha_m * Ts);
-    cfg->mech.tau_max_Nm = mc_from_double(2.0 * K * in->i_max_A);
+    const double l_m = pick(ov->mech_l_per_s, MECH_POLE_OVER_FS * fs);
+    ec->mech.lambda_ts = mc_from_double(lambda_m * Ts);
+    ec->mech.l_ts = mc_from_double(l_m * Ts);
+    ec->mech.alpha_Nm = mc_from_double(J * alpha_m * Ts);
+    ec->mech.tau_max_Nm = mc_from_double(LOAD_ESTIMATE_CLAMP_OVER_KIMAX * K * in->i_max_A);
 
     /* i_f loop (46)-(51): after the feed-forward of (48) the perturbation
      * left in dS_f/dt is the back-EMF error of the estimated frame, whose
      * rate is bounded like Pi_d; (51) only asks alpha, lambda > 0, the
      * perturbation asks alpha > Pi. Output scaled by L (volts). */
-    const double alpha_c = pick(ov->cur_alpha_A_s2, 2.0 * Pi_d);
+    const double alpha_c = pick(ov->cur_alpha_A_s2, ST_ALPHA_OVER_PI * Pi_d);
     const double lambda_c = pick(ov->cur_lambda, sqrt(4.0 * Pi_d * (alpha_c + Pi_d) / fmax(alpha_c - Pi_d, 1e-9 * alpha_c)));
-    cfg->cur.lambda = mc_from_double(L * lambda_c);
-    cfg->cur.alpha_ts = mc_from_double(L * alpha_c * Ts);
-    cfg->cur.u1_max = mc_from_double(in->v_max_V);
+    fg_tracking_config_t *cc = &cfg->ctrl;
+    cc->cur.lambda = mc_from_double(L * lambda_c);
+    cc->cur.alpha_ts = mc_from_double(L * alpha_c * Ts);
+    cc->cur.u1_max = mc_from_double(in->v_max_V);
 
     /* Position loop (52)-(57). k sets the sliding dynamics xi_theta' = -k xi_theta. */
-    const double k = pick(ov->k_surface_per_s, 50.0);
-    const double C0 = fabs(k / J - fv / (J * J)) * in->bound_load_Nm + in->bound_load_rate_Nm_s / J +
+    const double k = pick(ov->k_surface_per_s, SURFACE_POLE_PER_S);
+    const double C0 = fabs(k / J - fv / (J * J)) * load_max + in->bound_load_rate_Nm_s / J +
                       (K / (J * L)) * in->bound_model_error_V;
-    const double lam_m = pick(ov->tw_lambda_m_rad_s3, 1.2 * C0);
-    const double lam_M = pick(ov->tw_lambda_M_rad_s3, 1.2 * (lam_m + 2.0 * C0));
+    const double lam_m = pick(ov->tw_lambda_m_rad_s3, TWISTING_MARGIN * C0);
+    const double lam_M = pick(ov->tw_lambda_M_rad_s3, TWISTING_MARGIN * (lam_m + 2.0 * C0));
     if (!(lam_M >= lam_m)) return fail(err, err_len, "gains.tw_lambda_M_rad_s3", "must be >= tw_lambda_m_rad_s3", lam_M);
     const double JL_K = J * L / K;
-    cfg->pos_ctrl.lambda_m = mc_from_double(JL_K * lam_m);
-    cfg->pos_ctrl.lambda_M = mc_from_double(JL_K * lam_M);
-    cfg->k_surface_per_s = mc_from_double(k);
-    cfg->v_k_i_V_per_A = mc_from_double(L * (k - fv / J));
-    cfg->v_k_w_V_s = mc_from_double((L / K) * (k - fv / J) * fv);
+    cc->pos.lambda_m = mc_from_double(JL_K * lam_m);
+    cc->pos.lambda_M = mc_from_double(JL_K * lam_M);
+    cc->k_surface_per_s = mc_from_double(k);
+    cc->v_k_i_V_per_A = mc_from_double(L * (k - fv / J));
+    cc->v_k_w_V_s = mc_from_double((L / K) * (k - fv / J) * fv);
 
-    /* drive */
-    cfg->n_p = np;
-    cfg->fs_hz = tc->fs_hz;
-    cfg->R_ohm = mc_from_double(R);
-    cfg->L_H = mc_from_double(L);
-    cfg->npL_ohm_s = mc_from_double(np * L);
-    cfg->K_V_s = mc_from_double(K);
-    cfg->J_over_K_A_s2 = mc_from_double(J / K);
-    cfg->fv_over_K_A_s = mc_from_double(fv / K);
-    cfg->LJ_over_KTs_V_s2 = mc_from_double(L * J / (K * Ts));
-    cfg->Lfv_over_KTs_V_s = mc_from_double(L * fv / (K * Ts));
-    cfg->v_max_V = mc_from_double(in->v_max_V);
-    cfg->i_max_A = mc_from_double(in->i_max_A);
-    cfg->i_trip_A = mc_from_double(in->i_trip_A);
-    cfg->omega_lim_rad_s = mc_from_double(in->omega_lim_rad_s);
-    cfg->blend_decay = mc_from_double(exp(-Ts / pick(ov->blend_tau_s, 2e-3)));
-    cfg->i_f_ref_A = mc_from_double(0.0);
-    /* current-reference relaxation after the open-to-closed switch: slow
-     * against the current loop (L/R = 3 ms), fast against the motion */
-    const double tau_i = pick(ov->current_blend_tau_s, 10e-3);
-    cfg->ref_blend_decay = mc_from_double(tau_i > 0 ? exp(-Ts / tau_i) : 0.0);
-    cfg->ref_blend_L_over_tau_ohm = mc_from_double(tau_i > 0 ? L / tau_i : 0.0);
-    cfg->load_ff_A_per_Nm = mc_from_double(in->load_feedforward ? 1.0 / K : 0.0);
-    cfg->load_ff_max_Nm = mc_from_double(1.5 * in->bound_load_Nm);
-    /* standstill R, L measurement: 25 electrical time constants of the
-     * model, the last 40 % taken as steady state (from 15 tau: still
-     * settled to 1e-3 if the true tau is twice the model's). The window is
-     * valid while the reference stays below 10 % of omega_lim: the rotor
-     * then sits on the f axis, where the back-EMF K w sin(n_p dtheta) is
-     * below 0.1 % of R I_max for the rig. */
+    /* the one motor model (model/motor_model.h) and the limits */
+    motor_model_t *mm = &cfg->model;
+    mm->n_p = np;
+    mm->fs_hz = tc->fs_hz;
+    mm->R_ohm = mc_from_double(R);
+    mm->L_H = mc_from_double(L);
+    mm->ts_over_L_A_per_V = mc_from_double(Ts / L);
+    mm->npL_ohm_s = mc_from_double(np * L);
+    mm->K_V_s = mc_from_double(K);
+    mm->fv_Nm_s = mc_from_double(fv);
+    mm->inv_J = mc_from_double(1.0 / J);
+    mm->ts_over_J = mc_from_double(Ts / J);
+    mm->J_over_K_A_s2 = mc_from_double(J / K);
+    mm->fv_over_K_A_s = mc_from_double(fv / K);
+    mm->LJ_over_KTs_V_s2 = mc_from_double(L * J / (K * Ts));
+    mm->Lfv_over_KTs_V_s = mc_from_double(L * fv / (K * Ts));
+    cfg->limits.v_max_V = mc_from_double(in->v_max_V);
+    cfg->limits.i_max_A = mc_from_double(in->i_max_A);
+    cfg->limits.i_trip_A = mc_from_double(in->i_trip_A);
+    cfg->limits.omega_lim_rad_s = mc_from_double(in->omega_lim_rad_s);
+    cfg->sup.blend_decay = mc_from_double(exp(-Ts / pick(ov->blend_tau_s, BLEND_TAU_S)));
+    cc->i_f_ref_A = mc_from_double(0.0);
+    const double tau_i = pick(ov->current_blend_tau_s, CURRENT_BLEND_TAU_S);
+    cc->ref_blend_decay = mc_from_double(tau_i > 0 ? exp(-Ts / tau_i) : 0.0);
+    cc->ref_blend_L_over_tau_ohm = mc_from_double(tau_i > 0 ? L / tau_i : 0.0);
+    cc->load_ff_A_per_Nm = mc_from_double(in->load_feedforward ? 1.0 / K : 0.0);
+    cc->load_ff_max_Nm = mc_from_double(LOAD_FF_TRUST_OVER_BOUND * load_max);
     if (in->identify_rl) {
-        const int32_t n = (int32_t)ceil(25.0 * L / (R > 0.0 ? R : 1.0) / Ts);
-        cfg->rl_id.window_ticks = n < 50 ? 50 : (n > 5000 ? 5000 : n);
-        cfg->rl_id.steady_ticks = (cfg->rl_id.window_ticks * 2) / 5;
+        const int32_t n = (int32_t)ceil(RL_WINDOW_TAUS * L / (R > 0.0 ? R : 1.0) / Ts);
+        cfg->rl_id.window_ticks = n < RL_WINDOW_MIN ? RL_WINDOW_MIN : (n > RL_WINDOW_MAX ? RL_WINDOW_MAX : n);
+        cfg->rl_id.steady_ticks = (cfg->rl_id.window_ticks * RL_STEADY_TAIL_FIFTHS) / 5;
     }
     cfg->rl_id.R_model_ohm = mc_from_double(R);
     cfg->rl_id.L_fs_model_ohm = mc_from_double(L / Ts);
-    cfg->rl_id.omega_still_rad_s = mc_from_double(0.1 * in->omega_lim_rad_s);
-    cfg->open_loop.R_ohm = cfg->R_ohm;
-    cfg->open_loop.npL_ohm_s = cfg->npL_ohm_s;
-    cfg->open_loop.K_V_s = cfg->K_V_s;
+    cfg->rl_id.omega_still_rad_s = mc_from_double(RL_STILL_OVER_OMEGA_LIM * in->omega_lim_rad_s);
     if (in->i_open_loop_A > in->i_max_A)
         return fail(err, err_len, "limits.i_open_loop_A", "must be <= i_max_A", in->i_open_loop_A);
     cfg->open_loop.i_max_A = mc_from_double(in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A);
-    cfg->open_loop.v_max_V = cfg->v_max_V;
+    cfg->open_loop.v_max_V = cfg->limits.v_max_V;
     if (err && err_len > 0) err[0] = '\0';
     return true;
 }

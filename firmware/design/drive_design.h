@@ -12,7 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "drive/drive.h"
+#include "drives/paper000_drive.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -24,6 +24,7 @@ extern "C" {
 typedef struct {
     double L_H, R_ohm, K_Nm_per_A, J_kgm2, fv_Nms_per_rad;
     int n_p;
+    double coulomb_Nm;        /* Coulomb friction: the load bound when bound_load_Nm is 0 */
 } drive_motor_si_t;
 
 /* One rest-to-rest move of eq. (70): from wherever the previous segment
@@ -53,7 +54,7 @@ typedef struct {
     double bound_accel_rad_s2;       /* |omega_dot|max */
     double bound_speed_rad_s;        /* |omega|max */
     double bound_delta_omega_rad_s;  /* |omega - omega_r|max in closed loop */
-    double bound_load_Nm;            /* |C_r|max incl. Coulomb friction */
+    double bound_load_Nm;            /* |C_r|max incl. Coulomb friction; 0: motor.coulomb_Nm */
     double bound_load_rate_Nm_s;     /* |dC_r/dt|max */
     double bound_model_error_V;      /* voltage-equivalent model error, errata (57) */
     /* 1 (default): add the load torque C_r observed by (35) to i_g,r of (39).
@@ -69,8 +70,10 @@ typedef struct {
     drive_gain_override_t override;
 } drive_design_input_t;
 
-/* Fills the bounds and overrides with the documented defaults for the
- * paper-000 rig (motor and segments are left to the caller). */
+/* Fills the bounds and overrides with the documented defaults. The motor,
+ * the sample time, the supply and the limits (v_max_V, i_max_A, i_trip_A,
+ * omega_lim_rad_s) and the segments are the caller's: they come from the
+ * motor file and the scenario, not from here. */
 void drive_design_defaults(drive_design_input_t *in);
 
 /* Derives cfg from in. Returns false and writes a one-line reason naming

@@ -9,21 +9,20 @@
 #define STARTUP_OPEN_LOOP_H
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+/* R, n_p L and K come from the shared model (model/motor_model.h). */
 typedef struct {
-    mc_t R_ohm;
-    mc_t npL_ohm_s;  /* n_p L */
-    mc_t K_V_s;
-    mc_t i_max_A;
+    mc_t i_max_A;    /* current amplitude of the start (I_max of (68), or a lower open-loop current) */
     mc_t v_max_V;
 } open_loop_config_t;
 
 /* Voltage magnitude of eq. (68) for the reference speed [V]. */
-mc_t open_loop_voltage(const open_loop_config_t *c, mc_t omega_ref_rad_s);
+mc_t open_loop_voltage(const open_loop_config_t *c, const motor_model_t *m, mc_t omega_ref_rad_s);
 
 #ifdef __cplusplus
 }

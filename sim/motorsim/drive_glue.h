@@ -4,7 +4,7 @@
 #ifndef MCSIM_MOTORSIM_DRIVE_GLUE_H
 #define MCSIM_MOTORSIM_DRIVE_GLUE_H
 
-#include "drive/drive.h"
+#include "drives/paper000_drive.h"
 #include "hal/hal.h"
 
 namespace mcsim {

@@ -27,7 +27,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "drive/drive.h"
+#include "drives/paper000_drive.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "scenario/rig.h"

@@ -14,7 +14,7 @@
 #include <variant>
 #include <vector>
 
-#include "drive/drive.h"
+#include "drives/paper000_drive.h"
 #include "hal_sw_plant.h"
 #include "model/reference.h"
 #include "model/stepper_plant.h"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "drive/drive.h"
+#include "drives/paper000_drive.h"
 #include "mc_convert.h"
 #include "scenario/design_input.h"
 #include "scenario/scenario.h"
@@ -86,11 +86,17 @@ int main(int argc, char** argv)
         }
         std::fprintf(f, "t_s,mode,theta_est,omega_est,v_a,v_b\n");
         for (std::size_t k = 0; k < currents.size(); ++k) {
-            mc_t va, vb;
             // the observer sees the voltages the recorded run applied, so the
             // recorded currents stay consistent with them
             drive_set_applied_voltage(drive.get(), mcsim::to_mc(currents[k].v_a), mcsim::to_mc(currents[k].v_b));
-            drive_step(drive.get(), mcsim::to_mc(currents[k].i_a), mcsim::to_mc(currents[k].i_b), &va, &vb);
+            hal_sample_t in{};
+            in.n_phases = 2;
+            in.i_A[0] = mcsim::to_mc(currents[k].i_a);
+            in.i_A[1] = mcsim::to_mc(currents[k].i_b);
+            in.tick = static_cast<std::uint32_t>(k);
+            hal_command_t out{};
+            drive_step(drive.get(), &in, &out);
+            const mc_t va = out.v_V[0], vb = out.v_V[1];
             drive_telemetry_t t;
             drive_get_telemetry(drive.get(), &t);
             std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", static_cast<double>(k) * sc.ts_s, static_cast<int>(t.mode),

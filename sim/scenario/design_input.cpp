@@ -68,6 +68,7 @@ drive_motor_si_t to_design_motor(const MotorParams& m)
     d.J_kgm2 = m.J_kgm2;
     d.fv_Nms_per_rad = m.fv_Nms_per_rad;
     d.n_p = m.n_p;
+    d.coulomb_Nm = m.coulomb_Nm;
     return d;
 }
 

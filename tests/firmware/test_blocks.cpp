@@ -9,9 +9,10 @@ extern "C" {
 #include "control/twisting.h"
 #include "math/frame_fg.h"
 #include "math/mc_convert.h"
-#include "observers/emf_observer.h"
-#include "observers/mech_observer.h"
-#include "observers/position_estimator.h"
+#include "estimators/emf_observer.h"
+#include "model/motor_model.h"
+#include "estimators/mech_observer.h"
+#include "estimators/position_estimator.h"
 #include "startup/open_loop.h"
 #include "startup/rl_identification.h"
 #include "trajectory/trajectory.h"
@@ -26,6 +27,23 @@ constexpr double kTol = 2e-4;  // a few LSB of the fixed format plus fast-math e
 #else
 constexpr double kTol = 1e-5;
 #endif
+// The shared motor model (model/motor_model.h) of the paper-000 rig, with
+// the given R, L, K, J, f_v; only the fields a test's block reads matter.
+motor_model_t rig_model(double R, double L, double K, double J, double fv, double Ts)
+{
+    motor_model_t m{};
+    m.n_p = 50;
+    m.fs_hz = static_cast<int32_t>(std::lround(1.0 / Ts));
+    m.R_ohm = M(R);
+    m.L_H = M(L);
+    m.ts_over_L_A_per_V = M(Ts / L);
+    m.npL_ohm_s = M(50 * L);
+    m.K_V_s = M(K);
+    m.fv_Nm_s = M(fv);
+    m.inv_J = M(1 / J);
+    m.ts_over_J = M(Ts / J);
+    return m;
+}
 }  // namespace
 
 // ---- (f-g) transforms, eqs. (6)-(8) ----
@@ -177,9 +195,8 @@ TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
     const double w_e = 50.0 * 10.0;           // n_p * omega_r [rad/s]
     const double ef = 1.3, eg = -2.4;         // L d_f, L d_g [V]
     const double alpha = 2e4, lambda = 400.0, l = 1000.0;
+    const motor_model_t mm = rig_model(R, L, 0.27, 3.18e-4, 2.37e-3, Ts);
     emf_observer_config_t c{};
-    c.ts_over_L_A_per_V = M(Ts / L);
-    c.R_ohm = M(R);
     c.lambda_A = M(lambda * Ts);
     c.l_ts = M(l * Ts);
     c.alpha_V = M(L * alpha * Ts);
@@ -204,7 +221,7 @@ TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
             mean_f += (D(o.e_f_hat_V) - ef) / 1000.0;
             mean_g += (D(o.e_g_hat_V) - eg) / 1000.0;
         }
-        emf_observer_predict(&o, M(vf_cmd), M(vg_cmd), M(i_f), M(i_g), half);
+        emf_observer_predict(&o, &mm, M(vf_cmd), M(vg_cmd), M(i_f), M(i_g), half);
         // plant (23): voltage constant in the phase frame (so it turns in
         // (f-g)), back-EMF constant in (f-g); RK2 on fine substeps
         const int sub = 200;
@@ -247,9 +264,8 @@ TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
 TEST(EmfObserver, EachStepFollowsEq25)
 {
     const double L = 9e-3, R = 3.01, Ts = 1e-4, alpha = 3e4, lambda = 600.0, l = 1000.0, lpf = 0.0909;
+    const motor_model_t mm = rig_model(R, L, 0.27, 3.18e-4, 2.37e-3, Ts);
     emf_observer_config_t c{};
-    c.ts_over_L_A_per_V = M(Ts / L);
-    c.R_ohm = M(R);
     c.lambda_A = M(lambda * Ts);
     c.l_ts = M(l * Ts);
     c.alpha_V = M(L * alpha * Ts);
@@ -285,7 +301,7 @@ TEST(EmfObserver, EachStepFollowsEq25)
         const double if1 = ch * yf + sh * yg, ig1 = -sh * yf + ch * yg;
 
         emf_observer_correct(&o, M(i_f), M(i_g));
-        emf_observer_predict(&o, M(v_f), M(v_g), M(i_f), M(i_g), mc_rot_from_angle(M(h)));
+        emf_observer_predict(&o, &mm, M(v_f), M(v_g), M(i_f), M(i_g), mc_rot_from_angle(M(h)));
         const double d[] = {D(o.e_f_hat_V) - ef1, D(o.e_g_hat_V) - eg1, D(o.z_f_V_s) - zf1,
                             D(o.z_g_V_s) - zg1,   D(o.i_f_hat_A) - if1, D(o.i_g_hat_A) - ig1};
         for (double x : d) {
@@ -381,11 +397,8 @@ TEST(PositionEstimator, BranchClosestToTheOpenLoopAngle)
 TEST(MechObserver, EstimatesLoadAndAcceleration)
 {
     const double J = 3.18e-4, K = 0.27, fv = 2.37e-3, Ts = 1e-4, Cr = 0.05;
+    const motor_model_t mm = rig_model(3.01, 9e-3, K, J, fv, Ts);
     mech_observer_config_t c{};
-    c.ts_over_J = M(Ts / J);
-    c.inv_J = M(1 / J);
-    c.K_Nm_per_A = M(K);
-    c.fv_Nm_s = M(fv);
     const double alpha = 2e4, lambda = 300, l = 100;
     c.lambda_ts = M(lambda * Ts);
     c.l_ts = M(l * Ts);
@@ -398,7 +411,7 @@ TEST(MechObserver, EstimatesLoadAndAcceleration)
     for (int k = 0; k < 4000; ++k) {
         const double iq = 0.5 + 0.2 * std::sin(2 * kPi * 5 * k * Ts);
         const double acc = (K * iq - fv * w - Cr) / J;
-        mech_observer_step(&m, M(w), M(iq));
+        mech_observer_step(&m, &mm, M(w), M(iq));
         if (k > 2000) {
             EXPECT_NEAR(D(m.load_est_Nm), Cr, 3e-3) << k;
             EXPECT_NEAR(D(m.accel_est_rad_s2), acc, 10.0) << k;
@@ -455,17 +468,15 @@ TEST(Twisting, DrivesADoubleIntegratorToZero)
 // ---- open-loop voltage, eq. (68) ----
 TEST(OpenLoop, VoltageOfEq68)
 {
+    const motor_model_t mm = rig_model(3.01, 9e-3, 0.27, 3.18e-4, 2.37e-3, 1e-4);
     open_loop_config_t c{};
-    c.R_ohm = M(3.01);
-    c.npL_ohm_s = M(50 * 9e-3);
-    c.K_V_s = M(0.27);
     c.i_max_A = M(3.0);
     c.v_max_V = M(30.0);
-    EXPECT_NEAR(D(open_loop_voltage(&c, M(0.0))), 9.03, 1e-3);  // R I_max at standstill
+    EXPECT_NEAR(D(open_loop_voltage(&c, &mm, M(0.0))), 9.03, 1e-3);  // R I_max at standstill
     const double w = 2.0;
     const double want = std::sqrt((3.01 * 3.01 + std::pow(50 * w * 9e-3, 2)) * 9.0 + std::pow(0.27 * w, 2));
-    EXPECT_NEAR(D(open_loop_voltage(&c, M(-w))), want, 1e-3);
-    EXPECT_NEAR(D(open_loop_voltage(&c, M(100.0))), 30.0, 1e-4);  // V_max
+    EXPECT_NEAR(D(open_loop_voltage(&c, &mm, M(-w))), want, 1e-3);
+    EXPECT_NEAR(D(open_loop_voltage(&c, &mm, M(100.0))), 30.0, 1e-4);  // V_max
 }
 
 // ---- standstill R, L measurement (startup/rl_identification.h) ----

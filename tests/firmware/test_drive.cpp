@@ -17,7 +17,14 @@ drive_design_input_t paper_input()
 {
     drive_design_input_t in;
     drive_design_defaults(&in);
-    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50};
+    // the rig of section 5.3 (sim/motors/paper000_stepper.toml) and the
+    // supply and limits of sim/scenarios/paper000_*.toml
+    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+    in.ts_s = 1e-4;
+    in.v_max_V = 30.0;
+    in.i_max_A = 3.0;
+    in.i_trip_A = 4.5;
+    in.omega_lim_rad_s = 3.0;
     in.n_segments = 2;
     in.segments[0] = {0.0, 2.0, 18.0};
     in.segments[1] = {2.0, 2.0, 0.0};
@@ -31,6 +38,23 @@ bool init_paper_drive(drive_t *d)
     drive_config_t cfg;
     char err[160];
     return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+}
+
+// one sample of a two-phase stepper through the HAL data types
+bool step2(drive_t *d, mc_t ia, mc_t ib, mc_t *va, mc_t *vb)
+{
+    hal_sample_t in{};
+    in.n_phases = 2;
+    in.i_A[0] = ia;
+    in.i_A[1] = ib;
+    hal_command_t out{};
+    out.v_V[0] = mc_from_double(99.0);  // must be overwritten, fault or not
+    out.v_V[1] = mc_from_double(99.0);
+    const bool ok = drive_step(d, &in, &out);
+    EXPECT_EQ(out.n_phases, 2);
+    *va = out.v_V[0];
+    *vb = out.v_V[1];
+    return ok;
 }
 
 drive_telemetry_t tlm_of(const drive_t &d)
@@ -95,48 +119,48 @@ TEST(DriveDesign, GainsMeetTheSlidingModeConditions)
     // Observer, section 3.1.1: the unknown input of (23) is d = (K/L) w
     // [sin; -cos](n_p dtheta); its rate is bounded by (K/L)(|w'| + n_p |w| |dw|).
     const double Pi_d = (K / L) * (a_max + np * w_max * in.bound_delta_omega_rad_s);
-    const double alpha_e = D(cfg.emf.alpha_V) / (L * Ts);
-    const double lambda_e = D(cfg.emf.lambda_A) / Ts;
+    const double alpha_e = D(cfg.est.emf.alpha_V) / (L * Ts);
+    const double lambda_e = D(cfg.est.emf.lambda_A) / Ts;
     // Levant 1993: alpha > Pi and lambda^2 >= 4 Pi (alpha + Pi)/(alpha - Pi);
     // the design takes alpha = 2 Pi, so lambda^2 = 12 Pi.
     // (gains are compared in the units the firmware stores them, to one
     // LSB of the numeric type plus 1e-6 relative)
     auto near = [](double got, double want) { return std::fabs(got - want) <= kLsb + 1e-6 * std::fabs(want); };
-    EXPECT_TRUE(near(D(cfg.emf.alpha_V), L * 2 * Pi_d * Ts)) << D(cfg.emf.alpha_V);
-    EXPECT_TRUE(near(D(cfg.emf.lambda_A), std::sqrt(4 * Pi_d * (alpha_e + Pi_d) / (alpha_e - Pi_d)) * Ts))
-        << D(cfg.emf.lambda_A);
+    EXPECT_TRUE(near(D(cfg.est.emf.alpha_V), L * 2 * Pi_d * Ts)) << D(cfg.est.emf.alpha_V);
+    EXPECT_TRUE(near(D(cfg.est.emf.lambda_A), std::sqrt(4 * Pi_d * (alpha_e + Pi_d) / (alpha_e - Pi_d)) * Ts))
+        << D(cfg.est.emf.lambda_A);
     EXPECT_NEAR(lambda_e * lambda_e / (12 * Pi_d), 1.0, 2e-3);
     // i_f loop (46)-(51): the same bound, gains scaled by L into volts.
-    EXPECT_TRUE(near(D(cfg.cur.alpha_ts), L * 2 * Pi_d * Ts)) << D(cfg.cur.alpha_ts);
-    EXPECT_TRUE(near(D(cfg.cur.lambda), L * std::sqrt(12 * Pi_d))) << D(cfg.cur.lambda);
+    EXPECT_TRUE(near(D(cfg.ctrl.cur.alpha_ts), L * 2 * Pi_d * Ts)) << D(cfg.ctrl.cur.alpha_ts);
+    EXPECT_TRUE(near(D(cfg.ctrl.cur.lambda), L * std::sqrt(12 * Pi_d))) << D(cfg.ctrl.cur.lambda);
     // Mechanical observer, section 3.2: the unknown input is the load
     // torque over J; its rate is bounded by |dC_r/dt|max / J.
     const double Pi_m = in.bound_load_rate_Nm_s / J;
-    EXPECT_TRUE(near(D(cfg.mech.alpha_Nm), J * 2 * Pi_m * Ts)) << D(cfg.mech.alpha_Nm);
-    EXPECT_TRUE(near(D(cfg.mech.lambda_ts), std::sqrt(12 * Pi_m) * Ts)) << D(cfg.mech.lambda_ts);
+    EXPECT_TRUE(near(D(cfg.est.mech.alpha_Nm), J * 2 * Pi_m * Ts)) << D(cfg.est.mech.alpha_Nm);
+    EXPECT_TRUE(near(D(cfg.est.mech.lambda_ts), std::sqrt(12 * Pi_m) * Ts)) << D(cfg.est.mech.lambda_ts);
     // Twisting, (52)-(57): with S = k xi_theta + xi_omega and J w' = K i_q -
     // f_v w - C_r, S'' = (K/J) i_q' - (f_v/J) w' - C_r'/J + k w' - (k w_r'
     // + w_r''), whose uncancelled part is C_r entering through w' twice,
     // (f_v/J^2 - k/J) C_r, its rate -C_r'/J, and a voltage error e in
     // L i_q' = ... + e, i.e. (K/(J L)) e. Each at its bound:
-    const double k = D(cfg.k_surface_per_s);
+    const double k = D(cfg.ctrl.k_surface_per_s);
     EXPECT_EQ(k, 50.0);
-    const double C0 = std::fabs(fv / (J * J) - k / J) * in.bound_load_Nm + in.bound_load_rate_Nm_s / J +
+    const double C0 = std::fabs(fv / (J * J) - k / J) * 0.0752 + in.bound_load_rate_Nm_s / J +
                       K / (J * L) * in.bound_model_error_V;
     // the controller's output is the voltage (JL/K) w_t, eq. (54)
-    const double lm = D(cfg.pos_ctrl.lambda_m) * K / (J * L), lM = D(cfg.pos_ctrl.lambda_M) * K / (J * L);
+    const double lm = D(cfg.ctrl.pos.lambda_m) * K / (J * L), lM = D(cfg.ctrl.pos.lambda_M) * K / (J * L);
     // (22) with k_m = K_M = 1: lambda_m > C0, lambda_M > lambda_m + 2 C0, each with a 1.2 margin
     EXPECT_NEAR(lm / C0, 1.2, 1e-3);
     EXPECT_NEAR(lM / (lm + 2 * C0), 1.2, 1e-3);
     // Voltage forms of the (54) terms: L (k - f_v/J) and (L/K)(k - f_v/J) f_v
-    EXPECT_NEAR(D(cfg.v_k_i_V_per_A), L * (k - fv / J), 1e-4);
-    EXPECT_NEAR(D(cfg.v_k_w_V_s), L / K * (k - fv / J) * fv, 1e-4);
+    EXPECT_NEAR(D(cfg.ctrl.v_k_i_V_per_A), L * (k - fv / J), 1e-4);
+    EXPECT_NEAR(D(cfg.ctrl.v_k_w_V_s), L / K * (k - fv / J) * fv, 1e-4);
     // Model terms of (23), (38)-(39), (68)
-    EXPECT_NEAR(D(cfg.R_ohm), R, 1e-4);
-    EXPECT_NEAR(D(cfg.npL_ohm_s), np * L, 1e-4);
-    EXPECT_NEAR(D(cfg.J_over_K_A_s2), J / K, 1e-5);
-    EXPECT_NEAR(D(cfg.fv_over_K_A_s), fv / K, 1e-5);
-    EXPECT_NEAR(D(cfg.emf.ts_over_L_A_per_V), Ts / L, 1e-5);
+    EXPECT_NEAR(D(cfg.model.R_ohm), R, 1e-4);
+    EXPECT_NEAR(D(cfg.model.npL_ohm_s), np * L, 1e-4);
+    EXPECT_NEAR(D(cfg.model.J_over_K_A_s2), J / K, 1e-5);
+    EXPECT_NEAR(D(cfg.model.fv_over_K_A_s), fv / K, 1e-5);
+    EXPECT_NEAR(D(cfg.model.ts_over_L_A_per_V), Ts / L, 1e-5);
 }
 
 // The twisting gains as designed, on the sliding variable's own dynamics
@@ -151,10 +175,10 @@ TEST(DriveDesign, TwistingGainsBeatTheWorstPerturbation)
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err)) << err;
     const double L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3;
     const double k = 50.0;
-    const double C0 = std::fabs(fv / (J * J) - k / J) * in.bound_load_Nm + in.bound_load_rate_Nm_s / J +
+    const double C0 = std::fabs(fv / (J * J) - k / J) * 0.0752 + in.bound_load_rate_Nm_s / J +
                       K / (J * L) * in.bound_model_error_V;
     twisting_t tw;
-    twisting_init(&tw, &cfg.pos_ctrl);
+    twisting_init(&tw, &cfg.ctrl.pos);
     double S = 0.5, Sd = 0.0;  // rad/s and rad/s^2
     const double h = 1e-6;
     double late_max = 0.0;
@@ -191,7 +215,7 @@ TEST(Drive, OpenLoopVoltageAtTheMidSampleAngle)
     double worst = 0.0, worst_start = 0.0;
     mc_t va, vb;
     for (int k = 0; k < 2300; ++k) {  // to omega_r = 2.6 rad/s, still open loop
-        ASSERT_TRUE(drive_step(&d, M(0), M(0), &va, &vb));
+        ASSERT_TRUE(step2(&d, M(0), M(0), &va, &vb));
         ASSERT_EQ(tlm_of(d).mode, DRIVE_MODE_OPEN_LOOP);
         if (k < 1500) continue;  // omega_r >= 0.9 rad/s: half a sample is >= 2.3 mrad electrical
         const double mid = 50.0 * 0.5 * (theta_r(k) + theta_r(k + 1));
@@ -209,15 +233,29 @@ TEST(Drive, BadConfigGoesToSafeState)
     drive_config_t cfg;
     char err[160];
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err));
-    cfg.i_trip_A = M(1.0);  // below i_max: inconsistent
+    cfg.limits.i_trip_A = M(1.0);  // below i_max: inconsistent
     drive_t d;
     EXPECT_FALSE(drive_init(&d, &cfg));
     mc_t va = M(5), vb = M(5);
-    EXPECT_FALSE(drive_step(&d, M(0), M(0), &va, &vb));
+    EXPECT_FALSE(step2(&d, M(0), M(0), &va, &vb));
     EXPECT_EQ(D(va), 0.0);
     EXPECT_EQ(D(vb), 0.0);
     EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_FAULT);
     EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_BAD_INPUT);
+}
+
+TEST(Drive, SampleOfAnotherPhaseCountIsABadInputFault)
+{
+    drive_t d;
+    ASSERT_TRUE(init_paper_drive(&d));
+    hal_sample_t in{};
+    in.n_phases = 3;
+    hal_command_t out{};
+    out.v_V[0] = M(5);
+    EXPECT_FALSE(drive_step(&d, &in, &out));
+    EXPECT_EQ(D(out.v_V[0]), 0.0);
+    EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_BAD_INPUT);
+    EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_FAULT);
 }
 
 TEST(Drive, OvercurrentTripsAndStaysSafe)
@@ -225,13 +263,13 @@ TEST(Drive, OvercurrentTripsAndStaysSafe)
     drive_t d;
     ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
-    EXPECT_TRUE(drive_step(&d, M(0.1), M(0.0), &va, &vb));
+    EXPECT_TRUE(step2(&d, M(0.1), M(0.0), &va, &vb));
     EXPECT_GT(std::fabs(D(va)) + std::fabs(D(vb)), 1.0);  // open loop holds the rotor
-    EXPECT_FALSE(drive_step(&d, M(7.0), M(0.0), &va, &vb));
+    EXPECT_FALSE(step2(&d, M(7.0), M(0.0), &va, &vb));
     EXPECT_EQ(D(va), 0.0);
     EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_OVERCURRENT);
     for (int k = 0; k < 10; ++k) {  // latched until drive_init
-        EXPECT_FALSE(drive_step(&d, M(0.0), M(0.0), &va, &vb));
+        EXPECT_FALSE(step2(&d, M(0.0), M(0.0), &va, &vb));
         EXPECT_EQ(D(va), 0.0);
         EXPECT_EQ(D(vb), 0.0);
     }
@@ -242,7 +280,7 @@ TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
     drive_t d;
     ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
-    ASSERT_TRUE(drive_step(&d, M(0), M(0), &va, &vb));
+    ASSERT_TRUE(step2(&d, M(0), M(0), &va, &vb));
     // theta_r = 0 at t = 0: v along phase a with magnitude R I_max (68)
     EXPECT_NEAR(D(va), 3.01 * 3.0, 1e-3);
     EXPECT_NEAR(D(vb), 0.0, 1e-3);
@@ -250,7 +288,7 @@ TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
     // absurd currents just below the trip: whatever the law asks, |v| <= V_max
     for (int k = 0; k < 200; ++k) {
         const double ia = 5.9 * std::sin(0.3 * k), ib = -5.9 * std::cos(0.7 * k);
-        drive_step(&d, M(ia), M(ib), &va, &vb);
+        step2(&d, M(ia), M(ib), &va, &vb);
         EXPECT_LE(std::fabs(D(va)), 30.0 + 1e-4);
         EXPECT_LE(std::fabs(D(vb)), 30.0 + 1e-4);
     }

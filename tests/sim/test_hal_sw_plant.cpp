@@ -36,8 +36,9 @@ void callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
 {
     Ctx* c = static_cast<Ctx*>(ctx);
     c->samples.push_back(*in);
-    out->v_a_V = mcsim::to_mc(c->v_a_V);
-    out->v_b_V = mcsim::to_mc(c->v_b_V);
+    out->n_phases = 2;
+    out->v_V[0] = mcsim::to_mc(c->v_a_V);
+    out->v_V[1] = mcsim::to_mc(c->v_b_V);
     if (static_cast<int>(in->tick) == c->safe_at_tick) {
         hal_safe_state();
     }
@@ -82,6 +83,12 @@ TEST_F(HalSwPlant, RateTimeAndTicks)
     ASSERT_EQ(ctx.samples.size(), 25u);
     for (std::uint32_t k = 0; k < 25; ++k) {
         EXPECT_EQ(ctx.samples[k].tick, k);
+        // a two-phase stepper on a stiff 30 V supply, no position sensor
+        EXPECT_EQ(ctx.samples[k].n_phases, 2);
+        EXPECT_EQ(mcsim::to_double(ctx.samples[k].v_bus_V), mcsim::to_double(mcsim::to_mc(30.0)));
+        EXPECT_FALSE(ctx.samples[k].has_angle);
+        EXPECT_EQ(ctx.samples[k].status, 0u);
+        EXPECT_EQ(mcsim::to_double(ctx.samples[k].i_A[2]), 0.0);
     }
     EXPECT_NEAR(plant.time_s(), 25e-4, 1e-15);
 }
@@ -103,7 +110,7 @@ TEST_F(HalSwPlant, VoltagesHeldAndClampedCurrentsSampledAtPeriodStart)
         // rotor at theta = 0): the command of sample k acts only afterwards.
         const double t = static_cast<double>(k) * 1e-4;
         const double i = 30.0 / m.R_ohm * (1.0 - std::exp(-t * m.R_ohm / m.L_H));
-        EXPECT_NEAR(mcsim::to_double(ctx.samples[k].i_a_A), i, 1e-5);
+        EXPECT_NEAR(mcsim::to_double(ctx.samples[k].i_A[0]), i, 1e-5);
         EXPECT_NEAR(g_periods[k].i_a_meas_A, i, 1e-9);
         EXPECT_TRUE(g_periods[k].control_called);
     }

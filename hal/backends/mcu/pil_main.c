@@ -2,8 +2,9 @@
  * pil_main.c - processor-in-the-loop image: the drive's control step on the
  * emulated core, over a recorded input sequence (tools/bench/pil_gen.cpp).
  *
- * For every period: the recorded phase currents go into drive_step(), the
- * call is timed with SysTick, and the two voltages are compared bit for bit
+ * For every period: the recorded phase currents go, as a hal_sample_t,
+ * into the drive's control callback (the hal_control_fn a backend calls),
+ * the call is timed with SysTick, and the two voltages are compared bit for bit
  * with those the host build of the same numeric type returned. Output
  * (semihosting), parsed by tools/bench/pil.py:
  *   PIL source=<...> n=<N> cfg_bytes=<..> state_bytes=<sizeof(drive_t)>
@@ -15,11 +16,21 @@
  */
 #include <string.h>
 
-#include "drive/drive.h"
+#include "drives/paper000_drive.h"
+#include "hal/hal.h"
 #include "mcu_rt.h"
 #include "pil_vectors.h"
 
 static drive_t drive;
+
+/* The control callback of hal.h (hal_control_fn), as an MCU backend calls
+ * it from its end-of-conversion interrupt: the drive's step, and the safe
+ * state on a fault (here: nothing to switch off). */
+static void drive_callback(void *ctx, const hal_sample_t *in, hal_command_t *out)
+{
+    (void)drive_step((drive_t *)ctx, in, out);
+}
+static hal_control_fn const control = drive_callback;
 extern uint32_t _ebss, _estack;
 
 static mc_t from_bits(uint32_t u)
@@ -87,17 +98,23 @@ int main(void)
     uint32_t first = 0xFFFFFFFFu;
     uint32_t col = 0u;
     for (uint32_t i = 0; i < pil_n; ++i) {
-        mc_t ia = from_bits(pil_io[i][0]);
-        mc_t ib = from_bits(pil_io[i][1]);
-        mc_t va;
-        mc_t vb;
-        /* keep the argument loads before and the result use after the
+        /* the sample a backend hands to its control callback (hal_types.h) */
+        hal_sample_t in;
+        memset(&in, 0, sizeof in);
+        in.tick = i;
+        in.n_phases = 2u;
+        in.i_A[0] = from_bits(pil_io[i][0]);
+        in.i_A[1] = from_bits(pil_io[i][1]);
+        hal_command_t out;
+        /* keep the argument stores before and the result use after the
          * timed region: the compiler may not move them across the asm */
-        __asm__ volatile("" : "+r"(ia), "+r"(ib)::"memory");
+        __asm__ volatile("" ::: "memory");
         const uint32_t t0 = mcu_systick_now();
-        (void)drive_step(&drive, ia, ib, &va, &vb);
+        control(&drive, &in, &out);
         const uint32_t t1 = mcu_systick_now();
         __asm__ volatile("" ::: "memory");
+        const mc_t va = out.v_V[0];
+        const mc_t vb = out.v_V[1];
         if (to_bits(va) != pil_io[i][2] || to_bits(vb) != pil_io[i][3]) {
             if (mismatches == 0u) {
                 first = i;

@@ -69,18 +69,24 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         p.v_b_cmd_V = 0.0;
         p.control_called = !g_hal.safe && g_hal.control != nullptr;
         if (p.control_called) {
-            hal_sample_t in;
-            in.i_a_A = mcsim::to_mc(p.i_a_meas_A);
-            in.i_b_A = mcsim::to_mc(p.i_b_meas_A);
+            // Zeroed first: fields a later version adds read as "absent".
+            hal_sample_t in{};
             in.tick = g_hal.tick;
-            hal_command_t out;
-            out.v_a_V = mcsim::to_mc(0.0);
-            out.v_b_V = mcsim::to_mc(0.0);
+            in.n_phases = 2;
+            in.i_A[0] = mcsim::to_mc(p.i_a_meas_A);
+            in.i_A[1] = mcsim::to_mc(p.i_b_meas_A);
+            // The simulated supply is stiff: the bus sits at the amplifier's limit.
+            in.v_bus_V = mcsim::to_mc(g_hal.amp.v_max_V);
+            in.has_angle = false;
+            in.status = 0u;
+            hal_command_t out{};
+            out.n_phases = 2;
             g_hal.control(g_hal.control_ctx, &in, &out);
             // The callback may have called hal_safe_state(): 0 V from now on.
-            if (!g_hal.safe) {
-                p.v_a_cmd_V = mcsim::to_double(out.v_a_V);
-                p.v_b_cmd_V = mcsim::to_double(out.v_b_V);
+            // A command of another phase count than the plant's is not applied.
+            if (!g_hal.safe && out.n_phases == 2) {
+                p.v_a_cmd_V = mcsim::to_double(out.v_V[0]);
+                p.v_b_cmd_V = mcsim::to_double(out.v_V[1]);
             }
         }
         p.v_a_V = g_hal.amp.apply(p.v_a_cmd_V);

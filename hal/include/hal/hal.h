@@ -6,9 +6,11 @@
  * current samples; the callback returns the phase voltages the backend
  * applies until the next call. Backends are chosen at link time (exactly
  * one of hal/backends/<name> is linked): the software plant (host tests and
- * simulator), a dSpace-like DAC/ADC board, an MCU drive. Nothing in
- * firmware/ includes this header or knows which backend it runs on.
- * All values are SI (A, V, s) in the firmware numeric type mc_t.
+ * simulator), a dSpace-like DAC/ADC board, an MCU drive. The data of one
+ * period (2 or 3 phase currents, bus voltage, optional position sensor,
+ * status; phase voltages back) is in hal_types.h, which the control code
+ * reads; nothing in firmware/ includes this header or knows which backend
+ * it runs on. All values are SI (A, V, s) in the firmware numeric type mc_t.
  */
 #ifndef HAL_HAL_H
 #define HAL_HAL_H
@@ -16,24 +18,12 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "hal/hal_types.h"
 #include "math/mc_num.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* One sample of the two phase currents, taken at the start of the period. */
-typedef struct {
-    mc_t i_a_A;
-    mc_t i_b_A;
-    uint32_t tick; /* period counter since hal_start */
-} hal_sample_t;
-
-/* Phase voltages to hold over the next period. */
-typedef struct {
-    mc_t v_a_V;
-    mc_t v_b_V;
-} hal_command_t;
 
 /* Called once per period; must fill *out. Runs in interrupt context on MCUs. */
 typedef void (*hal_control_fn)(void *ctx, const hal_sample_t *in, hal_command_t *out);

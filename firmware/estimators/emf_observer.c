@@ -1,4 +1,4 @@
-#include "observers/emf_observer.h"
+#include "estimators/emf_observer.h"
 
 void emf_observer_init(emf_observer_t *o, const emf_observer_config_t *cfg)
 {
@@ -32,7 +32,8 @@ void emf_observer_correct(emf_observer_t *o, mc_t i_f_A, mc_t i_g_A)
     o->z_g_V_s = mc_mac(o->z_g_V_s, c->lpf_coeff, mc_sub(mc_mul_sgn(c->alpha_V_s, o->err_g_A), o->z_g_V_s));
 }
 
-void emf_observer_predict(emf_observer_t *o, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A, mc_rot_t half)
+void emf_observer_predict(emf_observer_t *o, const motor_model_t *m, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A,
+                          mc_rot_t half)
 {
     const emf_observer_config_t *c = &o->cfg;
     /* upper rows of (25): i-hat' = A i-hat + (v - R i)/L + d-hat
@@ -45,8 +46,8 @@ void emf_observer_predict(emf_observer_t *o, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A,
     const mc_t xg = mc_add(o->i_g_hat_A, mc_dot2(c->lambda_A, mc_sqrt_abs_sgn(o->err_g_A), c->l_ts, o->err_g_A));
     mc_t yf, yg;
     mc_rot_fwd(half, xf, xg, &yf, &yg);
-    const mc_t uf = mc_cross2(MC_ONE, mc_add(v_f_V, o->e_f_hat_V), c->R_ohm, i_f_A);
-    const mc_t ug = mc_cross2(MC_ONE, mc_add(v_g_V, o->e_g_hat_V), c->R_ohm, i_g_A);
-    mc_rot_fwd(half, mc_mac(yf, c->ts_over_L_A_per_V, uf), mc_mac(yg, c->ts_over_L_A_per_V, ug), &o->i_f_hat_A,
+    const mc_t uf = mc_cross2(MC_ONE, mc_add(v_f_V, o->e_f_hat_V), m->R_ohm, i_f_A);
+    const mc_t ug = mc_cross2(MC_ONE, mc_add(v_g_V, o->e_g_hat_V), m->R_ohm, i_g_A);
+    mc_rot_fwd(half, mc_mac(yf, m->ts_over_L_A_per_V, uf), mc_mac(yg, m->ts_over_L_A_per_V, ug), &o->i_f_hat_A,
                &o->i_g_hat_A);
 }

@@ -14,16 +14,14 @@
 #define OBSERVERS_MECH_OBSERVER_H
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+/* Gains; K, f_v and J come from the shared model (model/motor_model.h). */
 typedef struct {
-    mc_t ts_over_J;        /* Ts/J [rad/s per N m per sample] */
-    mc_t inv_J;            /* 1/J [rad/s^2 per N m] */
-    mc_t K_Nm_per_A;
-    mc_t fv_Nm_s;          /* viscous friction f_v */
     mc_t lambda_ts;        /* lambda_w Ts [(rad/s)^(1/2)] */
     mc_t l_ts;             /* l_w Ts [-] */
     mc_t alpha_Nm;         /* J alpha_w Ts: load step per sample [N m] */
@@ -43,7 +41,7 @@ void mech_observer_init(mech_observer_t *m, const mech_observer_config_t *cfg);
 void mech_observer_reset(mech_observer_t *m, mc_t omega_rad_s);
 
 /* One sample: y = velocity estimate [rad/s], i_q = torque-producing current [A]. */
-void mech_observer_step(mech_observer_t *m, mc_t omega_meas_rad_s, mc_t i_q_A);
+void mech_observer_step(mech_observer_t *m, const motor_model_t *model, mc_t omega_meas_rad_s, mc_t i_q_A);
 
 #ifdef __cplusplus
 }

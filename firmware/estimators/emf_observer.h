@@ -22,15 +22,15 @@
 #define OBSERVERS_EMF_OBSERVER_H
 
 #include "math/frame_fg.h"
+#include "model/motor_model.h"
 #include "math/mc_num.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+/* Gains; the motor's R and L come from the shared model (model/motor_model.h). */
 typedef struct {
-    mc_t ts_over_L_A_per_V;  /* Ts/L */
-    mc_t R_ohm;
     mc_t lambda_A;           /* lambda_{f,g} * Ts: super-twisting root term per sample [A^(1/2)] */
     mc_t l_ts;               /* l_{f,g} * Ts: linear term per sample [-] */
     mc_t alpha_V;            /* L * alpha_{f,g} * Ts: e-hat step per sample [V] */
@@ -58,8 +58,10 @@ void emf_observer_correct(emf_observer_t *o, mc_t i_f_A, mc_t i_g_A);
  *   v_f_V, v_g_V : the voltage applied over the sample, expressed in the
  *                  mid-sample frame (U(n_p (theta_r[k] + theta_r[k+1])/2) v_ab);
  *   i_f_A, i_g_A : measured currents of this sample (resistive drop);
- *   half         : rotation by half the change of n_p theta_r over the sample. */
-void emf_observer_predict(emf_observer_t *o, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A, mc_rot_t half);
+ *   half         : rotation by half the change of n_p theta_r over the sample;
+ *   m            : the motor model (R, Ts/L). */
+void emf_observer_predict(emf_observer_t *o, const motor_model_t *m, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A,
+                          mc_rot_t half);
 
 #ifdef __cplusplus
 }

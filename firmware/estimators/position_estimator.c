@@ -1,4 +1,4 @@
-#include "observers/position_estimator.h"
+#include "estimators/position_estimator.h"
 
 void position_estimator_init(position_estimator_t *p, const position_estimator_config_t *cfg)
 {
@@ -14,11 +14,6 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
     p->e2_V2 = MC_ZERO;
 }
 
-void position_estimator_observe(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V)
-{
-    p->e2_V2 = mc_dot2(e_f_V, e_f_V, e_g_V, e_g_V);
-    p->valid = !(p->e2_V2 < p->cfg.e2_min_V2);
-}
 
 mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t omega_r_rad_s)
 {

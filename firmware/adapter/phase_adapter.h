@@ -1,0 +1,116 @@
+/*
+ * phase_adapter.h - the motor's phases seen as one alpha-beta pair, both
+ * ways, so a two-phase stepper and a three-phase PMSM look the same to the
+ * estimators and controllers: the sample's 2 or 3 phase currents in, the
+ * alpha-beta voltage out to 2 or 3 phase voltages, and the peak the power
+ * stage limits. Clarke and its inverse live here and nowhere else.
+ *
+ * Two phases (windings a, b in quadrature, an H-bridge each): alpha = a,
+ * beta = b, no arithmetic; the limit is on each winding, max(|v_a|, |v_b|).
+ * Three phases (star, legs a, b, c): the amplitude-invariant Clarke
+ * transform
+ *   alpha = a - z,  beta = (b - c)/sqrt(3),  z = (a + b + c)/3,
+ * where z, the zero-sequence current, is 0 for a star without a neutral
+ * wire (a non-zero z means an offset or a fault in the measurement). Its
+ * inverse with min/max zero-sequence injection (equivalent to centred
+ * space-vector modulation):
+ *   a = alpha, b = -alpha/2 + (sqrt(3)/2) beta, c = -alpha/2 - (sqrt(3)/2) beta,
+ *   each then shifted by -(max + min)/2,
+ * so the legs use the bus symmetrically; the linear range is |v_ab| <=
+ * v_bus/sqrt(3) and the peak a leg needs is (max - min)/2 <= v_bus/2.
+ *
+ * Static inline like CMSIS-DSP's arm_clarke_f32: a few operations per
+ * sample, called once. Fixed point: every intermediate is a sum of at most
+ * three phase values (|x| <= 3 * 16384 would overflow Q14.17, so phase
+ * values must stay below 5000 A or V, far above any drive here) and the
+ * products by 1/sqrt(3), sqrt(3)/2 shrink them; rounding <= 2 LSB.
+ */
+#ifndef ADAPTER_PHASE_ADAPTER_H
+#define ADAPTER_PHASE_ADAPTER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal/hal_types.h"
+#include "math/mc_num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* 1/sqrt(3) and sqrt(3)/2 of the Clarke transform and its inverse. */
+#define PHASE_ADAPTER_INV_SQRT3 MC_C(0.57735026918962576451)
+#define PHASE_ADAPTER_SQRT3_2 MC_C(0.86602540378443864676)
+
+/* A pair in the stator frame: alpha along phase a. */
+typedef struct {
+    mc_t alpha;
+    mc_t beta;
+} mc_ab_t;
+
+/* True if the sample carries the phase count the drive was built for. */
+static inline bool phase_adapter_accepts(const hal_sample_t *in, uint8_t n_phases)
+{
+    return in->n_phases == n_phases;
+}
+
+/* The sample's phase currents as alpha-beta [A]; *i_zero_A gets the
+ * zero-sequence current (0 for two phases). n_phases must be 2 or 3
+ * (phase_adapter_accepts). */
+static inline mc_ab_t phase_adapter_currents(const hal_sample_t *in, mc_t *i_zero_A)
+{
+    mc_ab_t i;
+    if (in->n_phases == 3) {
+        const mc_t z = mc_div_i(mc_add(mc_add(in->i_A[0], in->i_A[1]), in->i_A[2]), 3);
+        i.alpha = mc_sub(in->i_A[0], z);
+        i.beta = mc_mul(mc_sub(in->i_A[1], in->i_A[2]), PHASE_ADAPTER_INV_SQRT3);
+        *i_zero_A = z;
+    } else {
+        i.alpha = in->i_A[0];
+        i.beta = in->i_A[1];
+        *i_zero_A = MC_ZERO;
+    }
+    return i;
+}
+
+/* Alpha-beta voltage [V] to the phase voltages of *out (n_phases 2 or 3).
+ * Three phases: inverse Clarke, then the min/max zero sequence. */
+static inline void phase_adapter_voltages(uint8_t n_phases, mc_ab_t v, hal_command_t *out)
+{
+    out->n_phases = n_phases;
+    if (n_phases == 3) {
+        const mc_t half_a = mc_div_i(v.alpha, 2);
+        const mc_t kb = mc_mul(v.beta, PHASE_ADAPTER_SQRT3_2);
+        const mc_t a = v.alpha;
+        const mc_t b = mc_sub(kb, half_a);
+        const mc_t c = mc_neg(mc_add(kb, half_a));
+        const mc_t shift = mc_neg(mc_div_i(mc_add(mc_max(a, mc_max(b, c)), mc_min(a, mc_min(b, c))), 2));
+        out->v_V[0] = mc_add(a, shift);
+        out->v_V[1] = mc_add(b, shift);
+        out->v_V[2] = mc_add(c, shift);
+    } else {
+        out->v_V[0] = v.alpha;
+        out->v_V[1] = v.beta;
+        out->v_V[2] = MC_ZERO;
+    }
+}
+
+/* The largest voltage a winding (two phases) or a leg about the bus
+ * midpoint (three phases, after the zero sequence) needs for v [V]: the
+ * quantity the power stage limits. */
+static inline mc_t phase_adapter_peak(uint8_t n_phases, mc_ab_t v)
+{
+    if (n_phases == 3) {
+        const mc_t half_a = mc_div_i(v.alpha, 2);
+        const mc_t kb = mc_mul(v.beta, PHASE_ADAPTER_SQRT3_2);
+        const mc_t a = v.alpha, b = mc_sub(kb, half_a), c = mc_neg(mc_add(kb, half_a));
+        return mc_div_i(mc_sub(mc_max(a, mc_max(b, c)), mc_min(a, mc_min(b, c))), 2);
+    }
+    return mc_max(mc_abs(v.alpha), mc_abs(v.beta));
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ADAPTER_PHASE_ADAPTER_H */

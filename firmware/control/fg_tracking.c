@@ -1,0 +1,60 @@
+#include "control/fg_tracking.h"
+
+#include "math/decay.h"
+
+void fg_tracking_init(fg_tracking_t *t, const fg_tracking_config_t *cfg)
+{
+    t->cfg = *cfg;
+    super_twisting_init(&t->cur, &cfg->cur);
+    twisting_init(&t->pos, &cfg->pos);
+    t->i_f_off_A = MC_ZERO;
+    t->i_g_off_A = MC_ZERO;
+    t->i_f_ref_A = MC_ZERO;
+    t->i_g_ref_A = MC_ZERO;
+}
+
+/* Reference currents and voltages of the flat outputs, eqs. (38)-(39):
+ * i_g,r = (J theta_r'' + f_v theta_r')/K, and the voltages from the
+ * reference model (38) with i_f,r constant. */
+void fg_tracking_references(const fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
+                            const trajectory_point_t *rn, mc_t load_est_Nm, mc_t *i_fr, mc_t *i_gr, mc_t *v_fr,
+                            mc_t *v_gr)
+{
+    const fg_tracking_config_t *c = &t->cfg;
+    /* i_f,r: constant plus the decaying switch offset (a free flat output) */
+    *i_fr = mc_add(c->i_f_ref_A, t->i_f_off_A);
+    /* (39) with the load of (9c): J w_r' = K i_g,r - f_v w_r - C_r, C_r from (35) */
+    mc_t i_g = mc_dot2(m->J_over_K_A_s2, r->accel_rad_s2, m->fv_over_K_A_s, r->omega_rad_s);
+    i_g = mc_mac(i_g, c->load_ff_A_per_Nm, mc_clamp(load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm));
+    *i_gr = mc_clamp(mc_add(i_g, t->i_g_off_A), mc_neg(i_max_A), i_max_A);
+    /* L di_g,r/dt of (39), (JL/K) theta_r''' + (L f_v/K) theta_r'', taken as
+     * the change of i_g,r over the sample (L/Ts times the difference of the
+     * references at k+1 and k): the voltage is held over that sample, so its
+     * average is what moves the current there */
+    mc_t Ldi_gr = mc_dot2(m->LJ_over_KTs_V_s2, mc_sub(rn->accel_rad_s2, r->accel_rad_s2), m->Lfv_over_KTs_V_s,
+                          mc_sub(rn->omega_rad_s, r->omega_rad_s));
+    mc_t Ldi_fr = MC_ZERO;
+    if (t->i_f_off_A != MC_ZERO || t->i_g_off_A != MC_ZERO) {
+        Ldi_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, t->i_f_off_A));
+        Ldi_gr = mc_sub(Ldi_gr, mc_mul(c->ref_blend_L_over_tau_ohm, t->i_g_off_A));
+    }
+    const mc_t npLw = mc_mul(m->npL_ohm_s, r->omega_rad_s);
+    /* L di_f,r/dt = v_f,r - R i_f,r + n_p L w_r i_g,r   (38) */
+    *v_fr = mc_add(mc_cross2(m->R_ohm, *i_fr, npLw, *i_gr), Ldi_fr);
+    /* L di_g,r/dt = v_g,r - R i_g,r - n_p L w_r i_f,r - K w_r   (38) */
+    *v_gr = mc_mac(mc_add(Ldi_gr, mc_dot2(m->R_ohm, *i_gr, npLw, *i_fr)), m->K_V_s, r->omega_rad_s);
+}
+
+void fg_tracking_start(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *ref,
+                       const trajectory_point_t *ref_next, mc_t load_est_Nm, mc_t i_d_A, mc_t i_q_A)
+{
+    super_twisting_reset(&t->cur, MC_ZERO);
+    t->i_f_off_A = MC_ZERO;
+    t->i_g_off_A = MC_ZERO;
+    mc_t i_fr0, i_gr0, v_fr0, v_gr0;
+    fg_tracking_references(t, m, i_max_A, ref, ref_next, load_est_Nm, &i_fr0, &i_gr0, &v_fr0, &v_gr0);
+    t->i_f_off_A = mc_sub(i_d_A, i_fr0);
+    t->i_g_off_A = mc_sub(i_q_A, i_gr0);
+}
+
+

@@ -1,0 +1,130 @@
+/*
+ * fg_estimator.h - paper 000's estimator: position, speed, acceleration and
+ * load from the measured currents in the (f-g) frame of the reference,
+ * composed of the super-twisting back-EMF observer (eqs. (23)-(28),
+ * emf_observer.h), the arctan and jump counter (29)-(32), (71)
+ * (position_estimator.h) and the mechanical observer (33)-(37)
+ * (mech_observer.h). One mc_estimate_t out (estimate.h).
+ *
+ * Per sample, in this order (the drive's recipe calls them):
+ *   fg_estimator_correct    measured (f-g) currents: observer correction, observability
+ *   fg_estimator_track      (29), (71) where the angle is used (closed loop, the switch)
+ *   fg_estimator_lock_branch at the open-to-closed switch: the branch nearest the reference
+ *   fg_estimator_mechanics  (31)-(32) in closed loop, the estimated frame (44), (33)-(37)
+ *   fg_estimator_predict    observer prediction with the applied voltage
+ */
+#ifndef ESTIMATORS_FG_ESTIMATOR_H
+#define ESTIMATORS_FG_ESTIMATOR_H
+
+#include <stdbool.h>
+
+#include "estimators/emf_observer.h"
+#include "estimators/estimate.h"
+#include "estimators/mech_observer.h"
+#include "estimators/position_estimator.h"
+#include "math/frame_fg.h"
+#include "model/motor_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    emf_observer_config_t emf;
+    position_estimator_config_t pos;
+    mech_observer_config_t mech;
+} fg_estimator_config_t;
+
+typedef struct {
+    emf_observer_t emf;
+    position_estimator_t pos;
+    mech_observer_t mech;
+    mc_rot_t u_est;        /* U(n_p (theta_est - theta_r)) of (44) */
+    mc_t i_d_A, i_q_A;     /* measured currents in the estimated rotor frame, (44) */
+} fg_estimator_t;
+
+void fg_estimator_init(fg_estimator_t *e, const fg_estimator_config_t *cfg);
+
+/* Observer correction (25) with the measured (f-g) currents [A], and the
+ * observability test of the back-EMF. */
+static inline void fg_estimator_correct(fg_estimator_t *e, mc_t i_f_A, mc_t i_g_A)
+{
+    emf_observer_correct(&e->emf, i_f_A, i_g_A);
+    /* (29) and (71) only where they are used: in closed loop and at the
+     * switch (the branch is chosen there); here only observability */
+    position_estimator_observe(&e->pos, e->emf.e_f_hat_V, e->emf.e_g_hat_V);
+}
+
+/* The back-EMF is large enough for (29) to give an angle. */
+static inline bool fg_estimator_observable(const fg_estimator_t *e) { return e->pos.valid; }
+
+/* (29) and (71) for the reference theta_r, omega_r of this sample. */
+static inline void fg_estimator_track(fg_estimator_t *e, mc_t theta_r_rad, mc_t omega_r_rad_s)
+{
+    position_estimator_step(&e->pos, e->emf.e_f_hat_V, e->emf.e_g_hat_V, theta_r_rad, omega_r_rad_s);
+}
+
+/* At the open-to-closed switch: in open loop the rotor sits on the
+ * reference, so the jump count is the one nearest theta_r. */
+static inline void fg_estimator_lock_branch(fg_estimator_t *e, mc_t theta_r_rad)
+{
+    position_estimator_set_branch(&e->pos, theta_r_rad, theta_r_rad);
+}
+
+/* Speed (31)-(32) (closed loop only), the estimated frame and currents
+ * (44), and the mechanical observer (33)-(37), whose speed input is (32)
+ * in closed loop and the reference speed in open loop (the rotor follows
+ * it). i_f, i_g: the measured currents of this sample. */
+static inline void fg_estimator_mechanics(fg_estimator_t *e, const motor_model_t *m, bool closed, mc_t omega_r_rad_s, mc_t i_f_A,
+                            mc_t i_g_A)
+{
+    if (closed) {
+        position_estimator_speed(&e->pos, e->emf.e_f_hat_V, e->emf.e_g_hat_V, e->emf.z_f_V_s, e->emf.z_g_V_s,
+                                 omega_r_rad_s);
+    }
+    /* U(n_p (theta_est - theta_r)) of (44): n_p dtheta_est is the arctan of
+     * (29) and the jump count adds whole turns, so its sine and cosine are
+     * the normalised arguments of that arctan (no sincos needed). Before the
+     * back-EMF is observable: the reference frame. */
+    if (e->pos.valid) {
+        const mc_t inv_e = mc_rsqrt(e->pos.e2_V2);
+        const bool neg = omega_r_rad_s < MC_ZERO;
+        e->u_est.s = mc_mul(neg ? mc_neg(e->emf.e_f_hat_V) : e->emf.e_f_hat_V, inv_e);
+        e->u_est.c = mc_mul(neg ? e->emf.e_g_hat_V : mc_neg(e->emf.e_g_hat_V), inv_e);
+        mc_rot_fwd(e->u_est, i_f_A, i_g_A, &e->i_d_A, &e->i_q_A); /* (44) */
+    } else {
+        /* the identity, exactly (c x1 + s x2 = x1 for c = 1, s = 0), for free */
+        e->u_est.s = MC_ZERO;
+        e->u_est.c = MC_ONE;
+        e->i_d_A = i_f_A;
+        e->i_q_A = i_g_A;
+    }
+    /* (33)-(37): in closed loop on the (32) estimate; in open loop the
+     * rotor follows the reference, so theta_r' serves as the measurement */
+    mech_observer_step(&e->mech, m, closed ? e->pos.omega_est_rad_s : omega_r_rad_s, e->i_q_A);
+}
+
+/* Observer prediction to the next sample (see emf_observer_predict). */
+static inline void fg_estimator_predict(fg_estimator_t *e, const motor_model_t *m, mc_t v_f_V, mc_t v_g_V,
+                                        mc_t i_f_A, mc_t i_g_A, mc_rot_t half)
+{
+    emf_observer_predict(&e->emf, m, v_f_V, v_g_V, i_f_A, i_g_A, half);
+}
+
+/* The estimate of this sample. In open loop the rotor follows the
+ * reference (paper 000 Fig. 7), so the reference is reported. */
+static inline void fg_estimator_get(const fg_estimator_t *e, bool closed, mc_t theta_r_rad, mc_t omega_r_rad_s,
+                      mc_t accel_r_rad_s2, mc_estimate_t *out)
+{
+    out->theta_rad = closed ? e->pos.theta_est_rad : theta_r_rad;
+    out->omega_rad_s = closed ? e->mech.omega_est_rad_s : omega_r_rad_s;
+    out->accel_rad_s2 = closed ? e->mech.accel_est_rad_s2 : accel_r_rad_s2;
+    out->load_Nm = e->mech.load_est_Nm;
+    out->valid = e->pos.valid;
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ESTIMATORS_FG_ESTIMATOR_H */

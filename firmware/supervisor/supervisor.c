@@ -1,0 +1,70 @@
+#include "supervisor/supervisor.h"
+
+#include "math/decay.h"
+
+/* The transition table (see supervisor.h). SUP_STATE_COUNT as the source
+ * state means "any state". Scanned only when an event is raised, which the
+ * recipes do on a change of condition, not every sample. */
+typedef struct {
+    sup_state_t from;
+    sup_event_t event;
+    sup_state_t to;
+} sup_transition_t;
+
+static const sup_transition_t k_transitions[] = {
+    {SUP_STATE_IDENTIFY, SUP_EV_IDENTIFIED, SUP_STATE_OPEN_LOOP},
+    {SUP_STATE_IDENTIFY, SUP_EV_ESTIMATE_TRUSTED, SUP_STATE_CLOSED_LOOP},
+    {SUP_STATE_OPEN_LOOP, SUP_EV_ESTIMATE_TRUSTED, SUP_STATE_CLOSED_LOOP},
+    {SUP_STATE_CLOSED_LOOP, SUP_EV_ESTIMATE_LOST, SUP_STATE_OPEN_LOOP},
+    {SUP_STATE_COUNT, SUP_EV_FAULT, SUP_STATE_FAULT},
+};
+
+void supervisor_init(supervisor_t *s, const supervisor_config_t *cfg, bool identify)
+{
+    s->cfg = *cfg;
+    s->state = identify ? SUP_STATE_IDENTIFY : SUP_STATE_OPEN_LOOP;
+    s->fault = DRIVE_FAULT_NONE;
+    s->blend_V[0] = MC_ZERO;
+    s->blend_V[1] = MC_ZERO;
+    s->v_prev_V[0] = MC_ZERO;
+    s->v_prev_V[1] = MC_ZERO;
+    s->sat_prev = false;
+}
+
+bool supervisor_dispatch(supervisor_t *s, sup_event_t ev)
+{
+    if (s->state == SUP_STATE_FAULT) {
+        return false; /* latched */
+    }
+    for (uint32_t k = 0; k < sizeof k_transitions / sizeof k_transitions[0]; ++k) {
+        const sup_transition_t *t = &k_transitions[k];
+        if (t->event == ev && (t->from == s->state || t->from == SUP_STATE_COUNT)) {
+            s->state = t->to;
+            return true;
+        }
+    }
+    return false;
+}
+
+void supervisor_fault(supervisor_t *s, drive_fault_t f)
+{
+    if (s->fault == DRIVE_FAULT_NONE) {
+        s->fault = f;
+    }
+    (void)supervisor_dispatch(s, SUP_EV_FAULT);
+}
+
+
+drive_mode_t supervisor_mode(const supervisor_t *s)
+{
+    switch (s->state) {
+    case SUP_STATE_CLOSED_LOOP:
+        return DRIVE_MODE_CLOSED_LOOP;
+    case SUP_STATE_FAULT:
+        return DRIVE_MODE_FAULT;
+    default:
+        return DRIVE_MODE_OPEN_LOOP;
+    }
+}
+
+

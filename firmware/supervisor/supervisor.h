@@ -1,0 +1,145 @@
+/*
+ * supervisor.h - the state machine every drive runs under: start-up with
+ * identification, open loop, closed loop and the latched fault, as a table
+ * of states and transitions (supervisor.c); the fault latch; the bumpless
+ * transfer of the applied voltage at a switch; and the voltage limit.
+ * Which conditions raise which event is the drive's business (its recipe in
+ * firmware/drives/); what an event does in which state is decided here,
+ * once for every drive.
+ *
+ * States and transitions (an event not listed for a state is ignored):
+ *
+ *   IDENTIFY ---identified---------> OPEN_LOOP
+ *   IDENTIFY ---estimate_trusted---> CLOSED_LOOP   (identification abandoned)
+ *   OPEN_LOOP --estimate_trusted---> CLOSED_LOOP
+ *   CLOSED_LOOP-estimate_lost------> OPEN_LOOP
+ *   any --------fault--------------> FAULT         (latched: 0 V until *_init)
+ *
+ * Voltage offsets, limits and the last command are kept in the drive's
+ * control frame (two components), whatever the phase count.
+ */
+#ifndef SUPERVISOR_SUPERVISOR_H
+#define SUPERVISOR_SUPERVISOR_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "adapter/phase_adapter.h"
+#include "math/decay.h"
+#include "math/mc_num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    SUP_STATE_IDENTIFY = 0,   /* open-loop start while the standstill R/L measurement runs */
+    SUP_STATE_OPEN_LOOP = 1,  /* open-loop drive below omega_lim (paper 000 eq. (68)) */
+    SUP_STATE_CLOSED_LOOP = 2,/* control on the estimates */
+    SUP_STATE_FAULT = 3,      /* safe state: 0 V until the drive is initialised again */
+    SUP_STATE_COUNT = 4
+} sup_state_t;
+
+typedef enum {
+    SUP_EV_IDENTIFIED = 0,       /* the identification finished (measured, rejected or off) */
+    SUP_EV_ESTIMATE_TRUSTED = 1, /* the estimate is observable and the speed asks for closed loop */
+    SUP_EV_ESTIMATE_LOST = 2,    /* no longer */
+    SUP_EV_FAULT = 3             /* supervisor_fault() raises it */
+} sup_event_t;
+
+/* Telemetry view of the state, stable across versions. */
+typedef enum {
+    DRIVE_MODE_OPEN_LOOP = 0,   /* IDENTIFY or OPEN_LOOP */
+    DRIVE_MODE_CLOSED_LOOP = 1,
+    DRIVE_MODE_FAULT = 2
+} drive_mode_t;
+
+/* Why the drive is in FAULT (the first cause is kept). */
+typedef enum {
+    DRIVE_FAULT_NONE = 0,
+    DRIVE_FAULT_OVERCURRENT = 1, /* a measured phase current beyond i_trip_A */
+    DRIVE_FAULT_BAD_INPUT = 2    /* inconsistent configuration or a sample of the wrong phase count */
+} drive_fault_t;
+
+typedef struct {
+    mc_t blend_decay;  /* per-sample decay exp(-Ts/tau) of the voltage offset added at a switch */
+} supervisor_config_t;
+
+typedef struct {
+    supervisor_config_t cfg;
+    sup_state_t state;
+    drive_fault_t fault;
+    mc_t blend_V[2];   /* decaying offset that removes the voltage step of a switch (control frame) */
+    mc_t v_prev_V[2];  /* the last command (control frame), after the limit */
+    bool sat_prev;     /* the last command hit the voltage limit */
+} supervisor_t;
+
+/* Starts in IDENTIFY (identify) or OPEN_LOOP, no fault, no offset. */
+void supervisor_init(supervisor_t *s, const supervisor_config_t *cfg, bool identify);
+
+/* Applies the transition of the table for ev in the current state.
+ * Returns true if the state changed. */
+bool supervisor_dispatch(supervisor_t *s, sup_event_t ev);
+
+/* Latches f (the first fault is kept) and goes to FAULT. */
+void supervisor_fault(supervisor_t *s, drive_fault_t f);
+
+/* True if any of the first n_phases phase currents of the sample is beyond
+ * +-i_trip_A (n_phases: the drive's, a constant, so the loop unrolls). */
+static inline bool supervisor_overcurrent(const hal_sample_t *in, uint8_t n_phases, mc_t i_trip_A)
+{
+    const mc_t trip_neg = mc_neg(i_trip_A);
+    for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
+        if (in->i_A[k] > i_trip_A || in->i_A[k] < trip_neg) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Telemetry mode of the state. */
+drive_mode_t supervisor_mode(const supervisor_t *s);
+
+/* Bumpless transfer: on a switch (switched), the step between the last
+ * command and the new law's v becomes an offset added to v that decays
+ * with blend_decay, so the applied voltage has no step. Call every sample. */
+static inline void supervisor_blend(supervisor_t *s, bool switched, mc_t *v1_V, mc_t *v2_V)
+{
+    if (switched) {
+        s->blend_V[0] = mc_add(s->blend_V[0], mc_sub(s->v_prev_V[0], *v1_V));
+        s->blend_V[1] = mc_add(s->blend_V[1], mc_sub(s->v_prev_V[1], *v2_V));
+    }
+    if (s->blend_V[0] != MC_ZERO || s->blend_V[1] != MC_ZERO) {
+        *v1_V = mc_add(*v1_V, s->blend_V[0]);
+        *v2_V = mc_add(*v2_V, s->blend_V[1]);
+        s->blend_V[0] = mc_decay(s->blend_V[0], s->cfg.blend_decay);
+        s->blend_V[1] = mc_decay(s->blend_V[1], s->cfg.blend_decay);
+    }
+}
+
+/* Voltage limit: when the peak the power stage needs for v_ab (phase
+ * adapter) exceeds v_max_V, v_ab and the control-frame command v1, v2 are
+ * scaled by the same factor (direction kept). Records the command and the
+ * saturation for the next sample; returns true if it limited. */
+static inline bool supervisor_limit(supervisor_t *s, uint8_t n_phases, mc_t v_max_V, mc_ab_t *v_ab, mc_t *v1_V, mc_t *v2_V)
+{
+    const mc_t v_peak = phase_adapter_peak(n_phases, *v_ab);
+    const bool sat = v_peak > v_max_V;
+    if (sat) {
+        const mc_t scale = mc_div(v_max_V, v_peak);
+        v_ab->alpha = mc_mul(v_ab->alpha, scale);
+        v_ab->beta = mc_mul(v_ab->beta, scale);
+        *v1_V = mc_mul(*v1_V, scale);
+        *v2_V = mc_mul(*v2_V, scale);
+    }
+    s->sat_prev = sat;
+    s->v_prev_V[0] = *v1_V;
+    s->v_prev_V[1] = *v2_V;
+    return sat;
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SUPERVISOR_SUPERVISOR_H */

@@ -1,0 +1,256 @@
+// The parts every drive is assembled from: the phase adapter (Clarke and
+// its inverse, 2 and 3 phases), the supervisor's state table, fault latch,
+// bumpless transfer and voltage limit, and the shared motor model.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+extern "C" {
+#include "adapter/phase_adapter.h"
+#include "math/mc_convert.h"
+#include "model/motor_model.h"
+#include "supervisor/supervisor.h"
+}
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+mc_t M(double x) { return mc_from_double(x); }
+double D(mc_t x) { return mc_to_double(x); }
+#if MC_FIXED
+constexpr double kTol = 1e-4;  // a few Q14.17 LSB
+#else
+constexpr double kTol = 1e-5;
+#endif
+
+hal_sample_t sample3(double a, double b, double c)
+{
+    hal_sample_t s{};
+    s.n_phases = 3;
+    s.i_A[0] = M(a);
+    s.i_A[1] = M(b);
+    s.i_A[2] = M(c);
+    return s;
+}
+}  // namespace
+
+// ---- phase adapter ----
+
+// Balanced three-phase currents of amplitude I at angle x are the vector
+// I (cos x, sin x) in alpha-beta (amplitude-invariant Clarke), with no
+// zero sequence; evaluated here from the phase definitions, not the code.
+TEST(PhaseAdapter, ThreePhaseBalancedIsTheRotatingVector)
+{
+    const double I = 2.5;
+    for (int k = 0; k < 24; ++k) {
+        const double x = 2 * kPi * k / 24;
+        const hal_sample_t s = sample3(I * std::cos(x), I * std::cos(x - 2 * kPi / 3), I * std::cos(x + 2 * kPi / 3));
+        mc_t z;
+        const mc_ab_t i = phase_adapter_currents(&s, &z);
+        EXPECT_NEAR(D(i.alpha), I * std::cos(x), kTol) << k;
+        EXPECT_NEAR(D(i.beta), I * std::sin(x), kTol) << k;
+        EXPECT_NEAR(D(z), 0.0, kTol) << k;
+    }
+}
+
+// Unbalanced currents: alpha = (2a - b - c)/3, beta = (b - c)/sqrt(3),
+// zero sequence (a + b + c)/3; a common offset added to all three phases
+// changes only the zero sequence.
+TEST(PhaseAdapter, ThreePhaseUnbalancedAndZeroSequence)
+{
+    const double a = 1.7, b = -0.4, c = -0.9, off = 0.35;
+    for (double o : {0.0, off}) {
+        const hal_sample_t s = sample3(a + o, b + o, c + o);
+        mc_t z;
+        const mc_ab_t i = phase_adapter_currents(&s, &z);
+        EXPECT_NEAR(D(i.alpha), (2 * a - b - c) / 3, kTol);
+        EXPECT_NEAR(D(i.beta), (b - c) / std::sqrt(3.0), kTol);
+        EXPECT_NEAR(D(z), (a + b + c) / 3 + o, kTol);
+    }
+}
+
+// Inverse: the three leg voltages have the commanded alpha-beta vector
+// (Clarke of the legs gives it back), line-to-line voltages are those of
+// the vector, and the min/max zero sequence centres the legs: max + min = 0.
+TEST(PhaseAdapter, ThreePhaseInverseWithMinMaxZeroSequence)
+{
+    for (int k = 0; k < 36; ++k) {
+        const double x = 2 * kPi * k / 36, V = 7.0;
+        const mc_ab_t v = {M(V * std::cos(x)), M(V * std::sin(x))};
+        hal_command_t out{};
+        phase_adapter_voltages(3, v, &out);
+        ASSERT_EQ(out.n_phases, 3);
+        const double a = D(out.v_V[0]), b = D(out.v_V[1]), c = D(out.v_V[2]);
+        EXPECT_NEAR((2 * a - b - c) / 3, V * std::cos(x), 2 * kTol) << k;
+        EXPECT_NEAR((b - c) / std::sqrt(3.0), V * std::sin(x), 2 * kTol) << k;
+        EXPECT_NEAR(std::fmax(a, std::fmax(b, c)) + std::fmin(a, std::fmin(b, c)), 0.0, 2 * kTol) << k;
+        // the peak a leg needs: half the largest line-to-line voltage
+        const double ll = std::fmax(std::fabs(a - b), std::fmax(std::fabs(b - c), std::fabs(c - a)));
+        EXPECT_NEAR(D(phase_adapter_peak(3, v)), ll / 2, 2 * kTol) << k;
+        // and it never exceeds the vector's magnitude (linear range V_bus/sqrt(3))
+        EXPECT_LE(D(phase_adapter_peak(3, v)), V * std::sqrt(3.0) / 2 + 2 * kTol);
+    }
+    // round trip through the currents' Clarke
+    const mc_ab_t v = {M(3.1), M(-4.2)};
+    hal_command_t out{};
+    phase_adapter_voltages(3, v, &out);
+    const hal_sample_t s = sample3(D(out.v_V[0]), D(out.v_V[1]), D(out.v_V[2]));
+    mc_t z;
+    const mc_ab_t back = phase_adapter_currents(&s, &z);
+    EXPECT_NEAR(D(back.alpha), 3.1, 2 * kTol);
+    EXPECT_NEAR(D(back.beta), -4.2, 2 * kTol);
+}
+
+// Two phases: a and b are alpha and beta, bit for bit both ways (the
+// paper-000 drive's bit-exactness rests on it); the peak is per winding.
+TEST(PhaseAdapter, TwoPhasesAreAlphaBetaExactly)
+{
+    hal_sample_t s{};
+    s.n_phases = 2;
+    s.i_A[0] = M(1.234567);
+    s.i_A[1] = M(-2.5);
+    mc_t z = M(9);
+    const mc_ab_t i = phase_adapter_currents(&s, &z);
+    EXPECT_EQ(i.alpha, s.i_A[0]);
+    EXPECT_EQ(i.beta, s.i_A[1]);
+    EXPECT_EQ(D(z), 0.0);
+    hal_command_t out{};
+    phase_adapter_voltages(2, i, &out);
+    EXPECT_EQ(out.n_phases, 2);
+    EXPECT_EQ(out.v_V[0], i.alpha);
+    EXPECT_EQ(out.v_V[1], i.beta);
+    EXPECT_EQ(D(phase_adapter_peak(2, i)), D(M(2.5)));
+    EXPECT_TRUE(phase_adapter_accepts(&s, 2));
+    EXPECT_FALSE(phase_adapter_accepts(&s, 3));
+}
+
+// ---- supervisor ----
+
+namespace {
+supervisor_t sup(bool identify)
+{
+    supervisor_config_t c{};
+    c.blend_decay = M(0.5);
+    supervisor_t s;
+    supervisor_init(&s, &c, identify);
+    return s;
+}
+}  // namespace
+
+// Every (state, event) pair against the table of supervisor.h.
+TEST(Supervisor, TransitionTable)
+{
+    const sup_state_t S[] = {SUP_STATE_IDENTIFY, SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_FAULT};
+    const sup_event_t E[] = {SUP_EV_IDENTIFIED, SUP_EV_ESTIMATE_TRUSTED, SUP_EV_ESTIMATE_LOST, SUP_EV_FAULT};
+    // expected[state][event]
+    const sup_state_t want[4][4] = {
+        {SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_IDENTIFY, SUP_STATE_FAULT},
+        {SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_OPEN_LOOP, SUP_STATE_FAULT},
+        {SUP_STATE_CLOSED_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_OPEN_LOOP, SUP_STATE_FAULT},
+        {SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT},
+    };
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            supervisor_t s = sup(true);
+            s.state = S[i];
+            const bool changed = supervisor_dispatch(&s, E[j]);
+            EXPECT_EQ(s.state, want[i][j]) << "state " << i << " event " << j;
+            EXPECT_EQ(changed, want[i][j] != S[i]) << "state " << i << " event " << j;
+        }
+    }
+    EXPECT_EQ(sup(true).state, SUP_STATE_IDENTIFY);
+    EXPECT_EQ(sup(false).state, SUP_STATE_OPEN_LOOP);
+}
+
+TEST(Supervisor, FaultLatchesTheFirstCause)
+{
+    supervisor_t s = sup(false);
+    supervisor_fault(&s, DRIVE_FAULT_OVERCURRENT);
+    supervisor_fault(&s, DRIVE_FAULT_BAD_INPUT);
+    EXPECT_EQ(s.state, SUP_STATE_FAULT);
+    EXPECT_EQ(s.fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(supervisor_mode(&s), DRIVE_MODE_FAULT);
+    EXPECT_FALSE(supervisor_dispatch(&s, SUP_EV_ESTIMATE_TRUSTED));
+}
+
+TEST(Supervisor, OvercurrentOnAnyPhase)
+{
+    hal_sample_t s = sample3(0.0, 0.0, 0.0);
+    for (int k = 0; k < 3; ++k) {
+        for (double i : {4.6, -4.6}) {
+            s = sample3(0.0, 0.0, 0.0);
+            s.i_A[k] = M(i);
+            EXPECT_TRUE(supervisor_overcurrent(&s, 3, M(4.5))) << k << " " << i;
+        }
+    }
+    s = sample3(4.4, -4.4, 4.5);
+    EXPECT_FALSE(supervisor_overcurrent(&s, 3, M(4.5)));
+    s = sample3(0.0, 0.0, 9.0);  // phase c is not there for a two-phase drive
+    EXPECT_FALSE(supervisor_overcurrent(&s, 2, M(4.5)));
+}
+
+// Bumpless: at a switch the applied voltage stays the last one, then the
+// offset decays by blend_decay per sample to 0.
+TEST(Supervisor, BlendRemovesTheStepAndDecays)
+{
+    supervisor_t s = sup(false);
+    s.v_prev_V[0] = M(4.0);
+    s.v_prev_V[1] = M(-2.0);
+    mc_t v1 = M(1.0), v2 = M(1.0);
+    supervisor_blend(&s, true, &v1, &v2);
+    EXPECT_NEAR(D(v1), 4.0, kTol);
+    EXPECT_NEAR(D(v2), -2.0, kTol);
+    v1 = M(1.0);
+    v2 = M(1.0);
+    supervisor_blend(&s, false, &v1, &v2);
+    EXPECT_NEAR(D(v1), 1.0 + 1.5, kTol);  // offset 3 V halved
+    EXPECT_NEAR(D(v2), 1.0 - 1.5, kTol);
+    for (int k = 0; k < 40; ++k) {
+        v1 = M(1.0);
+        v2 = M(1.0);
+        supervisor_blend(&s, false, &v1, &v2);
+    }
+    EXPECT_EQ(D(s.blend_V[0]), 0.0);
+    EXPECT_EQ(D(v1), 1.0);
+}
+
+// The limit scales the phase vector and the control-frame command by the
+// same factor, onto the limit, and records it for the next step.
+TEST(Supervisor, LimitKeepsTheDirection)
+{
+    supervisor_t s = sup(false);
+    mc_ab_t v = {M(40.0), M(-10.0)};
+    mc_t v1 = M(30.0), v2 = M(20.0);
+    EXPECT_TRUE(supervisor_limit(&s, 2, M(30.0), &v, &v1, &v2));
+    EXPECT_NEAR(D(v.alpha), 30.0, 1e-3);
+    EXPECT_NEAR(D(v.beta), -7.5, 1e-3);
+    EXPECT_NEAR(D(v1), 22.5, 1e-3);
+    EXPECT_NEAR(D(v2), 15.0, 1e-3);
+    EXPECT_TRUE(s.sat_prev);
+    EXPECT_EQ(s.v_prev_V[0], v1);
+    v = {M(3.0), M(-1.0)};
+    v1 = M(2.0);
+    EXPECT_FALSE(supervisor_limit(&s, 2, M(30.0), &v, &v1, &v2));
+    EXPECT_EQ(D(v.alpha), D(M(3.0)));
+    EXPECT_FALSE(s.sat_prev);
+}
+
+// ---- motor model ----
+
+// A measured R and L replace every coefficient derived from them, as the
+// design (double precision) would have rounded them.
+TEST(MotorModel, SetRlUpdatesEveryDerivedCoefficient)
+{
+    motor_model_t m{};
+    m.n_p = 50;
+    m.fs_hz = 10000;
+    m.J_over_K_A_s2 = M(3.18e-4 / 0.27);
+    m.fv_over_K_A_s = M(2.37e-3 / 0.27);
+    const double R = 3.3, L = 8e-3, Ts = 1e-4;
+    motor_model_set_rl(&m, M(R), M(L / Ts));
+    EXPECT_NEAR(D(m.R_ohm), R, kTol);
+    EXPECT_NEAR(D(m.L_H), L, kTol);
+    EXPECT_NEAR(D(m.npL_ohm_s), 50 * L, kTol);
+    EXPECT_NEAR(D(m.ts_over_L_A_per_V), Ts / L, kTol);
+    EXPECT_NEAR(D(m.LJ_over_KTs_V_s2), L * 3.18e-4 / (0.27 * Ts), 10 * kTol);
+    EXPECT_NEAR(D(m.Lfv_over_KTs_V_s), L * 2.37e-3 / (0.27 * Ts), 10 * kTol);
+}
