@@ -18,9 +18,11 @@
 #include "drives/paper000_drive.h"
 
 /* Samples between exact recomputations of the (f-g) frame rotation: in
- * between it turns by composition (two products per sample instead of a
- * sincos), and 32 compositions accumulate at most 32 roundings, 2.4e-4 of
- * the fixed-point LSB budget of the angle (docs/fixed_point.md). */
+ * between it turns by composition (four products per sample instead of a
+ * sincos of a large angle). Each composition rounds the sine and cosine by
+ * at most about one LSB (7.6e-6 in Q14.17), so 32 of them drift by at most
+ * 2.4e-4 rad electrical, 5e-6 rad of rotor angle at n_p = 50, before the
+ * exact angle resets it; a power of two makes the test a mask. */
 #define DRIVE_FRAME_RESYNC 32u
 
 static void drive_zero_output(drive_t *d, hal_command_t *out)

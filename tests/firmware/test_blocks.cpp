@@ -18,10 +18,13 @@ extern "C" {
 #include "trajectory/trajectory.h"
 }
 
+#include "fw_test_util.h"
+
+using fwtest::D;
+using fwtest::kPi;
+using fwtest::M;
+
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-mc_t M(double x) { return mc_from_double(x); }
-double D(mc_t x) { return mc_to_double(x); }
 #if MC_FIXED
 constexpr double kTol = 2e-4;  // a few LSB of the fixed format plus fast-math error
 #else
@@ -196,12 +199,7 @@ TEST(EmfObserver, ConvergesOnSyntheticBackEmf)
     const double ef = 1.3, eg = -2.4;         // L d_f, L d_g [V]
     const double alpha = 2e4, lambda = 400.0, l = 1000.0;
     const motor_model_t mm = rig_model(R, L, 0.27, 3.18e-4, 2.37e-3, Ts);
-    emf_observer_config_t c{};
-    c.lambda_A = M(lambda * Ts);
-    c.l_ts = M(l * Ts);
-    c.alpha_V = M(L * alpha * Ts);
-    c.alpha_V_s = M(L * alpha);
-    c.lpf_coeff = M(0.1);
+    const emf_observer_config_t c = fwtest::emf_config(L, Ts, alpha, lambda, l, 0.1);
     emf_observer_t o;
     emf_observer_init(&o, &c);
     double i_f = 0.0, i_g = 0.0;
@@ -265,12 +263,7 @@ TEST(EmfObserver, EachStepFollowsEq25)
 {
     const double L = 9e-3, R = 3.01, Ts = 1e-4, alpha = 3e4, lambda = 600.0, l = 1000.0, lpf = 0.0909;
     const motor_model_t mm = rig_model(R, L, 0.27, 3.18e-4, 2.37e-3, Ts);
-    emf_observer_config_t c{};
-    c.lambda_A = M(lambda * Ts);
-    c.l_ts = M(l * Ts);
-    c.alpha_V = M(L * alpha * Ts);
-    c.alpha_V_s = M(L * alpha);
-    c.lpf_coeff = M(lpf);
+    const emf_observer_config_t c = fwtest::emf_config(L, Ts, alpha, lambda, l, lpf);
     emf_observer_t o;
     emf_observer_init(&o, &c);
     unsigned seed = 12345u;

@@ -12,10 +12,13 @@ extern "C" {
 #include "supervisor/supervisor.h"
 }
 
+#include "fw_test_util.h"
+
+using fwtest::D;
+using fwtest::kPi;
+using fwtest::M;
+
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-mc_t M(double x) { return mc_from_double(x); }
-double D(mc_t x) { return mc_to_double(x); }
 #if MC_FIXED
 constexpr double kTol = 1e-4;  // a few Q14.17 LSB
 #else

@@ -34,13 +34,24 @@ def is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
+def load_object(path: str, what: str) -> dict | None:
+    """The JSON object in path, or None after a one-line error naming it."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+    except (OSError, json.JSONDecodeError) as e:
+        print(f"check_metrics: cannot read {what}{path}: {e}", file=sys.stderr)
+        return None
+    if not isinstance(doc, dict):
+        print(f"check_metrics: {what}{path}: not a JSON object", file=sys.stderr)
+        return None
+    return doc
+
+
 def ratchet(metrics: dict, base_path: str, entry: str) -> int:
     """Compares metrics with the baseline entry; returns the number of failures."""
-    try:
-        with open(base_path, encoding="utf-8") as f:
-            base = json.load(f)
-    except (OSError, json.JSONDecodeError) as e:
-        print(f"check_metrics: cannot read baseline {base_path}: {e}", file=sys.stderr)
+    base = load_object(base_path, "baseline ")
+    if base is None:
         return 1
     margins = base.get("margins", {})
     ref = base.get("entries", {}).get(entry)
@@ -95,14 +106,8 @@ def main(argv: list[str]) -> int:
         print(USAGE, file=sys.stderr)
         return 2
     path = rest[0]
-    try:
-        with open(path, encoding="utf-8") as f:
-            metrics = json.load(f)
-    except (OSError, json.JSONDecodeError) as e:
-        print(f"check_metrics: cannot read {path}: {e}", file=sys.stderr)
-        return 1
-    if not isinstance(metrics, dict):
-        print(f"check_metrics: {path}: not a JSON object", file=sys.stderr)
+    metrics = load_object(path, "")
+    if metrics is None:
         return 1
     failed = 0
     for check in rest[1:]:

@@ -21,6 +21,9 @@ as equivalent, with the reason.
   --preset P       host (default) or host-fixed
   --workdir DIR    scratch copy (default: a temporary directory, removed)
   --jobs N         ctest -j (default 2)
+  --full           run the whole ctest for every mutant (no stop at the first
+                   failure) and list every test that kills it: shows which
+                   mutants a single test guards (about twice as long)
 
 Standard library only. A full run takes about a minute per mutant here.
 """
@@ -209,10 +212,23 @@ def copy_tree(dst: Path) -> None:
             shutil.copy2(s, d)
 
 
-def first_failure(log: Path) -> str:
+def failures(log: Path) -> list[str]:
+    """Names of the failed tests in a ctest log, in the order they failed."""
+    names: list[str] = []
     for line in log.read_text(encoding="utf-8", errors="replace").splitlines():
-        if "***Failed" in line or "(Failed)" in line or "***Exception" in line or "***Timeout" in line:
-            return line.split(":", 1)[-1].split("...")[0].strip()
+        if "***Failed" in line or "***Exception" in line or "***Timeout" in line or "***Not Run" in line:
+            if "***Not Run" in line:
+                continue  # fixtures whose setup failed: not a verdict of their own
+            name = line.split(":", 1)[-1].split("...")[0].strip()
+            if name and name not in names:
+                names.append(name)
+    return names
+
+
+def first_failure(log: Path) -> str:
+    f = failures(log)
+    if f:
+        return f[0]
     return "build" if "error" in log.read_text(encoding="utf-8", errors="replace") else "?"
 
 
@@ -223,6 +239,7 @@ def main() -> int:
     ap.add_argument("--preset", default="host", choices=["host", "host-fixed"])
     ap.add_argument("--workdir", default="")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--full", action="store_true")
     a = ap.parse_args()
     if a.check_list:
         return check_list(ROOT)
@@ -250,8 +267,9 @@ def main() -> int:
     logs.mkdir()
     # tools.mutants_list checks that the mutants apply to the tree: under a
     # mutant they do not, by design, so it would "kill" every one
-    ctest = ["ctest", "--preset", a.preset, "-j", str(a.jobs), "--stop-on-failure", "--timeout", "300",
-             "-E", "^tools[.]mutants_list$"]
+    ctest = ["ctest", "--preset", a.preset, "-j", str(a.jobs), "--timeout", "300", "-E", "^tools[.]mutants_list$"]
+    if not a.full:
+        ctest.append("--stop-on-failure")
     print(f"mutants.py: building the unmutated copy in {src}", file=sys.stderr)
     # the copy has no venv of its own: the checkout's serves the python tests
     venv_python = ROOT / ".venv" / "bin" / "python"
@@ -274,15 +292,20 @@ def main() -> int:
         try:
             path.write_text(apply(original, mut), encoding="utf-8")
             log = logs / f"{mut.id}.log"
+            killers: list[str] = []
             if sh(["cmake", "--build", "--preset", a.preset], src, log) != 0:
                 killed, by = True, "build"
             else:
                 killed = sh(ctest, src, log) != 0
                 by = first_failure(log) if killed else ""
+                killers = failures(log) if killed else []
         finally:
             path.write_text(original, encoding="utf-8")
         dt = time.monotonic() - t0
-        results.append({"id": mut.id, "killed": killed, "by": by, "seconds": round(dt, 1)})
+        r = {"id": mut.id, "killed": killed, "by": by, "seconds": round(dt, 1)}
+        if a.full:
+            r["killed_by"] = killers
+        results.append(r)
         print(f"[{i}/{len(chosen)}] {mut.id}: {'killed by ' + by if killed else 'SURVIVED'} ({dt:.0f} s)",
               file=sys.stderr)
     # leave the copy as unmutated as it started
