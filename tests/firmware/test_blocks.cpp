@@ -413,6 +413,116 @@ TEST(MechObserver, EstimatesLoadAndAcceleration)
     }
 }
 
+
+namespace {
+// uniform in [-a, a], deterministic (a 32-bit LCG), for the step-by-step tests
+struct Lcg {
+    unsigned s = 12345u;
+    double operator()(double a)
+    {
+        s = s * 1103515245u + 12345u;
+        return a * (2.0 * ((s >> 8) & 0xFFFF) / 65535.0 - 1.0);
+    }
+};
+double sgn(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }
+}  // namespace
+
+// Eqs. (33)-(35) of paper 000, one sample at a time against a double
+// evaluation from the continuous observer
+//   w_hat' = (K i_q - f_v w_hat + tau_hat)/J + lambda |e|^(1/2) sgn(e) + l e,
+//   tau_hat' = J alpha sgn(e),  e = y - w_hat,  C_r = -tau_hat,
+// discretised as documented in mech_observer.h (injections at the sample,
+// model term over it, load clamped to +-tau_max), from the firmware's state.
+TEST(MechObserver, EachStepFollowsEq35)
+{
+    const double J = 3.18e-4, K = 0.27, fv = 2.37e-3, Ts = 1e-4, alpha = 2e4, lambda = 300, l = 100, tau_max = 0.5;
+    const motor_model_t mm = rig_model(3.01, 9e-3, K, J, fv, Ts);
+    mech_observer_config_t c{};
+    c.lambda_ts = M(lambda * Ts);
+    c.l_ts = M(l * Ts);
+    c.alpha_Nm = M(J * alpha * Ts);
+    c.tau_max_Nm = M(tau_max);
+    mech_observer_t m;
+    mech_observer_init(&m, &c);
+    mech_observer_reset(&m, M(3.0));
+    Lcg rnd;
+    double worst = 0.0;
+    for (int k = 0; k < 600; ++k) {
+        const double y = 3.0 + rnd(2.0), iq = rnd(3.0);
+        const double wh = D(m.omega_hat_rad_s), th = D(m.tau_hat_Nm);
+        const double e = D(mc_sub(M(y), m.omega_hat_rad_s));
+        const double tau_net = K * iq - fv * wh + th;
+        const double w_est = wh + Ts * (lambda * std::sqrt(std::fabs(e)) * sgn(e) + l * e);
+        const double wh1 = w_est + Ts / J * tau_net;
+        const double th1 = std::fmin(tau_max, std::fmax(-tau_max, th + J * alpha * Ts * sgn(e)));
+        mech_observer_step(&m, &mm, M(y), M(iq));
+        const double d[] = {D(m.accel_est_rad_s2) - tau_net / J, D(m.load_est_Nm) + th, D(m.omega_est_rad_s) - w_est,
+                            D(m.omega_hat_rad_s) - wh1, D(m.tau_hat_Nm) - th1};
+        const double scale[] = {1.0 / J, 1.0, 1.0, 1.0, 1.0};  // acceleration: rounding of tau_net times 1/J
+        for (int j = 0; j < 5; ++j) worst = std::fmax(worst, std::fabs(d[j]) / scale[j]);
+        ASSERT_LT(worst, 10 * kTol) << "step " << k;
+    }
+}
+
+// Super-twisting (13)-(14): u = u_1 - lambda |S|^(1/2) sgn(S), u_1' =
+// -alpha sgn(S) (forward Euler), u_1 clamped to +-u1_max and held while
+// the output saturates; one step at a time against double.
+TEST(SuperTwisting, EachStepFollowsEq13And14)
+{
+    const double lambda = 5.4, alpha_ts = 0.05, u1_max = 2.0;
+    super_twisting_config_t c{M(lambda), M(alpha_ts), M(u1_max)};
+    super_twisting_t st;
+    super_twisting_init(&st, &c);
+    Lcg rnd;
+    for (int k = 0; k < 400; ++k) {
+        const double S = rnd(1.0);
+        const bool hold = (k % 7) == 3;
+        const double u1 = D(st.u1);
+        const double want_u = u1 - lambda * std::sqrt(std::fabs(S)) * sgn(S);
+        const double want_u1 = hold ? u1 : std::fmin(u1_max, std::fmax(-u1_max, u1 - alpha_ts * sgn(S)));
+        const double u = D(super_twisting_step(&st, M(S), hold));
+        ASSERT_NEAR(u, want_u, 10 * kTol) << k;
+        ASSERT_NEAR(D(st.u1), want_u1, kTol) << k;
+    }
+}
+
+// (29), (71), (31)-(32) for a back-EMF vector turning at random steps
+// smaller than half a pitch: the angle is atan2(s e_f, -s e_g)/n_p, the jump
+// counter follows every crossing of +-pi/n_p, and the speed error is the
+// cross product of (31).
+TEST(PositionEstimator, EachStepFollowsEq29And71And31)
+{
+    const double K = 0.27, np = 50.0, pitch = 2 * kPi / np;
+    position_estimator_config_t c = pos_cfg();
+    position_estimator_t p;
+    position_estimator_init(&p, &c);
+    Lcg rnd;
+    double phi = 0.3, theta_r = 1.0;  // electrical angle n_p dtheta of the back-EMF
+    int k_expected = 0;
+    double prev = 0.0;
+    for (int k = 0; k < 500; ++k) {
+        const double w_r = (k < 250) ? 8.0 : -8.0, s = w_r < 0 ? -1.0 : 1.0;
+        phi += rnd(1.2);
+        theta_r += w_r * 1e-4;
+        const double e = K * std::fabs(w_r);
+        // (29) errata: n_p dtheta = atan2(s e_f, -s e_g) => e_f = s e sin, e_g = -s e cos
+        const double ef = s * e * std::sin(phi), eg = -s * e * std::cos(phi);
+        const double zf = rnd(3.0), zg = rnd(3.0);
+        position_estimator_step(&p, M(ef), M(eg), M(theta_r), M(w_r));
+        position_estimator_speed(&p, M(ef), M(eg), M(zf), M(zg), M(w_r));
+        const double dth = std::atan2(std::sin(phi), std::cos(phi)) / np;
+        if (k > 0 && dth - prev < -pitch / 2) ++k_expected;
+        if (k > 0 && dth - prev > pitch / 2) --k_expected;
+        prev = dth;
+        ASSERT_TRUE(p.valid);
+        ASSERT_NEAR(D(p.dtheta_est_rad), dth, kTol) << k;
+        ASSERT_EQ(p.k, k_expected) << k;
+        ASSERT_NEAR(D(p.theta_est_rad), theta_r + dth + pitch * k_expected, 3 * kTol) << k;
+        const double dw = (zg * ef - zf * eg) / (np * (ef * ef + eg * eg));
+        ASSERT_NEAR(D(p.omega_est_rad_s), w_r + dw, 20 * kTol) << k;
+    }
+}
+
 // ---- super-twisting (13)-(14) and twisting (21) on integrators ----
 TEST(SuperTwisting, DrivesARelativeDegreeOneSystemToZero)
 {
