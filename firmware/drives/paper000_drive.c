@@ -97,7 +97,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     }
     mc_t i_zero_A;
     const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
-    (void)i_zero_A; /* a star point of a 2-phase stepper has none */
+    (void)i_zero_A; /* two separate windings: no zero sequence */
 
     /* 1. frame of this sample and its rotation over the sample */
     if (d->tick > 0) {

@@ -7,6 +7,7 @@
 
 extern "C" {
 #include "adapter/phase_adapter.h"
+#include "control/fg_tracking.h"
 #include "math/mc_convert.h"
 #include "model/motor_model.h"
 #include "supervisor/supervisor.h"
@@ -256,4 +257,44 @@ TEST(MotorModel, SetRlUpdatesEveryDerivedCoefficient)
     EXPECT_NEAR(D(m.ts_over_L_A_per_V), Ts / L, kTol);
     EXPECT_NEAR(D(m.LJ_over_KTs_V_s2), L * 3.18e-4 / (0.27 * Ts), 10 * kTol);
     EXPECT_NEAR(D(m.Lfv_over_KTs_V_s), L * 2.37e-3 / (0.27 * Ts), 10 * kTol);
+}
+
+// ---- paper 000's references, eqs. (38)-(39) (control/fg_tracking) ----
+
+// i_g,r = (J theta_r'' + f_v theta_r')/K + C_r/K (load fed forward, clamped),
+// i_f,r = the flat constant; v_f,r and v_g,r from (38) with L di_g,r/dt
+// taken as L/Ts times the change of i_g,r's model part over the sample
+// (the jerk term of (39)). Evaluated here in double from those equations.
+TEST(FgTracking, ReferencesFollowEq38And39)
+{
+    const double R = 3.01, L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4, np = 50;
+    motor_model_t m{};
+    m.n_p = 50;
+    m.fs_hz = 10000;
+    m.R_ohm = M(R);
+    m.npL_ohm_s = M(np * L);
+    m.K_V_s = M(K);
+    m.J_over_K_A_s2 = M(J / K);
+    m.fv_over_K_A_s = M(fv / K);
+    m.LJ_over_KTs_V_s2 = M(L * J / (K * Ts));
+    m.Lfv_over_KTs_V_s = M(L * fv / (K * Ts));
+    fg_tracking_config_t c{};
+    c.i_f_ref_A = M(0.0);
+    c.load_ff_A_per_Nm = M(1.0 / K);
+    c.load_ff_max_Nm = M(0.11);
+    fg_tracking_t t;
+    fg_tracking_init(&t, &c);
+    const double w = 12.0, a = 35.0, w1 = 12.0035, a1 = 34.6;  // this sample and the next
+    const trajectory_point_t r = {M(3.0), M(w), M(a)}, rn = {M(3.0012), M(w1), M(a1)};
+    for (double load : {0.05, 0.3}) {  // within the trusted bound, and beyond it (clamped to 0.11)
+        mc_t i_fr, i_gr, v_fr, v_gr;
+        fg_tracking_references(&t, &m, M(3.0), &r, &rn, M(load), &i_fr, &i_gr, &v_fr, &v_gr);
+        const double Cr = std::fmin(load, 0.11);
+        const double igr = (J * a + fv * w + Cr) / K;
+        const double Ldig = L * ((J * a1 + fv * w1) - (J * a + fv * w)) / (K * Ts);
+        EXPECT_NEAR(D(i_fr), 0.0, kTol);
+        EXPECT_NEAR(D(i_gr), igr, 2 * kTol) << load;
+        EXPECT_NEAR(D(v_fr), R * 0.0 - np * L * w * igr, 5 * kTol) << load;
+        EXPECT_NEAR(D(v_gr), Ldig + R * igr + np * L * w * 0.0 + K * w, 5 * kTol) << load;
+    }
 }

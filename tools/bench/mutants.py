@@ -178,7 +178,7 @@ def apply(text: str, mut: Mutant) -> str:
     return text
 
 
-def check_list(src: Path) -> int:
+def check_list(src: Path, out=sys.stdout) -> int:
     bad = 0
     ids = set()
     for mut in MUTANTS:
@@ -192,7 +192,7 @@ def check_list(src: Path) -> int:
         except (OSError, ValueError) as e:
             print(f"mutants.py: {e}", file=sys.stderr)
             bad += 1
-    print(json.dumps({"mutants": len(MUTANTS), "not_applicable": bad}))
+    print(json.dumps({"mutants": len(MUTANTS), "not_applicable": bad}), file=out)
     return 1 if bad else 0
 
 
@@ -251,7 +251,7 @@ def main() -> int:
             print(f"mutants.py: --only: unknown mutant(s) {', '.join(sorted(unknown))}", file=sys.stderr)
             return 2
         chosen = [x for x in MUTANTS if x.id in want]
-    if check_list(ROOT) != 0:
+    if check_list(ROOT, out=sys.stderr) != 0:
         return 2
     tmp = None
     if a.workdir:
