@@ -21,6 +21,7 @@ as equivalent, with the reason.
   --preset P       host (default) or host-fixed
   --workdir DIR    scratch copy (default: a temporary directory, removed)
   --jobs N         ctest -j (default 2)
+  --markdown JSON  print the table of docs/testing.md from the JSON of a run
   --full           run the whole ctest for every mutant (no stop at the first
                    failure) and list every test that kills it: shows which
                    mutants a single test guards (about twice as long)
@@ -196,6 +197,32 @@ def check_list(src: Path, out=sys.stdout) -> int:
     return 1 if bad else 0
 
 
+def markdown(path: Path) -> int:
+    """The per-mutant table of docs/testing.md from a run's JSON."""
+    try:
+        text = path.read_text(encoding="utf-8")
+        doc = json.loads(text)
+        results = doc["results"]
+    except (OSError, ValueError, KeyError) as e:
+        print(f"mutants.py: --markdown: cannot read {path}: {e}", file=sys.stderr)
+        return 2
+    by_id = {x.id: x for x in MUTANTS}
+    print(f"{doc['killed']} of {doc['mutants']} killed, {doc['survived']} survived.\n")
+    print("| mutant | file | change | killed by (tests) |")
+    print("| --- | --- | --- | --- |")
+    for r in results:
+        mut = by_id.get(r["id"])
+        killers = r.get("killed_by", [r["by"]] if r["killed"] else [])
+        short = [k.replace("firmware.", "").replace("sim.", "") for k in killers]
+        unit = [k for k in short if not k.startswith(("paper000_", "robustness."))]
+        scen = len(short) - len(unit)
+        what = ", ".join(unit) + (f"{', ' if unit else ''}{scen} scenario checks" if scen else "")
+        why = (mut.why if mut else "").replace("|", "\\|")
+        print(f"| `{r['id']}` | `{mut.file if mut else '?'}` | {why} | "
+              f"{'**survived**' if not r['killed'] else f'{len(short)}: {what}'} |")
+    return 0
+
+
 def sh(cmd: list[str], cwd: Path, log: Path) -> int:
     with open(log, "w", encoding="utf-8") as f:
         return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT).returncode
@@ -240,9 +267,12 @@ def main() -> int:
     ap.add_argument("--workdir", default="")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--full", action="store_true")
+    ap.add_argument("--markdown", metavar="JSON")
     a = ap.parse_args()
     if a.check_list:
         return check_list(ROOT)
+    if a.markdown:
+        return markdown(Path(a.markdown))
     chosen = MUTANTS
     if a.only:
         want = set(a.only.split(","))
