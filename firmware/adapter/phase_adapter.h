@@ -73,17 +73,24 @@ static inline mc_ab_t phase_adapter_currents(const hal_sample_t *in, mc_t *i_zer
     return i;
 }
 
+/* Inverse Clarke: the three leg voltages of v, before any zero sequence. */
+static inline void phase_adapter_inverse_clarke(mc_ab_t v, mc_t *a, mc_t *b, mc_t *c)
+{
+    const mc_t half_a = mc_div_i(v.alpha, 2);
+    const mc_t kb = mc_mul(v.beta, PHASE_ADAPTER_SQRT3_2);
+    *a = v.alpha;
+    *b = mc_sub(kb, half_a);
+    *c = mc_neg(mc_add(kb, half_a));
+}
+
 /* Alpha-beta voltage [V] to the phase voltages of *out (n_phases 2 or 3).
  * Three phases: inverse Clarke, then the min/max zero sequence. */
 static inline void phase_adapter_voltages(uint8_t n_phases, mc_ab_t v, hal_command_t *out)
 {
     out->n_phases = n_phases;
     if (n_phases == 3) {
-        const mc_t half_a = mc_div_i(v.alpha, 2);
-        const mc_t kb = mc_mul(v.beta, PHASE_ADAPTER_SQRT3_2);
-        const mc_t a = v.alpha;
-        const mc_t b = mc_sub(kb, half_a);
-        const mc_t c = mc_neg(mc_add(kb, half_a));
+        mc_t a, b, c;
+        phase_adapter_inverse_clarke(v, &a, &b, &c);
         const mc_t shift = mc_neg(mc_div_i(mc_add(mc_max(a, mc_max(b, c)), mc_min(a, mc_min(b, c))), 2));
         out->v_V[0] = mc_add(a, shift);
         out->v_V[1] = mc_add(b, shift);
@@ -101,9 +108,8 @@ static inline void phase_adapter_voltages(uint8_t n_phases, mc_ab_t v, hal_comma
 static inline mc_t phase_adapter_peak(uint8_t n_phases, mc_ab_t v)
 {
     if (n_phases == 3) {
-        const mc_t half_a = mc_div_i(v.alpha, 2);
-        const mc_t kb = mc_mul(v.beta, PHASE_ADAPTER_SQRT3_2);
-        const mc_t a = v.alpha, b = mc_sub(kb, half_a), c = mc_neg(mc_add(kb, half_a));
+        mc_t a, b, c;
+        phase_adapter_inverse_clarke(v, &a, &b, &c);
         return mc_div_i(mc_sub(mc_max(a, mc_max(b, c)), mc_min(a, mc_min(b, c))), 2);
     }
     return mc_max(mc_abs(v.alpha), mc_abs(v.beta));

@@ -1,7 +1,5 @@
 #include "control/fg_tracking.h"
 
-#include "math/decay.h"
-
 void fg_tracking_init(fg_tracking_t *t, const fg_tracking_config_t *cfg)
 {
     t->cfg = *cfg;
@@ -56,5 +54,3 @@ void fg_tracking_start(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, c
     t->i_f_off_A = mc_sub(i_d_A, i_fr0);
     t->i_g_off_A = mc_sub(i_q_A, i_gr0);
 }
-
-

@@ -3,4 +3,3 @@
 #include <stdbool.h>
 
 void twisting_init(twisting_t *tw, const twisting_config_t *cfg) { tw->cfg = *cfg; }
-

@@ -163,7 +163,9 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
      * the direction kept */
     mc_ab_t v_ab;
     mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
-    const bool sat = supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
+    /* the supervisor keeps the saturation (sat_prev) for the next step's
+     * anti-windup and for the telemetry */
+    (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
 
     /* 6. observer prediction with the applied voltage (mid-sample frame) */
     mc_t v_f_obs = v_f, v_g_obs = v_g;
@@ -182,7 +184,6 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     }
 
     phase_adapter_voltages((uint8_t)DRIVE_N_PHASES, v_ab, out);
-    (void)sat; /* kept by the supervisor (sat_prev) for the next step and the telemetry */
     d->last.i_f_A = i_f;
     d->last.i_g_A = i_g;
     d->last.v_a_V = v_ab.alpha;

@@ -10,8 +10,3 @@ void fg_estimator_init(fg_estimator_t *e, const fg_estimator_config_t *cfg)
     e->i_d_A = MC_ZERO;
     e->i_q_A = MC_ZERO;
 }
-
-
-
-
-

@@ -14,7 +14,6 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
     p->e2_V2 = MC_ZERO;
 }
 
-
 mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t omega_r_rad_s)
 {
     /* eq. (29) (errata form): the sign of the speed is taken from the reference */

@@ -1,7 +1,5 @@
 #include "supervisor/supervisor.h"
 
-#include "math/decay.h"
-
 /* The transition table (see supervisor.h). SUP_STATE_COUNT as the source
  * state means "any state". Scanned only when an event is raised, which the
  * recipes do on a change of condition, not every sample. */
@@ -54,7 +52,6 @@ void supervisor_fault(supervisor_t *s, drive_fault_t f)
     (void)supervisor_dispatch(s, SUP_EV_FAULT);
 }
 
-
 drive_mode_t supervisor_mode(const supervisor_t *s)
 {
     switch (s->state) {
@@ -66,5 +63,3 @@ drive_mode_t supervisor_mode(const supervisor_t *s)
         return DRIVE_MODE_OPEN_LOOP;
     }
 }
-
-
