@@ -51,4 +51,13 @@ void CurrentSensor::measure(double i_a_A, double i_b_A, double* i_a_meas_A, doub
     *i_b_meas_A = quantize(i_b_A + n_b);
 }
 
+void CurrentSensor::measure_phases(int n, const double* i_A, double* i_meas_A)
+{
+    measure(i_A[0], i_A[1], &i_meas_A[0], &i_meas_A[1]);
+    if (n == 3) {
+        double unused = 0.0;
+        measure(i_A[2], 0.0, &i_meas_A[2], &unused);
+    }
+}
+
 }  // namespace mcsim

@@ -36,6 +36,10 @@ public:
     // One sample of both phases; noise is independent per phase and sample.
     void measure(double i_a_A, double i_b_A, double* i_a_meas_A, double* i_b_meas_A);
 
+    // One sample of n (2 or 3) phases: the first two as measure(), the third
+    // with a draw of its own after them (so 2-phase runs keep their noise).
+    void measure_phases(int n, const double* i_A, double* i_meas_A);
+
     // Mid-tread quantizer with saturation at the ADC range; identity when
     // adc_bits == 0.
     double quantize(double i_A) const;

@@ -1,13 +1,23 @@
-// motor_params.h - physical parameters of the 2-phase PM stepper of paper 000,
-// eq. (1), in SI units. One source of truth for the rig's values is
-// sim/motors/paper000_stepper.toml; this struct is what the plant consumes.
+// motor_params.h - physical parameters of a permanent-magnet motor in SI
+// units: the 2-phase PM stepper of paper 000 (eq. (1)) or a 3-phase PMSM
+// (paper 001 section 5; paper 002 adds saliency, L_q != L_d). One source of
+// truth for each motor's values is its file in sim/motors/; this struct is
+// what the plant consumes. Both motors are the same alpha-beta physics:
+//   L di/dt = v - R i + K w [sin; -cos](n_p theta)  (non-salient),
+// with K = n_p Phi; they differ in the winding (2 phases in quadrature, or 3
+// in star, seen through amplitude-invariant Clarke) and so in the torque,
+// K (m/2) (i_b cos - i_a sin) for m phases.
 #ifndef MCSIM_MODEL_MOTOR_PARAMS_H
 #define MCSIM_MODEL_MOTOR_PARAMS_H
 
 namespace mcsim {
 
+enum class MotorType { kStepper2, kPmsm3 };
+
 struct MotorParams {
-    double L_H = 0.0;             // phase inductance
+    MotorType type = MotorType::kStepper2;
+    double L_H = 0.0;             // phase inductance (the d-axis one, L_d, of a PMSM)
+    double L_q_H = 0.0;           // q-axis inductance; 0 = L_H (non-salient)
     double R_ohm = 0.0;           // phase resistance
     double K_Nm_per_A = 0.0;      // back-EMF / torque constant [N m/A = V s/rad]
     double J_kgm2 = 0.0;          // rotor + load inertia
@@ -17,6 +27,14 @@ struct MotorParams {
     // C sgn(omega) that keeps the ODE Lipschitz so RK4 converges at rest.
     double coulomb_omega_s_rad_s = 0.05;
     int n_p = 1;                  // pole pairs (rotor teeth)
+
+    int n_phases() const { return type == MotorType::kPmsm3 ? 3 : 2; }
+    // Torque per (K i) of the alpha-beta model: m/2 for m phases.
+    double torque_scale() const { return type == MotorType::kPmsm3 ? 1.5 : 1.0; }
+    double L_q() const { return L_q_H > 0.0 ? L_q_H : L_H; }
+    bool salient() const { return L_q() != L_H; }
+    // Peak flux linkage per phase [Wb] (K / n_p).
+    double Phi_Wb() const { return K_Nm_per_A / static_cast<double>(n_p); }
 };
 
 }  // namespace mcsim

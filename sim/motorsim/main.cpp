@@ -16,6 +16,7 @@
 // validated before the run and nothing is written before the run is over.
 // Exit status: 0 ok, 1 run or I/O failure, 2 bad command line or scenario.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -28,13 +29,15 @@
 #include <CLI/CLI.hpp>
 
 #include "drives/paper000_drive.h"
+#include "drives/paper001_drive.h"
+#include "motorsim/speed_recorder.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "scenario/rig.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
 #include "model/reference.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 #include "motorsim/drive_glue.h"
 #include "motorsim/outputs.h"
 #include "motorsim/recorder.h"
@@ -67,6 +70,8 @@ struct Options {
     std::string metrics_out;
     std::int64_t seed = 0;
     bool seed_given = false;
+    double theta0_rad = 0.0;
+    bool theta0_given = false;
     bool no_plot = false;
     bool no_csv = false;
     bool quiet = false;
@@ -126,12 +131,44 @@ private:
     int last_pct_ = 0;
 };
 
+// Runs the HAL backend for n_total periods with a progress line; returns
+// the wall time of the loop.
+double run_loop(std::uint32_t n_total, bool quiet)
+{
+    const std::uint32_t chunk = std::max<std::uint32_t>(1, n_total / 100);
+    Progress progress(!quiet, n_total);
+    const auto t0 = std::chrono::steady_clock::now();
+    double wall_s = 0.0;
+    for (std::uint32_t done = 0; done < n_total;) {
+        const std::uint32_t n = std::min(chunk, n_total - done);
+        hal_sw_plant_run(n);
+        done += n;
+        wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        progress.update(done, wall_s);
+    }
+    progress.finish();
+    return wall_s;
+}
+
+void speed_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
+{
+    if (!paper001_drive_step(static_cast<paper001_drive_t*>(ctx), in, out)) {
+        hal_safe_state();
+    }
+}
+
 int run(const Options& opt)
 {
     // ---- everything that can be wrong with the input, before any output --
     mcsim::Scenario sc = mcsim::load_scenario(opt.scenario);
     if (opt.seed_given) {
         sc.seed = static_cast<std::uint64_t>(opt.seed);
+    }
+    if (opt.theta0_given) {
+        if (!std::isfinite(opt.theta0_rad)) {
+            throw std::invalid_argument("--theta0-rad: must be finite");
+        }
+        sc.theta0_rad = opt.theta0_rad;
     }
     // Metrics only: --metrics-out without --out. Else DIR gets the CSV (no
     // --no-csv), the PNG (drawn from the CSV; no --no-plot) and, without
@@ -166,40 +203,44 @@ int run(const Options& opt)
                                     " s at this Ts_s)");
     }
 
-    // drive_t is a few kB: heap, not stack.
-    auto drive = std::make_unique<drive_t>();
-    mcsim::design_and_init_drive(sc, drive.get());
-
     mcsim::Rig rig(sc);
-    mcsim::StepperPlant& plant = rig.plant;
+    mcsim::PmPlant& plant = rig.plant;
     mcsim::CurrentSensor& sensor = rig.sensor;
     const mcsim::Amplifier& amp = rig.amp;
-    const mcsim::Reference ref(sc.segments, 0.0);
-    mcsim::Recorder rec(sc, plant, *drive, ref, /*record_rows=*/write_csv);
-
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
-    hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, &rec);
-    if (!hal_start(&mcsim::drive_control_callback, drive.get())) {
-        throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+
+    // The drive of the scenario: the speed drive of paper 001 ([speed]) or
+    // the position drive of paper 000 ([trajectory]). Both are a few kB:
+    // heap, not stack.
+    std::unique_ptr<drive_t> drive;
+    std::unique_ptr<paper001_drive_t> speed_drive;
+    std::unique_ptr<mcsim::Recorder> rec;
+    std::unique_ptr<mcsim::SpeedRecorder> speed_rec;
+    const mcsim::Reference ref(sc.segments, 0.0);
+    if (sc.speed_drive) {
+        speed_drive = std::make_unique<paper001_drive_t>();
+        p001_design_report_t rep{};
+        mcsim::design_and_init_speed_drive(sc, speed_drive.get(), &rep);
+        speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, *speed_drive, /*record_rows=*/write_csv);
+        hal_sw_plant_set_monitor(&mcsim::SpeedRecorder::monitor, speed_rec.get());
+        if (!hal_start(&speed_control_callback, speed_drive.get())) {
+            throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+        }
+    } else {
+        drive = std::make_unique<drive_t>();
+        mcsim::design_and_init_drive(sc, drive.get());
+        rec = std::make_unique<mcsim::Recorder>(sc, plant, *drive, ref, /*record_rows=*/write_csv);
+        hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, rec.get());
+        if (!hal_start(&mcsim::drive_control_callback, drive.get())) {
+            throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+        }
     }
 
     // ---- the loop: plant + drive + metrics only --------------------------
-    const std::uint32_t n_total = sc.n_ticks();
-    const std::uint32_t chunk = std::max<std::uint32_t>(1, n_total / 100);
-    Progress progress(!opt.quiet, n_total);
-    const auto t0 = std::chrono::steady_clock::now();
-    double wall_s = 0.0;
-    for (std::uint32_t done = 0; done < n_total;) {
-        const std::uint32_t n = std::min(chunk, n_total - done);
-        hal_sw_plant_run(n);
-        done += n;
-        wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        progress.update(done, wall_s);
-    }
-    progress.finish();
+    const double wall_s = run_loop(sc.n_ticks(), opt.quiet);
     hal_safe_state();
     hal_sw_plant_detach();
-    const mcsim::MetricList metrics = rec.metrics(wall_s);
+    const mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
 
     // ---- outputs ----------------------------------------------------------
     if (write_csv) {
@@ -209,7 +250,12 @@ int run(const Options& opt)
         fs::create_directories(fs::path(json_path).parent_path());
     }
     if (write_csv) {
-        mcsim::write_csv_atomic(csv_path, rec.data(), rec.size());
+        if (sc.speed_drive) {
+            mcsim::write_table_csv_atomic(csv_path, mcsim::kSpeedColumnNames, mcsim::kSpNumColumns, speed_rec->data(),
+                                          speed_rec->size());
+        } else {
+            mcsim::write_csv_atomic(csv_path, rec->data(), rec->size());
+        }
     }
     mcsim::write_metrics_json_atomic(json_path, metrics);
     if (!opt.quiet) {
@@ -260,6 +306,9 @@ int main(int argc, char** argv)
                                                                            : std::string();
                                     },
                                     ">= 0"));
+    CLI::Option* theta0_opt =
+        app.add_option("--theta0-rad", opt.theta0_rad, "initial rotor angle [rad, mechanical], overrides [run] theta0_rad")
+            ->type_name("RAD");
     app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
     app.add_flag("--no-csv", opt.no_csv, "do not record or write the CSV log (and so no PNG either)");
     app.add_flag("--quiet", opt.quiet, "print nothing but warnings and errors");
@@ -273,6 +322,7 @@ int main(int argc, char** argv)
         return 2;
     }
     opt.seed_given = seed_opt->count() > 0;
+    opt.theta0_given = theta0_opt->count() > 0;
     opt.out_given = out_opt->count() > 0;
 
     try {

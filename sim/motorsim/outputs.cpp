@@ -63,27 +63,28 @@ void write_atomic(const std::string& path, Body body)
 // 10 significant digits (format_g10): below the float resolution of the
 // telemetry and 1e-9 relative for the double plant values, at half the size
 // of %.17g. Rows are formatted into a 1 MB block written with one fwrite.
-void write_csv_atomic(const std::string& path, const Row* rows, std::size_t n_rows)
+void write_table_csv_atomic(const std::string& path, const char* const* names, int n_cols, const double* data,
+                            std::size_t n_rows)
 {
     write_atomic(path, [&](std::FILE* f) {
         constexpr std::size_t kBlock = 1 << 20;
-        constexpr std::size_t kMaxRow = kNumColumns * (kG10MaxChars + 1);
-        std::vector<char> block(kBlock);
+        const std::size_t max_row = static_cast<std::size_t>(n_cols) * (kG10MaxChars + 1);
+        std::vector<char> block(kBlock + max_row);
         char* const begin = block.data();
         char* p = begin;
-        for (int c = 0; c < kNumColumns; ++c) {
-            const std::size_t n = std::strlen(kColumnNames[c]);
-            std::memcpy(p, kColumnNames[c], n);
+        for (int c = 0; c < n_cols; ++c) {
+            const std::size_t n = std::strlen(names[c]);
+            std::memcpy(p, names[c], n);
             p += n;
-            *p++ = c + 1 < kNumColumns ? ',' : '\n';
+            *p++ = c + 1 < n_cols ? ',' : '\n';
         }
         for (std::size_t k = 0; k < n_rows; ++k) {
-            if (static_cast<std::size_t>(p - begin) > kBlock - kMaxRow) {
+            if (static_cast<std::size_t>(p - begin) > kBlock) {
                 std::fwrite(begin, 1, static_cast<std::size_t>(p - begin), f);
                 p = begin;
             }
-            const Row& r = rows[k];
-            for (int c = 0; c < kNumColumns; ++c) {
+            const double* r = data + k * static_cast<std::size_t>(n_cols);
+            for (int c = 0; c < n_cols; ++c) {
                 p = format_g10(p, r[c]);
                 *p++ = ',';
             }
@@ -91,6 +92,11 @@ void write_csv_atomic(const std::string& path, const Row* rows, std::size_t n_ro
         }
         std::fwrite(begin, 1, static_cast<std::size_t>(p - begin), f);
     });
+}
+
+void write_csv_atomic(const std::string& path, const Row* rows, std::size_t n_rows)
+{
+    write_table_csv_atomic(path, kColumnNames, kNumColumns, n_rows > 0 ? rows[0].data() : nullptr, n_rows);
 }
 
 static void fmt_value(char* buf, std::size_t n, const MetricValue& v, bool json)

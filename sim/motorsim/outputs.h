@@ -14,6 +14,9 @@ namespace mcsim {
 
 // Throw std::runtime_error("PATH: reason") on any I/O failure.
 void write_csv_atomic(const std::string& path, const Row* rows, std::size_t n_rows);
+// Any table of doubles, row-major, n_cols names.
+void write_table_csv_atomic(const std::string& path, const char* const* names, int n_cols, const double* data,
+                            std::size_t n_rows);
 void write_metrics_json_atomic(const std::string& path, const MetricList& m);
 
 // `key value` lines, one metric per line.

@@ -15,7 +15,7 @@ const char* const kColumnNames[kNumColumns] = {
     "v_g",       "delta_theta_est", "jump_count", "delta_theta", "i_f_ref",   "i_g_ref",   "fault",
 };
 
-Recorder::Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref,
+Recorder::Recorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, const Reference& ref,
                    bool record_rows)
     : sc_(sc),
       plant_(plant),
@@ -40,11 +40,11 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
 {
     drive_telemetry_t tl;
     drive_get_telemetry(&drive_, &tl);
-    const StepperPlant::State& x = plant_.state();
-    const double theta = x[StepperPlant::kTheta];
-    const double omega = x[StepperPlant::kOmega];
-    const double i_a = x[StepperPlant::kIa];
-    const double i_b = x[StepperPlant::kIb];
+    const PmPlant::State& x = plant_.state();
+    const double theta = x[PmPlant::kTheta];
+    const double omega = x[PmPlant::kOmega];
+    const double i_a = x[PmPlant::kIa];
+    const double i_b = x[PmPlant::kIb];
 
     const double theta_ref = to_double(tl.theta_ref_rad);
     // True currents in the drive's (f-g) frame, eq. (6), so that they compare

@@ -17,7 +17,7 @@
 #include "drives/paper000_drive.h"
 #include "hal_sw_plant.h"
 #include "model/reference.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -74,7 +74,7 @@ class Recorder {
 public:
     // record_rows = false: metrics only, no per-sample log (data() is empty);
     // the metrics are the same either way.
-    Recorder(const Scenario& sc, const StepperPlant& plant, const drive_t& drive, const Reference& ref,
+    Recorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, const Reference& ref,
              bool record_rows = true);
 
     // hal_sw_plant_monitor_fn; ctx is the Recorder.
@@ -91,7 +91,7 @@ private:
     void on_period(const hal_sw_plant_period_t& p);
 
     const Scenario& sc_;
-    const StepperPlant& plant_;
+    const PmPlant& plant_;
     const drive_t& drive_;
     const Reference& ref_;
     double n_p_;

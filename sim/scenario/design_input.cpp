@@ -129,6 +129,10 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
 
 void design_and_init_drive(const Scenario& sc, drive_t* drive)
 {
+    if (sc.motor.type != MotorType::kStepper2) {
+        throw ScenarioError(sc.path + ": motor.file: the paper-000 position drive ([trajectory]) runs two-phase "
+                            "steppers (type = \"stepper2\"); a pmsm3 motor takes the speed drive ([speed])");
+    }
     drive_design_input_t in;
     make_design_input(sc, &in);
     drive_config_t cfg;
@@ -139,6 +143,50 @@ void design_and_init_drive(const Scenario& sc, drive_t* drive)
     }
     if (!drive_init(drive, &cfg)) {
         throw ScenarioError(sc.path + ": design: drive_init rejected the derived configuration");
+    }
+}
+
+void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
+{
+    std::memset(in, 0, sizeof(*in));
+    p001_design_defaults(in);
+    const MotorParams& m = sc.drive_model;
+    in->motor.n_phases = m.n_phases();
+    in->motor.R_ohm = m.R_ohm;
+    in->motor.L_H = m.L_H;
+    in->motor.Phi_Wb = m.Phi_Wb();
+    in->motor.n_p = m.n_p;
+    in->motor.J_kgm2 = m.J_kgm2;
+    in->ts_s = sc.ts_s;
+    in->i_max_A = sc.i_max_A;
+    in->i_trip_A = sc.i_trip_A;
+    in->i_open_loop_A = sc.i_open_loop_A;
+    in->gamma = sc.speed_gains.gamma;
+    in->a1 = sc.speed_gains.a1;
+    in->a2 = sc.speed_gains.a2;
+    in->r_ohm = sc.speed_gains.r_ohm;
+    in->blend_tau_s = sc.speed_gains.blend_tau_s;
+    in->handover_sweep_rad = sc.speed_gains.handover_sweep_rad;
+    in->fit_det_min = sc.speed_gains.fit_det_min;
+    in->n_points = sc.speed_points.size();
+    for (std::size_t k = 0; k < sc.speed_points.size() && k < SPEED_PROFILE_MAX_POINTS; ++k) {
+        in->t_s[k] = sc.speed_points[k].first;
+        in->omega_rad_s[k] = sc.speed_points[k].second;
+    }
+}
+
+void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep)
+{
+    p001_design_input_t in;
+    make_speed_design_input(sc, &in);
+    paper001_config_t cfg;
+    std::memset(&cfg, 0, sizeof(cfg));
+    char err[256] = {0};
+    if (!p001_design(&in, &cfg, rep, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "p001_design rejected the input"));
+    }
+    if (!paper001_drive_init(drive, &cfg)) {
+        throw ScenarioError(sc.path + ": design: paper001_drive_init rejected the derived configuration");
     }
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "design/drive_design.h"
+#include "design/paper001_design.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -24,6 +25,10 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in);
 // make_design_input + drive_design + drive_init. Throws ScenarioError
 // ("FILE: design: reason") if the design or the drive rejects the input.
 void design_and_init_drive(const Scenario& sc, drive_t* drive);
+
+// The same for the speed drive of paper 001 ([speed] scenarios).
+void make_speed_design_input(const Scenario& sc, p001_design_input_t* in);
+void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep);
 
 }  // namespace mcsim
 

@@ -8,7 +8,7 @@
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
 #include "model/load_profile.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -17,12 +17,12 @@ struct Rig {
     explicit Rig(const Scenario& sc)
         : plant(sc.motor, LoadProfile(sc.load), sc.substeps), sensor(sc.sensor, sc.seed)
     {
-        StepperPlant::State x0 = StepperPlant::State::Zero();
-        x0[StepperPlant::kTheta] = sc.theta0_rad;
+        PmPlant::State x0 = PmPlant::State::Zero();
+        x0[PmPlant::kTheta] = sc.theta0_rad;
         plant.reset(x0, 0.0);
         amp.v_max_V = sc.v_max_V;
     }
-    StepperPlant plant;
+    PmPlant plant;
     CurrentSensor sensor;
     Amplifier amp;
 };

@@ -10,6 +10,7 @@
 #include <toml++/toml.h>
 
 #include "design/drive_design.h"
+#include "trajectory/speed_profile.h"
 #include "scenario/design_input.h"
 
 namespace mcsim {
@@ -170,6 +171,43 @@ public:
         return out;
     }
 
+    // An array of [a, b] number pairs (e.g. [[0.0, 0.0], [1.0, 50.0]]).
+    std::optional<std::vector<std::pair<double, double>>> pairs(const std::string& k) const
+    {
+        const toml::node* n = t_.get(k);
+        if (n == nullptr) {
+            return std::nullopt;
+        }
+        if (!n->is_array()) {
+            fail(k, std::string("expected an array of [number, number] pairs (got ") + type_name(*n) + ")");
+        }
+        std::vector<std::pair<double, double>> out;
+        const toml::array& a = *n->as_array();
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            const std::string ki = key(k) + "[" + std::to_string(i) + "]";
+            const toml::array* e = a[i].as_array();
+            if (e == nullptr || e->size() != 2) {
+                mcsim::fail(file_, ki, "expected a pair [number, number]");
+            }
+            double xy[2] = {0.0, 0.0};
+            for (std::size_t j = 0; j < 2; ++j) {
+                const toml::node& x = (*e)[j];
+                if (x.is_floating_point()) {
+                    xy[j] = x.as_floating_point()->get();
+                } else if (x.is_integer()) {
+                    xy[j] = static_cast<double>(x.as_integer()->get());
+                } else {
+                    mcsim::fail(file_, ki, std::string("expected numbers (got ") + type_name(x) + ")");
+                }
+                if (!std::isfinite(xy[j])) {
+                    mcsim::fail(file_, ki, "must be finite (got " + fmt_num(xy[j]) + ")");
+                }
+            }
+            out.emplace_back(xy[0], xy[1]);
+        }
+        return out;
+    }
+
 private:
     const toml::table& t_;
     std::string file_;
@@ -226,9 +264,36 @@ void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_f
         }
         return x.has_value();
     };
-    if (num("L_H", &m->L_H)) gt(v, "L_H", m->L_H, 0.0);
+    const bool pmsm = m->type == MotorType::kPmsm3;
+    // keys of the other motor type are errors, not silently ignored
+    const std::vector<std::string> stepper_only = {"L_H", "K_Nm_per_A"};
+    const std::vector<std::string> pmsm_only = {"L_d_H", "L_q_H", "Phi_Wb"};
+    for (const std::string& k : pmsm ? stepper_only : pmsm_only) {
+        if (v.has(k)) {
+            v.fail(k, pmsm ? "only for type = \"stepper2\" (this motor is \"pmsm3\": use L_d_H, L_q_H, Phi_Wb)"
+                           : "only for type = \"pmsm3\" (this motor is \"stepper2\": use L_H, K_Nm_per_A)");
+        }
+    }
+    double phi = (m->n_p > 0) ? m->K_Nm_per_A / static_cast<double>(m->n_p) : 0.0;
+    const auto np = v.integer("n_p");
+    if (np) {
+        if (*np < 1 || *np > 10000) {
+            v.fail("n_p", "must be an integer in [1, 10000] (got " + std::to_string(*np) + ")");
+        }
+        m->n_p = static_cast<int>(*np);
+    } else if (required) {
+        v.fail("n_p", "missing required field");
+    }
+    if (pmsm) {
+        if (num("L_d_H", &m->L_H)) gt(v, "L_d_H", m->L_H, 0.0);
+        if (num("L_q_H", &m->L_q_H)) gt(v, "L_q_H", m->L_q_H, 0.0);
+        if (num("Phi_Wb", &phi)) gt(v, "Phi_Wb", phi, 0.0);
+        m->K_Nm_per_A = static_cast<double>(m->n_p) * phi;  // K_e = n_p Phi
+    } else {
+        if (num("L_H", &m->L_H)) gt(v, "L_H", m->L_H, 0.0);
+        if (num("K_Nm_per_A", &m->K_Nm_per_A)) gt(v, "K_Nm_per_A", m->K_Nm_per_A, 0.0);
+    }
     if (num("R_ohm", &m->R_ohm)) ge(v, "R_ohm", m->R_ohm, 0.0);
-    if (num("K_Nm_per_A", &m->K_Nm_per_A)) gt(v, "K_Nm_per_A", m->K_Nm_per_A, 0.0);
     if (num("J_kgm2", &m->J_kgm2)) gt(v, "J_kgm2", m->J_kgm2, 0.0);
     if (num("fv_Nms_per_rad", &m->fv_Nms_per_rad)) ge(v, "fv_Nms_per_rad", m->fv_Nms_per_rad, 0.0);
     if (with_friction) {
@@ -243,20 +308,12 @@ void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_f
             m->coulomb_omega_s_rad_s = *ws;
         }
     }
-    const auto np = v.integer("n_p");
-    if (np) {
-        if (*np < 1 || *np > 10000) {
-            v.fail("n_p", "must be an integer in [1, 10000] (got " + std::to_string(*np) + ")");
-        }
-        m->n_p = static_cast<int>(*np);
-    } else if (required) {
-        v.fail("n_p", "missing required field");
-    }
 }
 
-const std::vector<std::string> kMotorFileKeys = {"name", "source", "description", "L_H", "R_ohm", "K_Nm_per_A",
-                                                 "J_kgm2", "fv_Nms_per_rad", "coulomb_Nm", "coulomb_omega_s_rad_s",
-                                                 "n_p"};
+const std::vector<std::string> kMotorFileKeys = {"name",   "source",         "description", "type",
+                                                 "L_H",    "K_Nm_per_A",     "L_d_H",       "L_q_H",
+                                                 "Phi_Wb", "R_ohm",          "J_kgm2",      "fv_Nms_per_rad",
+                                                 "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p"};
 
 MotorParams read_motor_file(const std::string& path)
 {
@@ -267,6 +324,17 @@ MotorParams read_motor_file(const std::string& path)
     v.string("source");
     v.string("description");
     MotorParams m;
+    const auto type = v.string("type");
+    if (!type) {
+        v.fail("type", "missing required field (\"stepper2\" or \"pmsm3\")");
+    }
+    if (*type == "stepper2") {
+        m.type = MotorType::kStepper2;
+    } else if (*type == "pmsm3") {
+        m.type = MotorType::kPmsm3;
+    } else {
+        v.fail("type", "must be \"stepper2\" or \"pmsm3\" (got \"" + *type + "\")");
+    }
     read_motor_fields(v, &m, true, true);
     return m;
 }
@@ -293,7 +361,13 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
-               "trajectory", "gains", "bounds"});
+               "trajectory", "gains", "bounds", "speed"});
+    // [speed] makes it the speed drive (paper 001); else the position drive
+    // of paper 000 with its [trajectory].
+    sc.speed_drive = root.has("speed");
+    if (sc.speed_drive && root.has("trajectory")) {
+        root.fail("speed", "a scenario has either [speed] (speed drive) or [trajectory] (position drive), not both");
+    }
     sc.description = root.string("description").value_or("");
 
     auto required_table = [&](const char* k) {
@@ -336,7 +410,7 @@ Scenario load_scenario(const std::string& path)
     {
         const View v = required_table("motor");
         std::vector<std::string> allowed = kMotorFileKeys;
-        allowed.erase(allowed.begin(), allowed.begin() + 3);  // no name/source/description here
+        allowed.erase(allowed.begin(), allowed.begin() + 4);  // no name/source/description/type here
         allowed.push_back("file");
         v.only(allowed);
         const auto file = v.string("file");
@@ -359,16 +433,34 @@ Scenario load_scenario(const std::string& path)
     // [drive_model]: what the drive is designed for; defaults to the plant.
     sc.drive_model = sc.motor;
     if (const auto v = root.table("drive_model")) {
-        v->only({"L_H", "R_ohm", "K_Nm_per_A", "J_kgm2", "fv_Nms_per_rad", "n_p"});
+        v->only({"L_H", "R_ohm", "K_Nm_per_A", "L_d_H", "L_q_H", "Phi_Wb", "J_kgm2", "fv_Nms_per_rad", "n_p"});
         read_motor_fields(*v, &sc.drive_model, false, false);
     }
 
     // [supply]
     {
         const View v = required_table("supply");
-        v.only({"v_max_V"});
-        sc.v_max_V = v.number_req("v_max_V");
-        gt(v, "v_max_V", sc.v_max_V, 0.0);
+        v.only({"v_max_V", "v_bus_V"});
+        if (sc.motor.type == MotorType::kPmsm3) {
+            // three legs on one bus: each swings +-v_bus/2 about the midpoint
+            if (v.has("v_max_V")) {
+                v.fail("v_max_V", "only for a stepper2 motor (a pmsm3 motor takes v_bus_V)");
+            }
+            const double vb = v.number_req("v_bus_V");
+            gt(v, "v_bus_V", vb, 0.0);
+            sc.v_max_V = 0.5 * vb;
+        } else {
+            if (v.has("v_bus_V")) {
+                if (v.has("v_max_V")) {
+                    v.fail("v_bus_V", "give v_max_V or v_bus_V, not both (equal for H-bridges)");
+                }
+                sc.v_max_V = v.number_req("v_bus_V");
+                gt(v, "v_bus_V", sc.v_max_V, 0.0);
+            } else {
+                sc.v_max_V = v.number_req("v_max_V");
+                gt(v, "v_max_V", sc.v_max_V, 0.0);
+            }
+        }
     }
 
     // [limits]
@@ -381,8 +473,10 @@ Scenario load_scenario(const std::string& path)
         if (v.has("i_trip_A")) {
             ge(v, "i_trip_A", sc.i_trip_A, sc.i_max_A);
         }
-        sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
-        gt(v, "omega_lim_rad_s", sc.omega_lim_rad_s, 0.0);
+        if (!sc.speed_drive || v.has("omega_lim_rad_s")) {
+            sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
+            gt(v, "omega_lim_rad_s", sc.omega_lim_rad_s, 0.0);
+        }
         if (const auto i = v.number("i_open_loop_A")) {
             gt(v, "i_open_loop_A", *i, 0.0);
             le(v, "i_open_loop_A", *i, sc.i_max_A);
@@ -455,8 +549,46 @@ Scenario load_scenario(const std::string& path)
         }
     }
 
+    // [speed]: the speed drive's reference and design choices
+    if (const auto v = root.table("speed")) {
+        v->only({"profile_rpm", "gamma", "a1", "a2", "r_ohm", "handover_sweep_rad", "fit_det_min",
+                 "blend_tau_s"});
+        const auto pts = v->pairs("profile_rpm");
+        if (!pts || pts->empty()) {
+            v->fail("profile_rpm", "missing required field (corners [[t_s, rpm], ...], the first at t = 0)");
+        }
+        if (pts->size() > static_cast<std::size_t>(SPEED_PROFILE_MAX_POINTS)) {
+            v->fail("profile_rpm", "at most " + std::to_string(SPEED_PROFILE_MAX_POINTS) + " corners (got " +
+                                       std::to_string(pts->size()) + ")");
+        }
+        for (std::size_t i = 0; i < pts->size(); ++i) {
+            const double t = (*pts)[i].first;
+            if (i == 0 && t != 0.0) {
+                v->fail("profile_rpm", "the first corner must be at t = 0 (got " + fmt_num(t) + ")");
+            }
+            if (i > 0 && !(t - (*pts)[i - 1].first >= sc.ts_s)) {
+                v->fail("profile_rpm", "corner times must increase by at least Ts_s (corner " + std::to_string(i) +
+                                           " at " + fmt_num(t) + " s)");
+            }
+            sc.speed_points.emplace_back(t, (*pts)[i].second * kRpmToRadS);
+        }
+        auto opt = [&](const char* k, double* dst) {
+            if (const auto x = v->number(k)) {
+                gt(*v, k, *x, 0.0);
+                *dst = *x;
+            }
+        };
+        opt("gamma", &sc.speed_gains.gamma);
+        opt("a1", &sc.speed_gains.a1);
+        opt("a2", &sc.speed_gains.a2);
+        opt("r_ohm", &sc.speed_gains.r_ohm);
+        opt("handover_sweep_rad", &sc.speed_gains.handover_sweep_rad);
+        opt("fit_det_min", &sc.speed_gains.fit_det_min);
+        opt("blend_tau_s", &sc.speed_gains.blend_tau_s);
+    }
+
     // [trajectory]: [[trajectory.segments]]
-    {
+    if (!sc.speed_drive) {
         const View v = required_table("trajectory");
         v.only({"segments"});
         const auto segs = v.tables("segments");

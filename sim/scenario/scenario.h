@@ -16,7 +16,7 @@
 #include "model/load_profile.h"
 #include "model/motor_params.h"
 #include "model/reference.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 
 namespace mcsim {
 
@@ -27,8 +27,10 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+constexpr double kRpmToRadS = 3.14159265358979323846 / 30.0;
+
 // RK4 sub-steps per control sample when [run] substeps is not given.
-constexpr int kDefaultSubsteps = StepperPlant::kDefaultSubsteps;
+constexpr int kDefaultSubsteps = PmPlant::kDefaultSubsteps;
 
 struct Scenario {
     std::string path;         // as given by the user
@@ -57,6 +59,14 @@ struct Scenario {
     // [design]: switches of drive_design_input_t; -1 = the design default.
     int load_feedforward = -1;
     int identify_rl = -1; // [design] identify_rl; -1: design default
+
+    // [speed] (the paper-001 speed drive instead of [trajectory])
+    bool speed_drive = false;
+    std::vector<std::pair<double, double>> speed_points;  // (t [s], w [rad/s]) corners
+    struct {
+        double gamma = 0.0, a1 = 0.0, a2 = 0.0, r_ohm = 0.0;  // 0: the design's default
+        double handover_sweep_rad = 0.0, fit_det_min = 0.0, blend_tau_s = 0.0;
+    } speed_gains;
 
     SensorParams sensor;
     std::vector<LoadStep> load;

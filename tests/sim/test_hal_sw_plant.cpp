@@ -51,13 +51,13 @@ class HalSwPlant : public ::testing::Test {
 protected:
     HalSwPlant() : plant(paper_motor(), mcsim::LoadProfile(), 4), sensor(mcsim::SensorParams{}, 1)
     {
-        plant.reset(mcsim::StepperPlant::State::Zero());
+        plant.reset(mcsim::PmPlant::State::Zero());
         amp.v_max_V = 30.0;
         g_periods.clear();
     }
     ~HalSwPlant() override { hal_sw_plant_detach(); }
 
-    mcsim::StepperPlant plant;
+    mcsim::PmPlant plant;
     mcsim::CurrentSensor sensor;
     mcsim::Amplifier amp;
     Ctx ctx;

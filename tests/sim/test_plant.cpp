@@ -8,11 +8,11 @@
 
 #include "model/load_profile.h"
 #include "model/reference.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 
 namespace {
 
-using mcsim::StepperPlant;
+using mcsim::PmPlant;
 
 constexpr double kTs = 1e-4;
 
@@ -55,8 +55,8 @@ std::vector<std::pair<double, double>> open_loop_voltages(const mcsim::MotorPara
 
 std::vector<double> run_theta(int substeps, const std::vector<std::pair<double, double>>& v)
 {
-    StepperPlant p(paper_motor(), mcsim::LoadProfile(), substeps);
-    p.reset(StepperPlant::State::Zero());
+    PmPlant p(paper_motor(), mcsim::LoadProfile(), substeps);
+    p.reset(PmPlant::State::Zero());
     std::vector<double> th;
     th.reserve(v.size());
     for (const auto& u : v) {
@@ -69,7 +69,7 @@ std::vector<double> run_theta(int substeps, const std::vector<std::pair<double, 
 TEST(Plant, StepHalvingOverPaperTrajectory)
 {
     const auto v = open_loop_voltages(paper_motor(), 4.25);
-    const int n = StepperPlant::kDefaultSubsteps;
+    const int n = PmPlant::kDefaultSubsteps;
     const auto a = run_theta(n, v);
     const auto b = run_theta(2 * n, v);
     double max_diff = 0.0;
@@ -92,8 +92,8 @@ TEST(Plant, FastStepMatchesLibmRk4)
     // The in-step rotation of sin/cos must give the same trajectory as RK4
     // on derivative() (std::sin/std::cos) to rounding level.
     const mcsim::MotorParams m = paper_motor();
-    StepperPlant p(m, mcsim::LoadProfile({{0.0, 0.05, 0.0}}), 3);
-    StepperPlant::State x;
+    PmPlant p(m, mcsim::LoadProfile({{0.0, 0.05, 0.0}}), 3);
+    PmPlant::State x;
     x << 1.2, -0.7, 15.0, 3.3;
     p.reset(x, 0.0);
     const double h = kTs / 3.0;
@@ -123,13 +123,13 @@ TEST(Plant, SmallSinCosMatchesLibm)
     for (double x = -0.5; x <= 0.5; x += 1e-4) {
         double s = 0.0;
         double c = 0.0;
-        StepperPlant::small_sincos(x, &s, &c);
+        PmPlant::small_sincos(x, &s, &c);
         ASSERT_NEAR(s, std::sin(x), 4e-16) << x;
         ASSERT_NEAR(c, std::cos(x), 4e-16) << x;
     }
     double s = 0.0;
     double c = 0.0;
-    StepperPlant::small_sincos(2.0, &s, &c);  // libm fallback
+    PmPlant::small_sincos(2.0, &s, &c);  // libm fallback
     EXPECT_EQ(s, std::sin(2.0));
     EXPECT_EQ(c, std::cos(2.0));
 }
@@ -139,8 +139,8 @@ TEST(Plant, LockedRotorCurrentStep)
     // At theta = 0 a current in phase a gives no torque (eq. 1: -K i_a sin 0),
     // so the rotor stays put and i_a is the RL step V/R (1 - exp(-t R/L)).
     const mcsim::MotorParams m = paper_motor();
-    StepperPlant p(m, mcsim::LoadProfile(), StepperPlant::kDefaultSubsteps);
-    p.reset(StepperPlant::State::Zero());
+    PmPlant p(m, mcsim::LoadProfile(), PmPlant::kDefaultSubsteps);
+    p.reset(PmPlant::State::Zero());
     const double V = 10.0;
     const double tau = m.L_H / m.R_ohm;
     for (int k = 1; k <= 300; ++k) {  // 30 ms = 10 tau
@@ -159,10 +159,10 @@ TEST(Plant, BackEmfAmplitude)
 {
     // Open circuit (i = 0): L di/dt is the back-EMF vector of magnitude K w.
     const mcsim::MotorParams m = paper_motor();
-    StepperPlant p(m, mcsim::LoadProfile(), 1);
+    PmPlant p(m, mcsim::LoadProfile(), 1);
     const double w = 7.0;
     for (double th = 0.0; th < 0.2; th += 0.0137) {
-        StepperPlant::State x;
+        PmPlant::State x;
         x << 0.0, 0.0, w, th;
         const auto dx = p.derivative(x, 0.0, 0.0, 0.0);
         EXPECT_NEAR(m.L_H * std::hypot(dx[0], dx[1]), m.K_Nm_per_A * w, 1e-12);
@@ -179,9 +179,9 @@ TEST(Plant, ShortedWindingsAtConstantSpeed)
     m.J_kgm2 = 1e12;
     m.fv_Nms_per_rad = 0.0;
     m.coulomb_Nm = 0.0;
-    StepperPlant p(m, mcsim::LoadProfile(), StepperPlant::kDefaultSubsteps);
+    PmPlant p(m, mcsim::LoadProfile(), PmPlant::kDefaultSubsteps);
     const double w = 5.0;
-    StepperPlant::State x;
+    PmPlant::State x;
     x << 0.0, 0.0, w, 0.0;
     p.reset(x);
     for (int k = 0; k < 300; ++k) {  // 10 tau of transient
@@ -198,14 +198,14 @@ TEST(Plant, ShortedWindingsAtConstantSpeed)
 TEST(Plant, CoulombFrictionAndLoadTorque)
 {
     mcsim::MotorParams m = paper_motor();
-    StepperPlant p(m, mcsim::LoadProfile({{1.0, 0.2, 0.0}}), 1);
+    PmPlant p(m, mcsim::LoadProfile({{1.0, 0.2, 0.0}}), 1);
     EXPECT_DOUBLE_EQ(p.load_torque_Nm(10.0, 0.0), m.coulomb_Nm);
     EXPECT_DOUBLE_EQ(p.load_torque_Nm(-10.0, 0.0), -m.coulomb_Nm);
     EXPECT_DOUBLE_EQ(p.load_torque_Nm(0.0, 0.0), 0.0);
     EXPECT_NEAR(p.load_torque_Nm(0.05, 0.0), m.coulomb_Nm * std::tanh(1.0), 1e-15);
     EXPECT_DOUBLE_EQ(p.load_torque_Nm(10.0, 1.5), m.coulomb_Nm + 0.2);
     // Free deceleration with no current: J dw/dt = -f_v w - C - T_load.
-    StepperPlant::State x;
+    PmPlant::State x;
     x << 0.0, 0.0, 10.0, 0.0;
     p.reset(x, 0.0);
     EXPECT_NEAR(p.accel_rad_s2(), (-m.fv_Nms_per_rad * 10.0 - m.coulomb_Nm) / m.J_kgm2, 1e-9);

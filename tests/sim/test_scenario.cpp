@@ -230,7 +230,7 @@ TEST(Scenario, MotorFileErrorsNameTheMotorFile)
     const TempScenario t(text);
     fs::create_directories(t.dir() / "motors");
     std::ofstream((t.dir() / "motors" / "bad_motor.toml").string())
-        << "L_H = 9e-3\nR_ohm = -3\nK_Nm_per_A = 0.27\nJ_kgm2 = 3e-4\nfv_Nms_per_rad = 0\nn_p = 50\n";
+        << "type = \"stepper2\"\nL_H = 9e-3\nR_ohm = -3\nK_Nm_per_A = 0.27\nJ_kgm2 = 3e-4\nfv_Nms_per_rad = 0\nn_p = 50\n";
     try {
         mcsim::load_scenario(t.path());
         FAIL();

@@ -24,7 +24,7 @@
 #include "scenario/rig.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 #include "scenario/design_input.h"
 #include "scenario/scenario.h"
 
@@ -73,7 +73,7 @@ int main(int argc, char** argv)
         const drive_config_t cfg = drive->cfg;  // what drive_init got
 
         mcsim::Rig rig(sc);
-        mcsim::StepperPlant& plant = rig.plant;
+        mcsim::PmPlant& plant = rig.plant;
         mcsim::CurrentSensor& sensor = rig.sensor;
         const mcsim::Amplifier& amp = rig.amp;
 

@@ -8,7 +8,7 @@
 namespace {
 
 struct Backend {
-    mcsim::StepperPlant* plant = nullptr;
+    mcsim::PmPlant* plant = nullptr;
     mcsim::CurrentSensor* sensor = nullptr;
     mcsim::Amplifier amp;
     double ts_s = 1e-4;
@@ -29,7 +29,7 @@ Backend g_hal;
 
 }  // namespace
 
-void hal_sw_plant_attach(mcsim::StepperPlant* plant, mcsim::CurrentSensor* sensor,
+void hal_sw_plant_attach(mcsim::PmPlant* plant, mcsim::CurrentSensor* sensor,
                          const mcsim::Amplifier& amp, double ts_s)
 {
     g_hal = Backend{};
@@ -57,45 +57,63 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         g_hal.error = "hal_sw_plant_run: no plant attached or hal_start not called";
         return 0;
     }
-    mcsim::StepperPlant& plant = *g_hal.plant;
+    mcsim::PmPlant& plant = *g_hal.plant;
     hal_sw_plant_period_t& p = g_hal.last;
     for (std::uint32_t k = 0; k < n_periods; ++k) {
         p.tick = g_hal.tick;
         // Time from the tick count, not an accumulated sum.
         p.t_s = g_hal.t_start_s + static_cast<double>(g_hal.tick) * g_hal.ts_s;
-        g_hal.sensor->measure(plant.i_a_A(), plant.i_b_A(), &p.i_a_meas_A, &p.i_b_meas_A);
+        const int n_ph = plant.n_phases();
+        double i_true[3] = {0.0, 0.0, 0.0};
+        double i_meas[3] = {0.0, 0.0, 0.0};
+        plant.phase_currents(i_true);
+        g_hal.sensor->measure_phases(n_ph, i_true, i_meas);
+        p.n_phases = n_ph;
+        p.i_a_meas_A = i_meas[0];
+        p.i_b_meas_A = i_meas[1];
+        p.i_c_meas_A = i_meas[2];
 
-        p.v_a_cmd_V = 0.0;
-        p.v_b_cmd_V = 0.0;
+        double v_cmd[3] = {0.0, 0.0, 0.0};
         p.control_called = !g_hal.safe && g_hal.control != nullptr;
         if (p.control_called) {
             // Zeroed first: fields a later version adds read as "absent".
             hal_sample_t in{};
             in.tick = g_hal.tick;
-            in.n_phases = 2;
-            in.i_A[0] = mcsim::to_mc(p.i_a_meas_A);
-            in.i_A[1] = mcsim::to_mc(p.i_b_meas_A);
-            // The simulated supply is stiff: the bus sits at the amplifier's limit.
-            in.v_bus_V = mcsim::to_mc(g_hal.amp.v_max_V);
+            in.n_phases = static_cast<std::uint8_t>(n_ph);
+            for (int k = 0; k < n_ph; ++k) {
+                in.i_A[k] = mcsim::to_mc(i_meas[k]);
+            }
+            // The simulated supply is stiff: an H-bridge swings +-v_bus, a
+            // leg +-v_bus/2 about the midpoint.
+            in.v_bus_V = mcsim::to_mc(n_ph == 3 ? 2.0 * g_hal.amp.v_max_V : g_hal.amp.v_max_V);
             in.has_angle = false;
             in.status = 0u;
             hal_command_t out{};
-            out.n_phases = 2;
+            out.n_phases = static_cast<std::uint8_t>(n_ph);
             g_hal.control(g_hal.control_ctx, &in, &out);
             // The callback may have called hal_safe_state(): 0 V from now on.
             // A command of another phase count than the plant's is not applied.
-            if (!g_hal.safe && out.n_phases == 2) {
-                p.v_a_cmd_V = mcsim::to_double(out.v_V[0]);
-                p.v_b_cmd_V = mcsim::to_double(out.v_V[1]);
+            if (!g_hal.safe && out.n_phases == n_ph) {
+                for (int k = 0; k < n_ph; ++k) {
+                    v_cmd[k] = mcsim::to_double(out.v_V[k]);
+                }
             }
         }
-        p.v_a_V = g_hal.amp.apply(p.v_a_cmd_V);
-        p.v_b_V = g_hal.amp.apply(p.v_b_cmd_V);
+        double v_app[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < n_ph; ++k) {
+            v_app[k] = g_hal.amp.apply(v_cmd[k]);
+        }
+        p.v_a_cmd_V = v_cmd[0];
+        p.v_b_cmd_V = v_cmd[1];
+        p.v_c_cmd_V = v_cmd[2];
+        p.v_a_V = v_app[0];
+        p.v_b_V = v_app[1];
+        p.v_c_V = v_app[2];
 
         if (g_hal.monitor != nullptr) {
             g_hal.monitor(g_hal.monitor_ctx, &p);
         }
-        plant.step(p.v_a_V, p.v_b_V, g_hal.ts_s);
+        plant.step_phases(v_app, g_hal.ts_s);
         ++g_hal.tick;
     }
     return n_periods;

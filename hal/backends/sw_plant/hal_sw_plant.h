@@ -18,15 +18,17 @@
 #include "hal/hal.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 
 // What happened in one period, in double precision (for logs and tests).
 struct hal_sw_plant_period_t {
     std::uint32_t tick;               // period index since hal_start
     double t_s;                       // plant time at the start of the period (sampling instant)
+    int n_phases;                     // the plant's: 2 (stepper) or 3 (PMSM; phase c below)
     double i_a_meas_A, i_b_meas_A;    // sensor output handed to the callback
     double v_a_cmd_V, v_b_cmd_V;      // callback output (0 after hal_safe_state)
     double v_a_V, v_b_V;              // amplifier output held over the period
+    double i_c_meas_A, v_c_cmd_V, v_c_V;  // the third phase (0 with two)
     bool control_called;              // false once hal_safe_state() was called
 };
 
@@ -36,7 +38,10 @@ typedef void (*hal_sw_plant_monitor_fn)(void* ctx, const hal_sw_plant_period_t* 
 
 // Connects the backend to a plant and a sensor (not owned; they must outlive
 // the run). ts_s is the control period: hal_control_rate_hz() = 1/ts_s.
-void hal_sw_plant_attach(mcsim::StepperPlant* plant, mcsim::CurrentSensor* sensor,
+// The amplifier clamps each output to +-amp.v_max_V: a winding's H-bridge
+// (2 phases; the bus the drive sees is v_max) or a leg about the bus
+// midpoint (3 phases; the bus is 2 v_max).
+void hal_sw_plant_attach(mcsim::PmPlant* plant, mcsim::CurrentSensor* sensor,
                          const mcsim::Amplifier& amp, double ts_s);
 
 // Disconnects the plant and resets the backend (callback, tick, monitor).

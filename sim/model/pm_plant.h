@@ -1,11 +1,25 @@
-// stepper_plant.h - the 2-phase PM stepper of paper 000, eq. (1), as a
+// pm_plant.h - the 2-phase PM stepper of paper 000, eq. (1), as a
 // continuous-time plant integrated between control samples.
 //
 //   L di_a/dt = v_a - R i_a + K w sin(n_p theta)
 //   L di_b/dt = v_b - R i_b - K w cos(n_p theta)
-//   J dw/dt   = K (i_b cos(n_p theta) - i_a sin(n_p theta)) - f_v w
+//   J dw/dt   = k_m K (i_b cos(n_p theta) - i_a sin(n_p theta)) - f_v w
 //               - C tanh(w / w_s) - T_load(t)
 //   dtheta/dt = w
+// with k_m = 1 for two phases and 3/2 for three (amplitude-invariant
+// Clarke: the power of three phases is 3/2 that of the alpha-beta pair).
+// A salient motor (L_q != L_d, paper 002) is integrated in the rotor frame,
+//   L_d di_d/dt = v_d - R i_d + n_p w L_q i_q,
+//   L_q di_q/dt = v_q - R i_q - n_p w L_d i_d - n_p w Phi,
+//   torque = k_m n_p (Phi i_q + (L_d - L_q) i_d i_q),
+// and turned back to alpha-beta, so the state and the interface are the same.
+//
+// Phases: the stepper's windings are driven by their own H-bridges
+// (v_a, v_b are the winding voltages); the PMSM's legs are voltages about
+// the DC-bus midpoint and the star point floats, so only the differential
+// part reaches the windings: v_alpha = (2 v_a - v_b - v_c)/3,
+// v_beta = (v_b - v_c)/sqrt(3), and the phase currents are the inverse
+// Clarke of the state (they sum to zero).
 //
 // The voltages are held over a step (zero-order hold, as the DAC and the
 // linear amplifiers of section 5.3 do) and the ODE, smooth within a step, is
@@ -13,8 +27,8 @@
 // not stiff at these parameters (L/R = 3 ms, J/f_v = 0.13 s; the steepest
 // mode is the tanh friction near rest, C/(w_s J) = 4.7e3 1/s, i.e. h*lambda
 // = 0.05 at 10 us), so an explicit method is the cheap and accurate choice.
-#ifndef MCSIM_MODEL_STEPPER_PLANT_H
-#define MCSIM_MODEL_STEPPER_PLANT_H
+#ifndef MCSIM_MODEL_PM_PLANT_H
+#define MCSIM_MODEL_PM_PLANT_H
 
 #include <Eigen/Core>
 
@@ -23,7 +37,7 @@
 
 namespace mcsim {
 
-class StepperPlant {
+class PmPlant {
 public:
     // x = [i_a [A], i_b [A], omega [rad/s], theta [rad]]
     using State = Eigen::Matrix<double, 4, 1>;
@@ -42,12 +56,22 @@ public:
     // against twice as many sub-steps).
     static constexpr int kDefaultSubsteps = 1;
 
-    StepperPlant(const MotorParams& motor, const LoadProfile& load, int substeps);
+    PmPlant(const MotorParams& motor, const LoadProfile& load, int substeps);
 
     void reset(const State& x0, double t0_s = 0.0);
 
-    // Advances the plant by dt_s with v_a_V, v_b_V held constant.
+    // Advances the plant by dt_s with the alpha-beta voltages v_a_V (alpha),
+    // v_b_V (beta) held constant.
     void step(double v_a_V, double v_b_V, double dt_s);
+
+    // The same from the phase voltages (2 winding voltages, or 3 leg
+    // voltages about the bus midpoint), n_phases() of them.
+    void step_phases(const double* v_V, double dt_s);
+    // The phase currents, n_phases() of them.
+    void phase_currents(double* i_A) const;
+    int n_phases() const { return m_.n_phases(); }
+    // Electromagnetic torque of the current state [N m].
+    double torque_Nm() const;
 
     // Right-hand side of eq. (1), evaluated with std::sin/std::cos (the
     // reference the fast in-step evaluation is tested against).
@@ -91,10 +115,14 @@ private:
     State x_ = State::Zero();
     double t_s_ = 0.0;
     double sin_e_ = 0.0, cos_e_ = 1.0;
-    // Folded constants: 1/L, 1/J, K/L, K/J, C/J, 1/w_s.
+    // Folded constants: 1/L, 1/J, K/L, k_m K/J, C/J, 1/w_s.
     double inv_L_, inv_J_, K_over_L_, K_over_J_, C_over_J_, inv_ws_;
+    bool salient_;
+    // alpha-beta current rates and the electromagnetic part of dw/dt of a
+    // salient motor at state x with sin/cos s, c of the electrical angle
+    void salient_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const;
 };
 
 }  // namespace mcsim
 
-#endif  // MCSIM_MODEL_STEPPER_PLANT_H
+#endif  // MCSIM_MODEL_PM_PLANT_H

@@ -1,4 +1,4 @@
-#include "model/stepper_plant.h"
+#include "model/pm_plant.h"
 
 #include <cmath>
 
@@ -19,7 +19,7 @@ inline double tanh_fast(double x)
     return std::tanh(x);
 }
 
-// sin and cos of |x| <= StepperPlant::kSmallAngle_rad by their Taylor
+// sin and cos of |x| <= PmPlant::kSmallAngle_rad by their Taylor
 // series in y = x^2, Horner form with the coefficients folded at compile
 // time (short series for |x| <= 1/8, the usual case: n_p |dtheta| is 0.1 rad
 // over a whole sample at 20 rad/s). The first omitted term stays below
@@ -28,7 +28,7 @@ inline double tanh_fast(double x)
 inline void small_sincos_inline(double x, double* s, double* c)
 {
     const double ax = std::fabs(x);
-    if (ax > StepperPlant::kSmallAngle_rad) {
+    if (ax > PmPlant::kSmallAngle_rad) {
         *s = std::sin(x);
         *c = std::cos(x);
         return;
@@ -52,20 +52,55 @@ inline void small_sincos_inline(double x, double* s, double* c)
 
 }  // namespace
 
-StepperPlant::StepperPlant(const MotorParams& motor, const LoadProfile& load, int substeps)
+PmPlant::PmPlant(const MotorParams& motor, const LoadProfile& load, int substeps)
     : m_(motor),
       load_(load),
       substeps_(substeps < 1 ? 1 : substeps),
       inv_L_(1.0 / motor.L_H),
       inv_J_(1.0 / motor.J_kgm2),
       K_over_L_(motor.K_Nm_per_A / motor.L_H),
-      K_over_J_(motor.K_Nm_per_A / motor.J_kgm2),
+      K_over_J_(motor.torque_scale() * motor.K_Nm_per_A / motor.J_kgm2),
       C_over_J_(motor.coulomb_Nm / motor.J_kgm2),
-      inv_ws_(1.0 / motor.coulomb_omega_s_rad_s)
+      inv_ws_(1.0 / motor.coulomb_omega_s_rad_s),
+      salient_(motor.salient())
 {
 }
 
-void StepperPlant::reset(const State& x0, double t0_s)
+namespace {
+constexpr double kInvSqrt3 = 0.57735026918962576451;
+constexpr double kSqrt3_2 = 0.86602540378443864676;
+}  // namespace
+
+void PmPlant::step_phases(const double* v_V, double dt_s)
+{
+    if (m_.n_phases() == 3) {
+        // the floating star point removes the zero sequence
+        step((2.0 * v_V[0] - v_V[1] - v_V[2]) / 3.0, (v_V[1] - v_V[2]) * kInvSqrt3, dt_s);
+    } else {
+        step(v_V[0], v_V[1], dt_s);
+    }
+}
+
+void PmPlant::phase_currents(double* i_A) const
+{
+    if (m_.n_phases() == 3) {
+        i_A[0] = x_[kIa];
+        i_A[1] = -0.5 * x_[kIa] + kSqrt3_2 * x_[kIb];
+        i_A[2] = -0.5 * x_[kIa] - kSqrt3_2 * x_[kIb];
+    } else {
+        i_A[0] = x_[kIa];
+        i_A[1] = x_[kIb];
+    }
+}
+
+double PmPlant::torque_Nm() const
+{
+    const double i_d = cos_e_ * x_[kIa] + sin_e_ * x_[kIb];
+    const double i_q = cos_e_ * x_[kIb] - sin_e_ * x_[kIa];
+    return m_.torque_scale() * (m_.K_Nm_per_A * i_q + static_cast<double>(m_.n_p) * (m_.L_H - m_.L_q()) * i_d * i_q);
+}
+
+void PmPlant::reset(const State& x0, double t0_s)
 {
     x_ = x0;
     t_s_ = t0_s;
@@ -74,22 +109,28 @@ void StepperPlant::reset(const State& x0, double t0_s)
     cos_e_ = std::cos(e);
 }
 
-void StepperPlant::small_sincos(double x, double* s, double* c) { small_sincos_inline(x, s, c); }
+void PmPlant::small_sincos(double x, double* s, double* c) { small_sincos_inline(x, s, c); }
 
-double StepperPlant::load_torque_Nm(double omega_rad_s, double t_s) const
+double PmPlant::load_torque_Nm(double omega_rad_s, double t_s) const
 {
     return m_.coulomb_Nm * tanh_fast(omega_rad_s * inv_ws_) + load_.torque_Nm(t_s);
 }
 
-double StepperPlant::load_torque_Nm() const { return load_torque_Nm(x_[kOmega], t_s_); }
+double PmPlant::load_torque_Nm() const { return load_torque_Nm(x_[kOmega], t_s_); }
 
-StepperPlant::State StepperPlant::derivative(const State& x, double t_s, double v_a_V, double v_b_V) const
+PmPlant::State PmPlant::derivative(const State& x, double t_s, double v_a_V, double v_b_V) const
 {
     const double e = static_cast<double>(m_.n_p) * x[kTheta];
     const double s = std::sin(e);
     const double c = std::cos(e);
     const double w = x[kOmega];
     State dx;
+    if (salient_) {
+        salient_rates(x, s, c, v_a_V, v_b_V, &dx);
+        dx[kOmega] -= m_.fv_Nms_per_rad * inv_J_ * w + inv_J_ * load_torque_Nm(w, t_s);
+        dx[kTheta] = w;
+        return dx;
+    }
     dx[kIa] = (v_a_V - m_.R_ohm * x[kIa]) * inv_L_ + K_over_L_ * w * s;
     dx[kIb] = (v_b_V - m_.R_ohm * x[kIb]) * inv_L_ - K_over_L_ * w * c;
     dx[kOmega] = K_over_J_ * (x[kIb] * c - x[kIa] * s) - m_.fv_Nms_per_rad * inv_J_ * w
@@ -98,15 +139,36 @@ StepperPlant::State StepperPlant::derivative(const State& x, double t_s, double 
     return dx;
 }
 
-double StepperPlant::accel_rad_s2() const
+void PmPlant::salient_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const
+{
+    // rotor frame (see the header), then back to alpha-beta:
+    // d/dt i_ab = e^{J th}(d/dt i_dq) + n_p w J i_ab
+    const double np = static_cast<double>(m_.n_p);
+    const double we = np * x[kOmega];
+    const double Ld = m_.L_H, Lq = m_.L_q(), Phi = m_.Phi_Wb();
+    const double i_d = c * x[kIa] + s * x[kIb];
+    const double i_q = c * x[kIb] - s * x[kIa];
+    const double v_d = c * v_a_V + s * v_b_V;
+    const double v_q = c * v_b_V - s * v_a_V;
+    const double did = (v_d - m_.R_ohm * i_d + we * Lq * i_q) / Ld;
+    const double diq = (v_q - m_.R_ohm * i_q - we * Ld * i_d - we * Phi) / Lq;
+    (*dx)[kIa] = c * did - s * diq - we * x[kIb];
+    (*dx)[kIb] = s * did + c * diq + we * x[kIa];
+    (*dx)[kOmega] = inv_J_ * m_.torque_scale() * np * (Phi * i_q + (Ld - Lq) * i_d * i_q);
+}
+
+double PmPlant::accel_rad_s2() const
 {
     // eq. (1), third line, with the cached sin/cos of n_p theta
     const double w = x_[kOmega];
+    if (salient_) {
+        return inv_J_ * (torque_Nm() - m_.fv_Nms_per_rad * w - load_torque_Nm(w, t_s_));
+    }
     return K_over_J_ * (x_[kIb] * cos_e_ - x_[kIa] * sin_e_) - m_.fv_Nms_per_rad * inv_J_ * w -
            inv_J_ * load_torque_Nm(w, t_s_);
 }
 
-void StepperPlant::step(double v_a_V, double v_b_V, double dt_s)
+void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
 {
     // sin/cos of the electrical angle come from libm once per call (cached
     // with the state); the RK4 stages rotate them by the small change of
@@ -134,6 +196,12 @@ void StepperPlant::step(double v_a_V, double v_b_V, double dt_s)
             T_ext += load_.torque_Nm(t);
         }
         State dx;
+        if (salient_) {
+            salient_rates(x, s, c, v_a_V, v_b_V, &dx);
+            dx[kOmega] -= fv_J * w + inv_J_ * T_ext;
+            dx[kTheta] = w;
+            return dx;
+        }
         dx[kIa] = va_L - R_L * x[kIa] + K_over_L_ * w * s;
         dx[kIb] = vb_L - R_L * x[kIb] - K_over_L_ * w * c;
         dx[kOmega] = K_over_J_ * (x[kIb] * c - x[kIa] * s) - fv_J * w - inv_J_ * T_ext;

@@ -1,0 +1,225 @@
+/*
+ * paper001_design.c - the paper-001 drive's design (see paper001_design.h).
+ *
+ * Conventions. The alpha-beta model of paper 001's (1)-(3) is the one of a
+ * two-phase machine: L di/dt = -R i - n_p w Phi Jm rho + v, torque
+ * n_p Phi i^T Jm rho. A three-phase star machine written in amplitude-
+ * invariant Clarke (the phase adapter's) has the same voltage equation with
+ * Phi the peak phase flux linkage, and torque (3/2) n_p Phi i^T Jm rho. So
+ *   K_e = n_p Phi       (back-EMF, both)
+ *   K_t = (m/2) n_p Phi (torque, m = 2 or 3 phases).
+ */
+#include "design/paper001_design.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "math/mc_convert.h"
+
+/* Paper 001 section 5.1's tuning: gamma = 5000 for the flux observer,
+ * a1 = 20, a2 = 6 for the I&I observer. */
+#define P001_PAPER_GAMMA 5000.0
+#define P001_PAPER_A1 20.0
+#define P001_PAPER_A2 6.0
+/* IDA-PBC damping: r puts the closed loop of (40) linearised about the
+ * equilibrium, L J s^2 + r J s + K_e K_t = 0, at damping ratio 1 (no
+ * overshoot of the speed after a load step; a larger r slows the speed
+ * loop's slow pole K_e K_t / (r J), a smaller one rings). */
+#define P001_LOOP_ZETA 1.0
+/* Open-loop start current: the rotor follows the turning voltage vector
+ * damped by the stator resistance (braking torque K_e K_t w_slip / R), so
+ * its slip speed is at most R I / K_e; the default current is the one whose
+ * slip bound is P001_START_SLIP_RAD_S, and it is capped at i_max. 2 rad/s
+ * (19 rpm) keeps the start inside paper 001's benchmark transients. */
+#define P001_START_SLIP_RAD_S 2.0
+/* The switch to closed loop: after one electrical turn of the reference,
+ * when the circle fit of the flux (startup/flux_circle_fit.h) has an arc
+ * long enough. det Cov(q) is 1/4 for a full turn of points; an arc of
+ * 120 degrees gives about 0.02 (its points spread 0.43 along the chord and
+ * 0.08 across it), the least the fit is allowed to use. */
+#define P001_HANDOVER_SWEEP_RAD (2.0 * 3.14159265358979323846)
+#define P001_FIT_DET_MIN 0.02
+/* One point of the fit every 8 samples (0.8 ms): an arc of the open-loop
+ * start gives hundreds of points, and the running means cost 1/8 of the
+ * work per sample. */
+#define P001_FIT_DECIM 8
+/* Decay of the voltage offset that removes the step at the switch: 5 ms,
+ * a few electrical time constants L/R of the paper's motor (17 ms) is too
+ * slow for the load step at 1 s; 5 ms is 50 samples. */
+#define P001_BLEND_TAU_S 5e-3
+/* The open-loop vector's magnitude is not capped below the bus. */
+#define P001_OPEN_LOOP_VCAP_V 1000.0
+/* A bus below 1 V is no bus: the drive refuses the sample. */
+#define P001_V_BUS_MIN_V 1.0
+/* Fixed point keeps coefficients in [1e-3, 1e4] (mc_num.h). */
+#define P001_COEFF_MIN 1e-3
+#define P001_COEFF_MAX 1e4
+
+static bool p001_fail(char *err, size_t n, const char *field, const char *why, double got)
+{
+    if (err != NULL && n > 0) {
+        snprintf(err, n, "%s: %s (got %g)", field, why, got);
+    }
+    return false;
+}
+
+void p001_design_defaults(p001_design_input_t *in)
+{
+    in->gamma = 0.0;
+    in->a1 = 0.0;
+    in->a2 = 0.0;
+    in->r_ohm = 0.0;
+    in->blend_tau_s = 0.0;
+    in->handover_sweep_rad = 0.0;
+    in->fit_det_min = 0.0;
+    in->i_open_loop_A = 0.0;
+}
+
+/* A per-sample coefficient the fixed-point build can hold. */
+static bool p001_coeff(double x, const char *field, mc_t *dst, char *err, size_t n)
+{
+    const double a = fabs(x);
+    if (!(a == 0.0 || (a >= P001_COEFF_MIN && a <= P001_COEFF_MAX))) {
+        return p001_fail(err, n, field, "folded coefficient outside [1e-3, 1e4]", x);
+    }
+    *dst = mc_from_double(x);
+    return true;
+}
+
+bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_design_report_t *rep, char *err,
+                 size_t err_len)
+{
+    const p001_motor_si_t *m = &in->motor;
+    if (m->n_phases != 2 && m->n_phases != 3) {
+        return p001_fail(err, err_len, "motor.n_phases", "must be 2 or 3", m->n_phases);
+    }
+    if (!(m->R_ohm >= 0.0)) return p001_fail(err, err_len, "motor.R_ohm", "must be >= 0", m->R_ohm);
+    if (!(m->L_H > 0.0)) return p001_fail(err, err_len, "motor.L_H", "must be > 0", m->L_H);
+    if (!(m->Phi_Wb > 0.0)) return p001_fail(err, err_len, "motor.Phi_Wb", "must be > 0", m->Phi_Wb);
+    if (!(m->J_kgm2 > 0.0)) return p001_fail(err, err_len, "motor.J_kgm2", "must be > 0", m->J_kgm2);
+    if (m->n_p < 1) return p001_fail(err, err_len, "motor.n_p", "must be >= 1", m->n_p);
+    if (!(in->ts_s > 0.0)) return p001_fail(err, err_len, "ts_s", "must be > 0", in->ts_s);
+    if (!(in->i_max_A > 0.0)) return p001_fail(err, err_len, "i_max_A", "must be > 0", in->i_max_A);
+    if (!(in->i_trip_A >= in->i_max_A)) return p001_fail(err, err_len, "i_trip_A", "must be >= i_max_A", in->i_trip_A);
+    if (in->n_points < 1 || in->n_points > SPEED_PROFILE_MAX_POINTS) {
+        return p001_fail(err, err_len, "profile", "needs 1..16 points", (double)in->n_points);
+    }
+    memset(cfg, 0, sizeof *cfg);
+    const double ts = in->ts_s;
+    const double fs = 1.0 / ts;
+    const double np = (double)m->n_p;
+    const double Ke = np * m->Phi_Wb;
+    const double Kt = 0.5 * (double)m->n_phases * np * m->Phi_Wb;
+    const double gamma = (in->gamma > 0.0) ? in->gamma : P001_PAPER_GAMMA;
+    const double a1 = (in->a1 > 0.0) ? in->a1 : P001_PAPER_A1;
+    const double a2 = (in->a2 > 0.0) ? in->a2 : P001_PAPER_A2;
+    const double r = (in->r_ohm > 0.0) ? in->r_ohm
+                                       : 2.0 * P001_LOOP_ZETA * sqrt(m->L_H * Ke * Kt / m->J_kgm2);
+    const double radial = 2.0 * gamma * m->Phi_Wb * m->Phi_Wb * ts;
+    if (!(radial < 1.0)) {
+        return p001_fail(err, err_len, "gamma", "2 gamma Phi^2 Ts must be < 1 for the explicit step of (12)", gamma);
+    }
+    double i_ol = (in->i_open_loop_A > 0.0) ? in->i_open_loop_A
+                                            : ((m->R_ohm > 0.0) ? P001_START_SLIP_RAD_S * Ke / m->R_ohm : in->i_max_A);
+    if (i_ol > in->i_max_A) {
+        i_ol = in->i_max_A;
+    }
+    const double fsr = round(fs);
+    if (fabs(fs - fsr) > 1e-6 * fs || fsr > 2e9) {
+        return p001_fail(err, err_len, "ts_s", "1/Ts must be a whole number of hertz", ts);
+    }
+
+    cfg->n_phases = (uint8_t)m->n_phases;
+    /* model (the open-loop start reads R, n_p L, K_e from it) */
+    motor_model_t *mm = &cfg->model;
+    mm->n_p = m->n_p;
+    mm->fs_hz = (int32_t)fsr;
+    mm->R_ohm = mc_from_double(m->R_ohm);
+    mm->L_H = mc_from_double(m->L_H);
+    mm->ts_over_L_A_per_V = mc_from_double(ts / m->L_H);
+    mm->npL_ohm_s = mc_from_double(np * m->L_H);
+    mm->K_V_s = mc_from_double(Ke);
+    mm->inv_J = mc_from_double(1.0 / m->J_kgm2);
+    mm->ts_over_J = mc_from_double(ts / m->J_kgm2);
+    cfg->limits.i_max_A = mc_from_double(in->i_max_A);
+    cfg->limits.i_trip_A = mc_from_double(in->i_trip_A);
+
+    /* flux observer (12)-(14) in w = lambda/Ts units (flux_observer.h) */
+    const double phi_fs = m->Phi_Wb / ts;
+    const int s = (int)floor(log2(phi_fs)) + 1;
+    flux_observer_config_t *fo = &cfg->flux;
+    bool ok = p001_coeff(m->R_ohm, "flux.R_ohm", &fo->R_ohm, err, err_len) &&
+              p001_coeff(m->L_H / ts, "flux.L_fs_ohm", &fo->L_fs_ohm, err, err_len) &&
+              p001_coeff(phi_fs, "flux.Phi_fs_V", &fo->Phi_fs_V, err, err_len) &&
+              p001_coeff(ldexp(ts / m->Phi_Wb, s), "flux.rho_gain", &fo->rho_gain, err, err_len) &&
+              p001_coeff(gamma * m->Phi_Wb * m->Phi_Wb * m->Phi_Wb, "flux.gPhi3_V", &fo->gPhi3_V, err, err_len);
+    /* 2^-s is exact in both builds (a power of two of at least 2^-17) */
+    if (s > 17) {
+        return p001_fail(err, err_len, "motor.Phi_Wb", "Phi/Ts above 2^17 V", phi_fs);
+    }
+    fo->rho_pre = mc_from_double(ldexp(1.0, -s));
+    /* I&I observer (15)-(16), increment form (speed_load_observer.h) */
+    speed_load_observer_config_t *so = &cfg->speed;
+    ok = ok && p001_coeff(ts * Kt / m->J_kgm2, "speed.ts_kt_over_J", &so->ts_kt_over_J, err, err_len) &&
+         p001_coeff(ts / m->J_kgm2, "speed.ts_over_J", &so->ts_over_J, err, err_len) &&
+         p001_coeff(fs / np, "speed.fs_over_np", &so->fs_over_np, err, err_len) &&
+         p001_coeff(a1 * np * ts, "speed.k_omega", &so->k_omega, err, err_len) &&
+         p001_coeff(a2 * np * ts, "speed.k_load_Nm_s", &so->k_load_Nm_s, err, err_len);
+    /* IDA-PBC (11) */
+    ida_pbc_config_t *co = &cfg->ctrl;
+    ok = ok && p001_coeff(m->R_ohm - r, "ctrl.R_minus_r_ohm", &co->R_minus_r_ohm, err, err_len) &&
+         p001_coeff(r, "ctrl.r_ohm", &co->r_ohm, err, err_len) &&
+         p001_coeff(np * m->L_H, "ctrl.npL_ohm_s", &co->npL_ohm_s, err, err_len) &&
+         p001_coeff(Ke, "ctrl.Ke_V_s", &co->Ke_V_s, err, err_len) &&
+         p001_coeff(1.0 / Kt, "ctrl.inv_Kt_A_Nm", &co->inv_Kt_A_Nm, err, err_len) &&
+         p001_coeff(m->J_kgm2, "ctrl.J_Nm_s2", &co->J_Nm_s2, err, err_len);
+    if (!ok) {
+        return false;
+    }
+    co->i_max_A = mc_from_double(in->i_max_A);
+    cfg->open_loop.i_max_A = mc_from_double(i_ol);
+    cfg->open_loop.v_max_V = mc_from_double(P001_OPEN_LOOP_VCAP_V);
+    const double blend = (in->blend_tau_s > 0.0) ? in->blend_tau_s : P001_BLEND_TAU_S;
+    cfg->sup.blend_decay = mc_from_double(exp(-ts / blend));
+    cfg->handover_sweep_rad =
+        mc_from_double((in->handover_sweep_rad > 0.0) ? in->handover_sweep_rad : P001_HANDOVER_SWEEP_RAD);
+    cfg->fit.decim = P001_FIT_DECIM;
+    cfg->fit.det_min = mc_from_double((in->fit_det_min > 0.0) ? in->fit_det_min : P001_FIT_DET_MIN);
+    cfg->v_bus_min_V = mc_from_double(P001_V_BUS_MIN_V);
+
+    /* speed profile: ticks, slopes, lengths, angles at the corners */
+    speed_profile_config_t *pc = &cfg->profile;
+    pc->n_points = (uint32_t)in->n_points;
+    pc->fs_hz = mm->fs_hz;
+    double theta = 0.0;
+    for (size_t k = 0; k < in->n_points; ++k) {
+        const double tk = in->t_s[k];
+        if (!(tk >= 0.0) || (k == 0 && tk != 0.0) || (k > 0 && !(tk > in->t_s[k - 1])) || !isfinite(in->omega_rad_s[k])) {
+            return p001_fail(err, err_len, "profile", "corner times must start at 0 and increase", tk);
+        }
+        pc->t_tick[k] = (uint32_t)llround(tk * fs);
+        pc->omega_rad_s[k] = mc_from_double(in->omega_rad_s[k]);
+        pc->theta_rad[k] = mc_from_double(theta);
+        if (k + 1 < in->n_points) {
+            const double T = (double)((uint32_t)llround(in->t_s[k + 1] * fs) - pc->t_tick[k]) * ts;
+            pc->length_s[k] = mc_from_double(T);
+            pc->slope_rad_s2[k] = mc_from_double((in->omega_rad_s[k + 1] - in->omega_rad_s[k]) / T);
+            theta += 0.5 * (in->omega_rad_s[k] + in->omega_rad_s[k + 1]) * T;
+        }
+    }
+    if (rep != NULL) {
+        rep->gamma = gamma;
+        rep->a1 = a1;
+        rep->a2 = a2;
+        rep->r_ohm = r;
+        rep->Ke = Ke;
+        rep->Kt = Kt;
+        rep->radial_rate_per_sample = radial;
+        rep->observer_poles_re = -0.5 * np * a1;
+        rep->loop_wn_rad_s = sqrt(Ke * Kt / (m->L_H * m->J_kgm2));
+        rep->loop_zeta = r * m->J_kgm2 / (2.0 * sqrt(m->L_H * m->J_kgm2 * Ke * Kt));
+        rep->i_open_loop_A = i_ol;
+    }
+    return true;
+}

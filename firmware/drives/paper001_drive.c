@@ -1,0 +1,189 @@
+/*
+ * paper001_drive.c - the paper-001 drive as a recipe (see paper001_drive.h).
+ *
+ * Order inside one sample k (currents sampled at t_k, voltages held over
+ * [t_k, t_k + Ts)):
+ *   0. supervisor: latched fault, phase count, bus voltage, over-current;
+ *   1. alpha-beta currents (adapter) and the reference w*, dw_ref/dt, theta*;
+ *   2. flux observer (12)-(14): integrates the last sample, angle of this one;
+ *   3. speed and load observer (15)-(16) on that angle (runs in open loop
+ *      too, so its state has converged when the loop closes);
+ *   4. open loop -> closed loop once the reference has turned far enough
+ *      and the observer agrees with the open-loop angle;
+ *   5. the law in the estimated dq frame: IDA-PBC (11) or the open-loop
+ *      vector (68) along theta*; bumpless switch; back to alpha-beta;
+ *   6. limited by the measured bus, to the phases; the flux observer is
+ *      told the voltage that will be held.
+ */
+#include "drives/paper001_drive.h"
+
+static void p001_zero_output(paper001_drive_t *d, hal_command_t *out)
+{
+    out->n_phases = d->cfg.n_phases;
+    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
+        out->v_V[k] = MC_ZERO;
+    }
+    d->last.v_ab_V.alpha = MC_ZERO;
+    d->last.v_ab_V.beta = MC_ZERO;
+}
+
+static bool p001_config_ok(const paper001_config_t *c)
+{
+    const motor_model_t *m = &c->model;
+    return (c->n_phases == 2u || c->n_phases == 3u) && m->n_p >= 1 && m->fs_hz > 0 && m->R_ohm >= MC_ZERO &&
+           m->L_H > MC_ZERO && m->K_V_s > MC_ZERO && c->limits.i_trip_A > MC_ZERO && c->ctrl.r_ohm > MC_ZERO &&
+           c->ctrl.i_max_A > MC_ZERO && c->flux.Phi_fs_V > MC_ZERO && c->flux.rho_gain > MC_ZERO &&
+           c->flux.gPhi3_V >= MC_ZERO && c->speed.k_omega >= MC_ZERO && c->speed.k_load_Nm_s >= MC_ZERO &&
+           c->sup.blend_decay >= MC_ZERO && c->sup.blend_decay < MC_ONE && c->fit.decim >= 1 &&
+           c->fit.det_min > MC_ZERO && c->v_bus_min_V > MC_ZERO;
+}
+
+bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
+{
+    d->cfg = *cfg;
+    d->tick = 0;
+    d->last.tick = 0;
+    d->last.i_d_A = MC_ZERO;
+    d->last.i_q_A = MC_ZERO;
+    /* rho_hat(0) = (1, 0) (errata): the angle is unknown, the open-loop
+     * start makes it observable */
+    const mc_rot_t angle0 = {MC_ZERO, MC_ONE};
+    const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
+    flux_observer_init(&d->flux, &cfg->flux, angle0, i0);
+    flux_observer_set_gradient(&d->flux, false); /* a pure integrator until the circle fit */
+    flux_circle_fit_init(&d->fit, &cfg->fit);
+    speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
+    ida_pbc_init(&d->ctrl);
+    const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
+    supervisor_init(&d->sup, &cfg->sup, false);
+    hal_command_t unused;
+    p001_zero_output(d, &unused);
+    d->ref.omega_rad_s = MC_ZERO;
+    d->ref.accel_rad_s2 = MC_ZERO;
+    d->ref.theta_rad = MC_ZERO;
+    if (!p001_config_ok(cfg) || !profile_ok) {
+        supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
+        return false;
+    }
+    return true;
+}
+
+bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
+{
+    const paper001_config_t *c = &d->cfg;
+    d->last.tick = d->tick;
+    /* 0. supervisor */
+    if (d->sup.state == SUP_STATE_FAULT) {
+        p001_zero_output(d, out);
+        return false;
+    }
+    if (!phase_adapter_accepts(in, c->n_phases) || !(in->v_bus_V > c->v_bus_min_V)) {
+        supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
+        p001_zero_output(d, out);
+        return false;
+    }
+    if (supervisor_overcurrent(in, c->n_phases, c->limits.i_trip_A)) {
+        supervisor_fault(&d->sup, DRIVE_FAULT_OVERCURRENT);
+        p001_zero_output(d, out);
+        return false;
+    }
+    /* 1. currents and reference */
+    mc_t i_zero_A;
+    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
+    (void)i_zero_A; /* star without neutral: the measurement's offset, unused here */
+    speed_profile_eval(&d->profile, d->tick, &d->ref);
+
+    /* 2. flux observer */
+    flux_observer_step(&d->flux, i_ab);
+
+    /* 3. open loop: the circle fit, then the switch to closed loop */
+    const mc_t theta_ol = mc_elec_angle(d->ref.theta_rad, c->model.n_p);
+    bool switched = false;
+    if (d->sup.state == SUP_STATE_OPEN_LOOP) {
+        flux_circle_fit_add(&d->fit, d->flux.rho);
+        const mc_t swept = mc_mul_i(mc_abs(d->ref.theta_rad), c->model.n_p);
+        mc_ab_t centre;
+        if (!(swept < c->handover_sweep_rad) && flux_circle_fit_center(&d->fit, &centre)) {
+            flux_observer_shift(&d->flux, centre);
+            flux_observer_set_gradient(&d->flux, true);
+            speed_load_observer_init(&d->speed, &c->speed, d->flux.unit, d->ref.omega_rad_s, MC_ZERO);
+            switched = supervisor_dispatch(&d->sup, SUP_EV_ESTIMATE_TRUSTED);
+        }
+    } else if (d->sup.state == SUP_STATE_IDENTIFY) {
+        (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
+    }
+    const mc_rot_t rho = d->flux.unit;
+    /* 4. speed and load observer (15)-(16) */
+    speed_load_observer_step(&d->speed, rho, i_ab);
+    const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+
+    /* 5. the law, in the estimated dq frame */
+    mc_t i_d, i_q;
+    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, &i_d, &i_q);
+    mc_t v_d, v_q;
+    if (closed) {
+        ida_pbc_step(&d->ctrl, &c->ctrl, i_d, i_q, d->speed.omega_rad_s, d->speed.load_Nm, d->ref.omega_rad_s,
+                     d->ref.accel_rad_s2, &v_d, &v_q); /* (11) */
+    } else {
+        /* (68) along the reference angle, expressed in the estimated frame */
+        const mc_t v = open_loop_voltage(&c->open_loop, &c->model, d->ref.omega_rad_s);
+        const mc_rot_t ol = mc_rot_from_angle(theta_ol);
+        mc_rot_fwd(rho, mc_mul(v, ol.c), mc_mul(v, ol.s), &v_d, &v_q);
+    }
+    supervisor_blend(&d->sup, switched, &v_d, &v_q);
+    mc_ab_t v_ab;
+    mc_rot_inv(rho, v_d, v_q, &v_ab.alpha, &v_ab.beta); /* v_ab = (rho_a I + rho_b Jm) v, (11) */
+
+    /* 6. limited by the measured bus: a leg swings +-v_bus/2 about the
+     * midpoint (three phases), an H-bridge +-v_bus (two) */
+    const mc_t v_max = (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V;
+    (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_d, &v_q);
+    flux_observer_hold(&d->flux, v_ab);
+    phase_adapter_voltages(c->n_phases, v_ab, out);
+    d->last.i_d_A = i_d;
+    d->last.i_q_A = i_q;
+    d->last.v_ab_V = v_ab;
+    d->tick += 1u;
+    return true;
+}
+
+void paper001_drive_estimate(const paper001_drive_t *d, mc_estimate_t *e)
+{
+    const int32_t n_p = d->cfg.model.n_p;
+    /* (e + 2 pi n)/n_p without forming the sum */
+    e->theta_rad = mc_add(mc_div_i(d->speed.unwrap.e_rad, n_p),
+                          mc_mul_i(mc_div_i(MC_TWO_PI, n_p), d->speed.unwrap.n_turns));
+    e->omega_rad_s = d->speed.omega_rad_s;
+    /* (T_e - tau_hat)/J, the model acceleration of (3) */
+    const speed_load_observer_config_t *sc = &d->cfg.speed;
+    e->accel_rad_s2 = mc_mul_i(mc_sub(mc_mul(sc->ts_kt_over_J, d->speed.i_q_A), mc_mul(sc->ts_over_J, d->speed.load_Nm)),
+                               d->cfg.model.fs_hz);
+    e->load_Nm = d->speed.load_Nm;
+    e->valid = d->sup.state == SUP_STATE_CLOSED_LOOP;
+}
+
+void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_t *t)
+{
+    const bool fault = d->sup.state == SUP_STATE_FAULT;
+    t->mode = supervisor_mode(&d->sup);
+    t->fault = d->sup.fault;
+    t->state = d->sup.state;
+    t->tick = d->last.tick;
+    t->omega_ref_rad_s = d->ref.omega_rad_s;
+    t->accel_ref_rad_s2 = d->ref.accel_rad_s2;
+    t->theta_ref_rad = d->ref.theta_rad;
+    t->theta_e_turns = d->speed.unwrap.n_turns;
+    t->theta_e_rad = d->speed.unwrap.e_rad;
+    t->omega_est_rad_s = d->speed.omega_rad_s;
+    t->load_est_Nm = d->speed.load_Nm;
+    t->rho2 = d->flux.rho2;
+    t->estimate_valid = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    t->i_d_A = d->last.i_d_A;
+    t->i_q_A = d->last.i_q_A;
+    t->i_q_ref_A = (d->sup.state == SUP_STATE_CLOSED_LOOP) ? d->ctrl.i_q_ref_A : MC_ZERO;
+    t->v_d_V = fault ? MC_ZERO : d->sup.v_prev_V[0];
+    t->v_q_V = fault ? MC_ZERO : d->sup.v_prev_V[1];
+    t->v_alpha_V = d->last.v_ab_V.alpha;
+    t->v_beta_V = d->last.v_ab_V.beta;
+    t->v_saturated = !fault && d->sup.sat_prev;
+}

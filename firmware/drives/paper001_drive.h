@@ -1,0 +1,119 @@
+/*
+ * paper001_drive.h - the paper-001 sensorless speed drive (Shah, Espinosa-
+ * Perez, Ortega, Hilairet 2014) for a non-salient PMSM (or, by
+ * configuration, a two-phase stepper): a short composition of parts.
+ *
+ *   phase adapter (adapter/)     2 or 3 phase currents -> alpha-beta, voltages back
+ *                                with min/max zero sequence, limited by the measured bus
+ *   reference (trajectory/)      speed_profile: ramps and holds, w*, dw_ref/dt
+ *   estimators (estimators/)     flux_observer (12)-(14) -> unit vector of the angle;
+ *                                speed_load_observer (15)-(16) with the unwrap of
+ *                                Appendix A -> w_hat, tau_hat
+ *   controller (control/)        ida_pbc (11) with the J dw_ref/dt feed-forward
+ *   start-up (startup/)          open-loop drive (paper 000's eq. (68)) along the
+ *                                reference angle until the observer is trusted
+ *   supervisor (supervisor/)     states, faults, bumpless switch, voltage limit
+ *
+ * Start from an unknown rotor angle (paper 001's result is local): the
+ * drive begins in open loop, a voltage vector of (68)'s magnitude turning
+ * with the reference. The stator resistance damps the rotor into step with
+ * it (the back-EMF drives a braking current: damping K_e K_t / R). Meanwhile
+ * the flux observer runs as a pure integrator and the circle fit
+ * (startup/flux_circle_fit.h) measures its initial error from the arc the
+ * flux describes. Once the reference has turned `handover_sweep_rad`
+ * electrical and the arc suffices, the observer is corrected, its gradient
+ * term switched on, the speed observer started at the reference speed,
+ * and the loop closed; the estimate is reported valid from then on.
+ */
+#ifndef DRIVES_PAPER001_DRIVE_H
+#define DRIVES_PAPER001_DRIVE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "adapter/phase_adapter.h"
+#include "control/ida_pbc.h"
+#include "estimators/estimate.h"
+#include "estimators/flux_observer.h"
+#include "estimators/speed_load_observer.h"
+#include "hal/hal_types.h"
+#include "math/frame_fg.h"
+#include "math/mc_num.h"
+#include "model/motor_model.h"
+#include "startup/flux_circle_fit.h"
+#include "startup/open_loop.h"
+#include "supervisor/supervisor.h"
+#include "trajectory/speed_profile.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    uint8_t n_phases;              /* 3: PMSM (star, three legs); 2: stepper (two H-bridges) */
+    motor_model_t model;           /* R, L, K_e = n_p Phi (K_V_s), n_p, fs */
+    drive_limits_t limits;         /* i_trip_A on every phase; v_max_V unused (the bus is measured) */
+    flux_observer_config_t flux;
+    speed_load_observer_config_t speed;
+    ida_pbc_config_t ctrl;
+    open_loop_config_t open_loop;  /* v_max_V: a cap below the bus, if any */
+    supervisor_config_t sup;
+    speed_profile_config_t profile;
+    flux_circle_fit_config_t fit;  /* the observer's initial error from the open-loop motion */
+    mc_t handover_sweep_rad;       /* electrical angle the open loop turns before the switch */
+    mc_t v_bus_min_V;              /* below this measured bus the sample is refused */
+} paper001_config_t;
+
+typedef struct {
+    drive_mode_t mode;
+    drive_fault_t fault;
+    sup_state_t state;
+    uint32_t tick;
+    mc_t omega_ref_rad_s, accel_ref_rad_s2, theta_ref_rad;
+    /* estimates: electrical angle as (turns, angle in (-pi, pi]) */
+    int32_t theta_e_turns;
+    mc_t theta_e_rad;
+    mc_t omega_est_rad_s, load_est_Nm;
+    mc_t rho2;                     /* |rho_hat|^2 of the flux observer (1 when consistent) */
+    bool estimate_valid;
+    /* currents in the estimated dq frame, the reference, the command */
+    mc_t i_d_A, i_q_A, i_q_ref_A;
+    mc_t v_d_V, v_q_V, v_alpha_V, v_beta_V;
+    bool v_saturated;
+} paper001_telemetry_t;
+
+typedef struct {
+    paper001_config_t cfg;
+    supervisor_t sup;
+    flux_observer_t flux;
+    flux_circle_fit_t fit;
+    speed_load_observer_t speed;
+    ida_pbc_t ctrl;
+    speed_profile_t profile;
+    speed_point_t ref;
+    uint32_t tick;
+    struct {
+        uint32_t tick;
+        mc_t i_d_A, i_q_A;
+        mc_ab_t v_ab_V;
+    } last;
+} paper001_drive_t;
+
+/* Validates cfg, copies it and resets every state. Returns false (drive in
+ * FAULT, outputs 0 V) if cfg is inconsistent. */
+bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg);
+
+/* One sample: phase currents and bus voltage in, phase voltages out.
+ * Always fills *out (0 V in FAULT). Returns false in FAULT. */
+bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out);
+
+/* The estimate of the last step (valid once the loop is closed). */
+void paper001_drive_estimate(const paper001_drive_t *d, mc_estimate_t *e);
+
+void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_t *t);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DRIVES_PAPER001_DRIVE_H */

@@ -1,0 +1,208 @@
+#include "motorsim/speed_recorder.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mc_convert.h"
+
+namespace mcsim {
+namespace {
+constexpr double kRadSToRpm = 30.0 / 3.14159265358979323846;
+constexpr double kPi = 3.14159265358979323846;
+// the metric definitions of speed_recorder.h
+constexpr double kSettleAfter_s = 0.5;
+constexpr double kLockTol_rad = 5.0 * kPi / 180.0;
+constexpr double kLockHold_s = 0.05;
+
+double wrap_pi(double x)
+{
+    x = std::fmod(x + kPi, 2.0 * kPi);
+    if (x < 0.0) {
+        x += 2.0 * kPi;
+    }
+    return x - kPi;
+}
+}  // namespace
+
+const char* const kSpeedColumnNames[kSpNumColumns] = {
+    "t_s",        "mode",        "omega_ref_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_e_rad",
+    "theta_e_est_rad", "theta_e_err_rad", "load_Nm", "load_est_Nm", "i_a_A", "i_b_A",
+    "i_c_A",      "i_d_A",       "i_q_A",        "i_q_ref_A",   "v_alpha_V",    "v_beta_V",
+    "v_a_V",      "v_b_V",       "v_c_V",        "rho2",        "estimate_valid", "fault"};
+
+SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const paper001_drive_t& drive,
+                             bool record_rows)
+    : sc_(sc), plant_(plant), drive_(drive), n_max_(sc.n_ticks())
+{
+    for (const auto& p : sc.speed_points) {
+        events_.push_back(p.first);
+    }
+    for (const LoadStep& s : sc.load) {
+        events_.push_back(s.t_s);
+        if (s.ramp_s > 0.0) {
+            events_.push_back(s.t_s + s.ramp_s);
+        }
+    }
+    std::sort(events_.begin(), events_.end());
+    if (record_rows) {
+        rows_.assign(static_cast<std::size_t>(n_max_) * kSpNumColumns, 0.0);
+    }
+}
+
+double SpeedRecorder::omega_ref(double t_s, double* slope) const
+{
+    const auto& p = sc_.speed_points;
+    *slope = 0.0;
+    if (t_s <= p.front().first) {
+        return p.front().second;
+    }
+    for (std::size_t k = 0; k + 1 < p.size(); ++k) {
+        if (t_s < p[k + 1].first) {
+            *slope = (p[k + 1].second - p[k].second) / (p[k + 1].first - p[k].first);
+            return p[k].second + *slope * (t_s - p[k].first);
+        }
+    }
+    return p.back().second;
+}
+
+void SpeedRecorder::monitor(void* ctx, const hal_sw_plant_period_t* p)
+{
+    static_cast<SpeedRecorder*>(ctx)->on_period(*p);
+}
+
+void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
+{
+    if (n_ >= n_max_) {
+        return;
+    }
+    paper001_telemetry_t tm;
+    paper001_drive_get_telemetry(&drive_, &tm);
+    const double t = p.t_s;
+    double slope = 0.0;
+    const double w_ref = omega_ref(t, &slope);
+    const double w = plant_.omega_rad_s();
+    const double err_rpm = std::fabs(w - w_ref) * kRadSToRpm;
+    const double th_e = wrap_pi(static_cast<double>(plant_.motor().n_p) * plant_.theta_rad());
+    const double th_e_est = to_double(tm.theta_e_rad);
+    const double th_err = wrap_pi(th_e_est - th_e);
+    const double load = plant_.load_torque_Nm() + plant_.motor().fv_Nms_per_rad * w;
+    const double load_est = to_double(tm.load_est_Nm);
+    const bool valid = tm.estimate_valid && p.control_called;
+
+    // time since the last corner or load change, and the segment type
+    const auto it = std::upper_bound(events_.begin(), events_.end(), t + 1e-12);
+    const double since = (it == events_.begin()) ? t : t - *(it - 1);
+    const bool settled_time = since >= kSettleAfter_s - 1e-12;
+    err_max_ = std::max(err_max_, err_rpm);
+    err_ss_ += err_rpm * err_rpm;
+    if (settled_time) {
+        if (slope == 0.0) {
+            settled_max_ = std::max(settled_max_, err_rpm);
+            if (w_ref != 0.0) {
+                settled_moving_max_ = std::max(settled_moving_max_, err_rpm);
+            }
+            load_settled_max_ = std::max(load_settled_max_, std::fabs(load_est - load));
+        }
+    }
+    // ramps: from 0.5 s after the start of the ramp (corners only)
+    if (slope != 0.0) {
+        double ramp_start = 0.0;
+        for (const auto& c : sc_.speed_points) {
+            if (c.first <= t) {
+                ramp_start = c.first;
+            }
+        }
+        if (t - ramp_start >= kSettleAfter_s - 1e-12) {
+            ramp_max_ = std::max(ramp_max_, err_rpm);
+        }
+    }
+    // lock and the angle error after it
+    if (lock_t_ < 0.0) {
+        if (valid && std::fabs(th_err) < kLockTol_rad) {
+            if (lock_run_ == 0) {
+                lock_run_start_ = t;
+            }
+            lock_run_ += 1;
+            if (static_cast<double>(lock_run_) * sc_.ts_s >= kLockHold_s - 1e-12) {
+                lock_t_ = lock_run_start_;
+            }
+        } else {
+            lock_run_ = 0;
+        }
+    } else {
+        theta_max_deg_ = std::max(theta_max_deg_, std::fabs(th_err) * 180.0 / kPi);
+    }
+    double i_ph[3] = {0.0, 0.0, 0.0};
+    plant_.phase_currents(i_ph);
+    for (int k = 0; k < plant_.n_phases(); ++k) {
+        i_max_ = std::max(i_max_, std::fabs(i_ph[k]));
+    }
+    v_max_ = std::max({v_max_, std::fabs(p.v_a_V), std::fabs(p.v_b_V), std::fabs(p.v_c_V)});
+    if (tm.state == SUP_STATE_CLOSED_LOOP) {
+        n_closed_ += 1;
+        if (first_closed_t_ < 0.0) {
+            first_closed_t_ = t;
+        }
+    }
+    if (tm.fault != DRIVE_FAULT_NONE) {
+        fault_ = static_cast<std::int64_t>(tm.fault);
+    }
+    if (!rows_.empty()) {
+        double* r = &rows_[static_cast<std::size_t>(n_) * kSpNumColumns];
+        r[kSpT] = t;
+        r[kSpMode] = static_cast<double>(tm.mode);
+        r[kSpOmegaRef] = w_ref;
+        r[kSpOmega] = w;
+        r[kSpOmegaEst] = to_double(tm.omega_est_rad_s);
+        r[kSpThetaE] = th_e;
+        r[kSpThetaEEst] = th_e_est;
+        r[kSpThetaErrE] = th_err;
+        r[kSpLoad] = load;
+        r[kSpLoadEst] = load_est;
+        r[kSpIa] = i_ph[0];
+        r[kSpIb] = i_ph[1];
+        r[kSpIc] = i_ph[2];
+        r[kSpId] = to_double(tm.i_d_A);
+        r[kSpIq] = to_double(tm.i_q_A);
+        r[kSpIqRef] = to_double(tm.i_q_ref_A);
+        r[kSpValpha] = to_double(tm.v_alpha_V);
+        r[kSpVbeta] = to_double(tm.v_beta_V);
+        r[kSpVa] = p.v_a_V;
+        r[kSpVb] = p.v_b_V;
+        r[kSpVc] = p.v_c_V;
+        r[kSpRho2] = to_double(tm.rho2);
+        r[kSpValid] = valid ? 1.0 : 0.0;
+        r[kSpFault] = static_cast<double>(tm.fault);
+    }
+    n_ += 1;
+}
+
+MetricList SpeedRecorder::metrics(double wall_loop_s) const
+{
+    const double sim_s = static_cast<double>(n_) * sc_.ts_s;
+    const bool locked = lock_t_ >= 0.0;
+    MetricList m;
+    m.emplace_back("speed_err_settled_max_rpm", settled_max_);
+    m.emplace_back("speed_err_settled_moving_max_rpm", settled_moving_max_);
+    m.emplace_back("speed_err_ramp_max_rpm", ramp_max_);
+    m.emplace_back("speed_err_rms_rpm", n_ > 0 ? std::sqrt(err_ss_ / static_cast<double>(n_)) : NAN);
+    m.emplace_back("speed_err_max_rpm", err_max_);
+    m.emplace_back("load_est_err_settled_nm", load_settled_max_);
+    m.emplace_back("lock_time_s", locked ? lock_t_ : NAN);
+    m.emplace_back("theta_est_max_deg_e", locked ? theta_max_deg_ : NAN);
+    m.emplace_back("first_closed_loop_t_s", first_closed_t_);
+    m.emplace_back("closed_loop_fraction", n_ > 0 ? static_cast<double>(n_closed_) / static_cast<double>(n_) : 0.0);
+    m.emplace_back("max_abs_current_A", i_max_);
+    m.emplace_back("max_abs_voltage_V", v_max_);
+    m.emplace_back("i_max_A", sc_.i_max_A);
+    m.emplace_back("final_omega_rad_s", plant_.omega_rad_s());
+    m.emplace_back("fault", fault_);
+    m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
+    m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));
+    m.emplace_back("sim_time_s", sim_s);
+    m.emplace_back("wall_time_s", wall_loop_s);
+    m.emplace_back("realtime_factor", wall_loop_s > 0.0 ? sim_s / wall_loop_s : NAN);
+    return m;
+}
+
+}  // namespace mcsim

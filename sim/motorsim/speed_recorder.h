@@ -1,0 +1,95 @@
+// speed_recorder.h - per-sample log and metrics of a speed-drive run
+// (paper 001's benchmark, section 5.1): the true plant against the drive's
+// reference and estimates, one preallocated row per period.
+//
+// Metrics (keys checked by tests/sim and by checks outside them):
+//   speed_err_settled_max_rpm   max |w - w*| where w* is constant, from 0.5 s
+//                               after each reference corner or load change
+//                               until the next one
+//   speed_err_settled_moving_max_rpm   the same, only where w* != 0
+//   speed_err_ramp_max_rpm      max |w - w*| on the ramps, from 0.5 s after
+//                               their start
+//   speed_err_rms_rpm, speed_err_max_rpm   over the whole run
+//   load_est_err_settled_nm     max |tau_hat - tau_L| in the settled windows
+//                               (tau_L: what brakes the rotor besides the
+//                               motor torque: load, friction)
+//   lock_time_s                 first sample of a 50 ms run of samples with
+//                               the drive's estimate valid and the electrical
+//                               angle error < 5 degrees (NaN: never)
+//   theta_est_max_deg_e         max electrical angle error once the lock is
+//                               established (lock_time_s + 50 ms) to the end
+//   max_abs_current_A           largest true phase current
+#ifndef MCSIM_MOTORSIM_SPEED_RECORDER_H
+#define MCSIM_MOTORSIM_SPEED_RECORDER_H
+
+#include <cstdint>
+#include <vector>
+
+#include "drives/paper001_drive.h"
+#include "hal_sw_plant.h"
+#include "model/pm_plant.h"
+#include "motorsim/recorder.h"
+#include "scenario/scenario.h"
+
+namespace mcsim {
+
+enum SpeedColumn : int {
+    kSpT,
+    kSpMode,
+    kSpOmegaRef,
+    kSpOmega,
+    kSpOmegaEst,
+    kSpThetaE,
+    kSpThetaEEst,
+    kSpThetaErrE,
+    kSpLoad,
+    kSpLoadEst,
+    kSpIa,
+    kSpIb,
+    kSpIc,
+    kSpId,
+    kSpIq,
+    kSpIqRef,
+    kSpValpha,
+    kSpVbeta,
+    kSpVa,
+    kSpVb,
+    kSpVc,
+    kSpRho2,
+    kSpValid,
+    kSpFault,
+    kSpNumColumns
+};
+extern const char* const kSpeedColumnNames[kSpNumColumns];
+
+class SpeedRecorder {
+public:
+    SpeedRecorder(const Scenario& sc, const PmPlant& plant, const paper001_drive_t& drive, bool record_rows);
+    static void monitor(void* ctx, const hal_sw_plant_period_t* p);
+    const double* data() const { return rows_.data(); }
+    std::size_t size() const { return rows_.empty() ? 0 : static_cast<std::size_t>(n_); }
+    MetricList metrics(double wall_loop_s) const;
+
+    // reference speed of the scenario at t (double, independent of the drive's)
+    double omega_ref(double t_s, double* slope) const;
+
+private:
+    void on_period(const hal_sw_plant_period_t& p);
+
+    const Scenario& sc_;
+    const PmPlant& plant_;
+    const paper001_drive_t& drive_;
+    std::vector<double> events_;  // reference corners and load changes, sorted
+    std::uint64_t n_max_;
+    std::vector<double> rows_;
+
+    std::uint64_t n_ = 0, n_closed_ = 0, lock_run_ = 0;
+    double settled_max_ = 0.0, settled_moving_max_ = 0.0, ramp_max_ = 0.0, err_max_ = 0.0, err_ss_ = 0.0;
+    double load_settled_max_ = 0.0, theta_max_deg_ = 0.0, i_max_ = 0.0, v_max_ = 0.0;
+    double lock_t_ = -1.0, lock_run_start_ = 0.0, first_closed_t_ = -1.0;
+    std::int64_t fault_ = 0;
+};
+
+}  // namespace mcsim
+
+#endif  // MCSIM_MOTORSIM_SPEED_RECORDER_H
