@@ -97,7 +97,6 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     flux_observer_step(&d->flux, i_ab);
 
     /* 3. open loop: the circle fit, then the switch to closed loop */
-    const mc_t theta_ol = mc_elec_angle(d->ref.theta_rad, c->model.n_p);
     bool switched = false;
     if (d->sup.state == SUP_STATE_OPEN_LOOP) {
         flux_circle_fit_add(&d->fit, d->flux.rho);
@@ -127,7 +126,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     } else {
         /* (68) along the reference angle, expressed in the estimated frame */
         const mc_t v = open_loop_voltage(&c->open_loop, &c->model, d->ref.omega_rad_s);
-        const mc_rot_t ol = mc_rot_from_angle(theta_ol);
+        const mc_rot_t ol = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, c->model.n_p));
         mc_rot_fwd(rho, mc_mul(v, ol.c), mc_mul(v, ol.s), &v_d, &v_q);
     }
     supervisor_blend(&d->sup, switched, &v_d, &v_q);
