@@ -48,6 +48,30 @@
  * a few electrical time constants L/R of the paper's motor (17 ms) is too
  * slow for the load step at 1 s; 5 ms is 50 samples. */
 #define P001_BLEND_TAU_S 5e-3
+/* The start-up probe (paper001_drive.h): a standstill vector whose current
+ * would let the rotor creep at most P001_PROBE_SLIP_RAD_S (R I / K_e, the
+ * resistance's damping as for the open loop), first along alpha, then along
+ * the arc the rotor started. 1 rad/s (10 rpm) turns paper 001's rotor
+ * through the 0.3 rad electrical the fit needs in about 0.1 s (0.1 rad
+ * mechanical at 1 rad/s, n_p = 3); P001_PROBE_S bounds the probe at three
+ * times that, after which the open loop starts at the reference angle. */
+#define P001_PROBE_SLIP_RAD_S 1.0
+#define P001_PROBE_S 0.3
+/* The probe's fit takes a point each 0.01 rad of arc (points scaled by 8,
+ * paper001_drive.c: step 0.08, squared 6.4e-3) and is trusted above
+ * det M = 3e-3: an arc of 0.3 rad electrical (det M of evenly spread
+ * points is 3.2e-3 there, 6th power of the arc). */
+#define P001_PROBE_STEP2 6.4e-3
+/* The probe's vector stays along alpha at most 50 ms: a rotor that alpha
+ * has not moved 0.1 rad by then is within about 0.1 rad of 0 or pi, where
+ * beta pulls it hardest. */
+#define P001_PROBE_TURN_S 0.05
+/* The probe's vector turns from alpha to the arc once the flux has moved
+ * 0.1 rad (scaled by 8: 0.8, squared 0.64): a chord long enough to give its
+ * direction to a few degrees; below a quarter of it (0.025 rad) the rotor
+ * counts as not moved. */
+#define P001_PROBE_TURN2 0.64
+#define P001_PROBE_DET_MIN 3e-3
 /* The open-loop vector's magnitude is not capped below the bus. */
 #define P001_OPEN_LOOP_VCAP_V 1000.0
 /* A bus below 1 V is no bus: the drive refuses the sample. */
@@ -74,6 +98,7 @@ void p001_design_defaults(p001_design_input_t *in)
     in->handover_sweep_rad = 0.0;
     in->fit_det_min = 0.0;
     in->i_open_loop_A = 0.0;
+    in->probe_s = P001_PROBE_S;
 }
 
 /* A per-sample coefficient the fixed-point build can hold. */
@@ -187,6 +212,25 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     cfg->fit.decim = P001_FIT_DECIM;
     cfg->fit.det_min = mc_from_double((in->fit_det_min > 0.0) ? in->fit_det_min : P001_FIT_DET_MIN);
     cfg->v_bus_min_V = mc_from_double(P001_V_BUS_MIN_V);
+    if (!(in->probe_s >= 0.0 && in->probe_s <= 10.0)) {
+        return p001_fail(err, err_len, "probe_s", "must be in [0, 10] s", in->probe_s);
+    }
+    cfg->probe_ticks = (uint32_t)llround(in->probe_s * fs);
+    cfg->probe_turn_ticks = (uint32_t)llround(fmin(P001_PROBE_TURN_S, 0.5 * in->probe_s) * fs);
+    cfg->probe_fit.decim = 1;
+    cfg->probe_fit.det_min = mc_from_double(P001_PROBE_DET_MIN);
+    cfg->probe_step2 = mc_from_double(P001_PROBE_STEP2);
+    cfg->probe_turn2 = mc_from_double(P001_PROBE_TURN2);
+    {
+        double i_probe = (m->R_ohm > 0.0) ? P001_PROBE_SLIP_RAD_S * Ke / m->R_ohm : i_ol;
+        if (i_probe > i_ol) {
+            i_probe = i_ol;
+        }
+        cfg->probe_v_V = mc_from_double(m->R_ohm * i_probe);
+        if (rep != NULL) {
+            rep->i_probe_A = i_probe;
+        }
+    }
 
     /* speed profile: ticks, slopes, lengths, angles at the corners */
     speed_profile_config_t *pc = &cfg->profile;
@@ -220,6 +264,7 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         rep->loop_wn_rad_s = sqrt(Ke * Kt / (m->L_H * m->J_kgm2));
         rep->loop_zeta = r * m->J_kgm2 / (2.0 * sqrt(m->L_H * m->J_kgm2 * Ke * Kt));
         rep->i_open_loop_A = i_ol;
+        rep->probe_s = (double)cfg->probe_ticks * ts;
     }
     return true;
 }

@@ -39,6 +39,7 @@ typedef struct {
     double blend_tau_s;      /* decay of the voltage offset at the switch */
     double handover_sweep_rad; /* electrical; <= 0: derived */
     double fit_det_min;      /* smallest arc measure of the circle fit; <= 0: derived */
+    double probe_s;          /* longest start-up probe [s]; 0: no probe (defaults: 0.3) */
     /* speed profile: corners (t [s], w [rad/s mechanical]) */
     size_t n_points;
     double t_s[SPEED_PROFILE_MAX_POINTS];
@@ -53,6 +54,7 @@ typedef struct {
     double observer_poles_re;        /* real part of A33's poles (16) */
     double loop_wn_rad_s, loop_zeta; /* L J s^2 + r J s + K_e K_t */
     double i_open_loop_A;
+    double probe_s, i_probe_A;
 } p001_design_report_t;
 
 /* Fills the defaults of section 5 into *in (motor and profile left as given). */

@@ -17,6 +17,13 @@
  */
 #include "drives/paper001_drive.h"
 
+/* The probe's points are p = 8 (rho - rho(0)): det M of a through-origin
+ * fit of points spread evenly along an arc is 1.3e-8 for an arc of 0.3 rad
+ * (6th power of the arc), below the resolution of Q14.17 (7.6e-6); scaled
+ * by 8 it is 4096 times larger (3.2e-3, 420 LSB). |p| <= 2 (two unit
+ * vectors) keeps |8 p|^3 <= 4096, below the Q14.17 limit of 16384. */
+#define P001_PROBE_POINT_SCALE 8
+
 static void p001_zero_output(paper001_drive_t *d, hal_command_t *out)
 {
     out->n_phases = d->cfg.n_phases;
@@ -52,6 +59,16 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     flux_observer_init(&d->flux, &cfg->flux, angle0, i0);
     flux_observer_set_gradient(&d->flux, false); /* a pure integrator until the circle fit */
     flux_circle_fit_init(&d->fit, &cfg->fit);
+    flux_circle_fit_init(&d->probe, &cfg->probe_fit);
+    d->probe_anchor = d->flux.rho;
+    d->probe_last.alpha = MC_ZERO;
+    d->probe_last.beta = MC_ZERO;
+    d->probing = cfg->probe_ticks > 0u;
+    d->probe_turned = false;
+    d->probe_dir.s = MC_ZERO; /* along alpha */
+    d->probe_dir.c = MC_ONE;
+    d->ol_origin = angle0;
+    d->ol_theta0_rad = MC_ZERO;
     speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
     ida_pbc_init(&d->ctrl);
     const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
@@ -66,6 +83,57 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
         return false;
     }
     return true;
+}
+
+/* The start-up probe (paper001_drive.h): offers the fit a point each time
+ * the flux has moved sqrt(probe_step2)/8 along its arc; ends when the fit
+ * is trusted (observer corrected, open-loop vector started at the
+ * estimate) or when probe_ticks have passed (vector at the reference). */
+static void p001_probe(paper001_drive_t *d)
+{
+    const paper001_config_t *c = &d->cfg;
+    mc_ab_t p;
+    p.alpha = mc_mul_i(mc_sub(d->flux.rho.alpha, d->probe_anchor.alpha), P001_PROBE_POINT_SCALE);
+    p.beta = mc_mul_i(mc_sub(d->flux.rho.beta, d->probe_anchor.beta), P001_PROBE_POINT_SCALE);
+    const mc_t da = mc_sub(p.alpha, d->probe_last.alpha);
+    const mc_t db = mc_sub(p.beta, d->probe_last.beta);
+    bool found = false;
+    if (!(mc_dot2(da, da, db, db) < c->probe_step2)) {
+        flux_circle_fit_add(&d->probe, p);
+        d->probe_last = p;
+        mc_ab_t centre;
+        if (flux_circle_fit_center_origin(&d->probe, &centre)) {
+            /* the centre in rho units: anchor + centre / 8 */
+            centre.alpha = mc_add(d->probe_anchor.alpha, mc_div_i(centre.alpha, P001_PROBE_POINT_SCALE));
+            centre.beta = mc_add(d->probe_anchor.beta, mc_div_i(centre.beta, P001_PROBE_POINT_SCALE));
+            flux_observer_shift(&d->flux, centre);
+            found = true;
+        }
+    }
+    const mc_t p2 = mc_dot2(p.alpha, p.alpha, p.beta, p.beta);
+    if (!d->probe_turned && (!(p2 < c->probe_turn2) || d->tick + 1u >= c->probe_turn_ticks)) {
+        /* along the chord: ahead of the rotor in its direction of motion,
+         * for either of the mirror-image angles (paper001_drive.h) */
+        d->probe_turned = true;
+        if (p2 > MC_ZERO && !(p2 < mc_div_i(c->probe_turn2, 16))) {
+            const mc_t k = mc_rsqrt(p2);
+            d->probe_dir.c = mc_mul(p.alpha, k);
+            d->probe_dir.s = mc_mul(p.beta, k);
+        } else {
+            d->probe_dir.c = MC_ZERO; /* not moved: the rotor is at 0 or pi, beta moves it */
+            d->probe_dir.s = MC_ONE;
+        }
+    }
+    if (found || d->tick + 1u >= c->probe_ticks) {
+        /* the open-loop vector starts at the (corrected) estimate; without a
+         * fit, at the reference angle */
+        const mc_rot_t ref = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, c->model.n_p));
+        const mc_rot_t minus_ref = {mc_neg(ref.s), ref.c};
+        const mc_rot_t at = found ? d->flux.unit : (mc_rot_t){MC_ZERO, MC_ONE};
+        d->ol_origin = mc_rot_compose(at, minus_ref);
+        d->ol_theta0_rad = d->ref.theta_rad;
+        d->probing = false;
+    }
 }
 
 bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
@@ -96,11 +164,14 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     /* 2. flux observer */
     flux_observer_step(&d->flux, i_ab);
 
-    /* 3. open loop: the circle fit, then the switch to closed loop */
+    /* 3. open loop: the probe, the circle fit, then the switch to closed loop */
     bool switched = false;
-    if (d->sup.state == SUP_STATE_OPEN_LOOP) {
+    const bool probing = d->probing && d->sup.state == SUP_STATE_OPEN_LOOP;
+    if (probing) {
+        p001_probe(d);
+    } else if (d->sup.state == SUP_STATE_OPEN_LOOP) {
         flux_circle_fit_add(&d->fit, d->flux.rho);
-        const mc_t swept = mc_mul_i(mc_abs(d->ref.theta_rad), c->model.n_p);
+        const mc_t swept = mc_mul_i(mc_abs(mc_sub(d->ref.theta_rad, d->ol_theta0_rad)), c->model.n_p);
         mc_ab_t centre;
         if (!(swept < c->handover_sweep_rad) && flux_circle_fit_center(&d->fit, &centre)) {
             flux_observer_shift(&d->flux, centre);
@@ -125,8 +196,16 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
                      d->ref.accel_rad_s2, &v_d, &v_q); /* (11) */
     } else {
         /* (68) along the reference angle, expressed in the estimated frame */
-        const mc_t v = open_loop_voltage(&c->open_loop, &c->model, d->ref.omega_rad_s);
-        const mc_rot_t ol = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, c->model.n_p));
+        mc_rot_t ol;
+        mc_t v;
+        if (probing) {
+            /* the probe: along alpha, then along the arc */
+            v = c->probe_v_V;
+            ol = d->probe_dir;
+        } else {
+            v = open_loop_voltage(&c->open_loop, &c->model, d->ref.omega_rad_s);
+            ol = mc_rot_compose(d->ol_origin, mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, c->model.n_p)));
+        }
         mc_rot_fwd(rho, mc_mul(v, ol.c), mc_mul(v, ol.s), &v_d, &v_q);
     }
     supervisor_blend(&d->sup, switched, &v_d, &v_q);

@@ -15,7 +15,22 @@
  *   supervisor (supervisor/)     states, faults, bumpless switch, voltage limit
  *
  * Start from an unknown rotor angle (paper 001's result is local): the
- * drive begins in open loop, a voltage vector of (68)'s magnitude turning
+ * drive first probes the rotor with a small standstill vector along alpha.
+ * Once the rotor has moved (or after `probe_turn_ticks` samples), the
+ * vector turns to the direction in which the flux has moved (beta if it
+ * has not): whichever of the two mirror-image rotor angles the chord
+ * allows, that vector is perpendicular to the rotor's flux and ahead of
+ * it in its direction of motion, so the rotor goes on along the same arc
+ * instead of retracing it (a rotor at 0 or pi from alpha, which alpha
+ * cannot move, is moved by beta). The integrated flux describes the same
+ * arc as the rotor, and the through-origin circle
+ * fit (flux_circle_fit_center_origin) of points spaced along it finds the
+ * observer's initial error as soon as the arc suffices. The observer is
+ * corrected and the open-loop vector starts where the rotor is, so the
+ * rotor is not dragged across up to half an electrical turn (up to 40 rpm
+ * of speed error on paper 001's motor, against or with the reference). If
+ * the arc stays too short, the vector starts at the reference angle. Then the
+ * drive runs in open loop, a voltage vector of (68)'s magnitude turning
  * with the reference. The stator resistance damps the rotor into step with
  * it (the back-EMF drives a braking current: damping K_e K_t / R). Meanwhile
  * the flux observer runs as a pure integrator and the circle fit
@@ -60,6 +75,12 @@ typedef struct {
     supervisor_config_t sup;
     speed_profile_config_t profile;
     flux_circle_fit_config_t fit;  /* the observer's initial error from the open-loop motion */
+    uint32_t probe_ticks;          /* longest start-up probe (0: none) */
+    uint32_t probe_turn_ticks;     /* longest time along alpha */
+    mc_t probe_v_V;                /* the probe's standstill vector */
+    mc_t probe_step2;              /* squared spacing of the probe's fit points (scaled units) */
+    mc_t probe_turn2;              /* squared chord at which the probe's vector turns (scaled units) */
+    flux_circle_fit_config_t probe_fit; /* the through-origin fit of the probe's short arc */
     mc_t handover_sweep_rad;       /* electrical angle the open loop turns before the switch */
     mc_t v_bus_min_V;              /* below this measured bus the sample is refused */
 } paper001_config_t;
@@ -87,6 +108,14 @@ typedef struct {
     supervisor_t sup;
     flux_observer_t flux;
     flux_circle_fit_t fit;
+    flux_circle_fit_t probe;       /* points P001_PROBE_SCALE (rho - probe_anchor) */
+    mc_ab_t probe_anchor;          /* rho_hat when the probe starts */
+    mc_ab_t probe_last;            /* the last point offered to the probe's fit */
+    bool probing;                  /* the probe runs (the first samples of the open loop) */
+    bool probe_turned;             /* the probe's vector has turned to the arc's direction */
+    mc_rot_t probe_dir;            /* the probe's vector direction */
+    mc_rot_t ol_origin;            /* open-loop vector angle minus the reference angle (electrical) */
+    mc_t ol_theta0_rad;            /* reference angle when the open-loop turn starts */
     speed_load_observer_t speed;
     ida_pbc_t ctrl;
     speed_profile_t profile;

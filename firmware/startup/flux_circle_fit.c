@@ -52,3 +52,19 @@ bool flux_circle_fit_center(const flux_circle_fit_t *f, mc_ab_t *c)
     c->beta = mc_div(mc_cross2(cxx, uy, cxy, ux), two_det);
     return true;
 }
+
+bool flux_circle_fit_center_origin(const flux_circle_fit_t *f, mc_ab_t *c)
+{
+    if (f->n < 3) {
+        return false;
+    }
+    const mc_t det = mc_cross2(f->mxx, f->myy, f->mxy, f->mxy);
+    if (det < f->cfg.det_min) {
+        return false;
+    }
+    /* c = (1/2) M^-1 E(|p|^2 p) */
+    const mc_t two_det = mc_mul_i(det, 2);
+    c->alpha = mc_div(mc_cross2(f->myy, f->m2x, f->mxy, f->m2y), two_det);
+    c->beta = mc_div(mc_cross2(f->mxx, f->m2y, f->mxy, f->m2x), two_det);
+    return true;
+}

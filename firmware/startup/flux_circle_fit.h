@@ -58,6 +58,16 @@ void flux_circle_fit_add(flux_circle_fit_t *f, mc_ab_t q);
 /* The centre c; false (c untouched) if the arc is too short. */
 bool flux_circle_fit_center(const flux_circle_fit_t *f, mc_ab_t *c);
 
+/* The centre c of a circle through the origin (the points offered are
+ * p = q - q(0), so the first point of the motion is the origin):
+ * |p|^2 = 2 p.c is linear in c alone, c = (1/2) M^-1 E(|p|^2 p) with
+ * M = E(p p^T) the raw second moments. Two unknowns instead of three, so a
+ * short arc suffices: the chord fixes c's direction up to a mirror, the
+ * curvature (the arc's sagitta) picks the side. det M grows as arc^6
+ * (about 1e-3 arc^6 for an arc from the origin): callers scale p up.
+ * False (c untouched) if det M < det_min. */
+bool flux_circle_fit_center_origin(const flux_circle_fit_t *f, mc_ab_t *c);
+
 #ifdef __cplusplus
 }
 #endif

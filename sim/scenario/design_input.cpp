@@ -168,6 +168,9 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
     in->blend_tau_s = sc.speed_gains.blend_tau_s;
     in->handover_sweep_rad = sc.speed_gains.handover_sweep_rad;
     in->fit_det_min = sc.speed_gains.fit_det_min;
+    if (sc.speed_gains.probe_s >= 0.0) {
+        in->probe_s = sc.speed_gains.probe_s;
+    }
     in->n_points = sc.speed_points.size();
     for (std::size_t k = 0; k < sc.speed_points.size() && k < SPEED_PROFILE_MAX_POINTS; ++k) {
         in->t_s[k] = sc.speed_points[k].first;
