@@ -268,3 +268,76 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     }
     return true;
 }
+
+/* ---- commissioning (startup/pmsm_identification.h) --------------------
+ * The vector of the alignment and of the R/L step: the open-loop current
+ * of the start through the model's R. A voltage-fed rotor turns towards
+ * it with the time constant J-free K_e / V (the resistance's damping
+ * 1.5 K_e^2 / R against the stiffness 1.5 K_e V / R): 0.5 s on paper
+ * 001's motor, whatever the motor's real R. */
+#define P001_ID_ALIGN_BETA_S 1.5  /* 3 time constants: a start for the second step, not an end */
+#define P001_ID_ALIGN_ALPHA_S 2.5 /* 5 time constants from a quarter turn: 0.013 rad left */
+/* 0 V for 6 electrical time constants L/R (17 ms on paper 001's motor):
+ * the current is gone before the step. */
+#define P001_ID_REST_TAU 6.0
+/* The step: 9 L/R in all, R from the last 3 (the first 6 leave 0.25 %
+ * of the step undecayed). */
+#define P001_ID_RL_TAU 9.0
+#define P001_ID_RL_STEADY_TAU 3.0
+/* The spin: 100 rpm, where the back-EMF (6 V on paper 001's motor) is
+ * six times R I, so a 1 % error of the measured R moves Phi by 0.2 %;
+ * reached in 1 s (10 rad/s^2: 0.12 N m of the 3.4 N m the start current
+ * gives), held 1 s, measured over the last 0.5 s. */
+#define P001_ID_SPIN_RPM 50.0
+#define P001_ID_SPIN_RAMP_S 1.0
+#define P001_ID_SPIN_HOLD_S 1.0
+#define P001_ID_SPIN_MEAS_S 0.5
+/* The standstill step is refused if the reference moves (none here). */
+#define P001_ID_OMEGA_STILL_RAD_S 1e-3
+
+bool p001_identification_design(const p001_design_input_t *in, pmsm_id_config_t *cfg, double *duration_s,
+                                char *err, size_t err_len)
+{
+    paper001_config_t drive;
+    p001_design_report_t rep;
+    if (!p001_design(in, &drive, &rep, err, err_len)) {
+        return false;
+    }
+    const p001_motor_si_t *m = &in->motor;
+    if (!(m->R_ohm > 0.0)) {
+        return p001_fail(err, err_len, "motor.R_ohm", "identification needs a model R > 0", m->R_ohm);
+    }
+    const double ts = in->ts_s;
+    const double tau_e = m->L_H / m->R_ohm;
+    memset(cfg, 0, sizeof *cfg);
+    cfg->model = drive.model;
+    cfg->Phi_model_Wb = mc_from_double(m->Phi_Wb);
+    cfg->i_trip_A = mc_from_double(in->i_trip_A);
+    const double v = m->R_ohm * rep.i_open_loop_A;
+    cfg->v_align_V = mc_from_double(v);
+    cfg->v_rl_V = mc_from_double(v);
+    cfg->align_beta_ticks = (int32_t)llround(P001_ID_ALIGN_BETA_S / ts);
+    cfg->align_alpha_ticks = (int32_t)llround(P001_ID_ALIGN_ALPHA_S / ts);
+    cfg->rest_ticks = (int32_t)llround(P001_ID_REST_TAU * tau_e / ts);
+    cfg->rl.window_ticks = (int32_t)llround(P001_ID_RL_TAU * tau_e / ts);
+    cfg->rl.steady_ticks = (int32_t)llround(P001_ID_RL_STEADY_TAU * tau_e / ts);
+    cfg->rl.R_model_ohm = drive.model.R_ohm;
+    cfg->rl.L_fs_model_ohm = mc_from_double(m->L_H / ts);
+    cfg->rl.omega_still_rad_s = mc_from_double(P001_ID_OMEGA_STILL_RAD_S);
+    cfg->i_spin_A = mc_from_double(rep.i_open_loop_A);
+    const double we = P001_ID_SPIN_RPM * 2.0 * 3.14159265358979323846 / 60.0 * (double)m->n_p;
+    cfg->omega_spin_e_rad_s = mc_from_double(we);
+    cfg->theta_step_rad = mc_from_double(we * ts);
+    cfg->omega_step_e_rad_s = mc_from_double(we * ts / P001_ID_SPIN_RAMP_S);
+    cfg->hold_ticks = (int32_t)llround(P001_ID_SPIN_HOLD_S / ts);
+    cfg->meas_ticks = (int32_t)llround(P001_ID_SPIN_MEAS_S / ts);
+    if (cfg->rl.steady_ticks < 1 || cfg->rl.window_ticks <= cfg->rl.steady_ticks) {
+        return p001_fail(err, err_len, "ts_s", "too long for the standstill step of L/R", ts);
+    }
+    if (duration_s != NULL) {
+        *duration_s = ts * (double)(cfg->align_beta_ticks + cfg->align_alpha_ticks + cfg->rest_ticks +
+                                    cfg->rl.window_ticks + cfg->hold_ticks) +
+                      2.0 * P001_ID_SPIN_RAMP_S;
+    }
+    return true;
+}

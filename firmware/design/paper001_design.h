@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "drives/paper001_drive.h"
+#include "startup/pmsm_identification.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -64,6 +65,12 @@ void p001_design_defaults(p001_design_input_t *in);
  * err if an input is unusable. */
 bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_design_report_t *rep, char *err,
                  size_t err_len);
+
+/* The commissioning run (startup/pmsm_identification.h) for the motor of
+ * *in: alignment, standstill R/L step, spin for Phi; *duration_s (if not
+ * NULL) is its nominal length. False with a reason if *in is unusable. */
+bool p001_identification_design(const p001_design_input_t *in, pmsm_id_config_t *cfg, double *duration_s,
+                                char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

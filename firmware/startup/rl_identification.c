@@ -1,5 +1,7 @@
 #include "startup/rl_identification.h"
 
+#include "math/mc_mean.h"
+
 void rl_id_init(rl_id_t *id, const rl_id_config_t *cfg)
 {
     id->cfg = *cfg;
@@ -17,18 +19,6 @@ void rl_id_init(rl_id_t *id, const rl_id_config_t *cfg)
     }
     id->R_ohm = cfg->R_model_ohm;
     id->L_fs_ohm = cfg->L_fs_model_ohm;
-}
-
-/* mean += x/n with the rounding error of x/n carried into the next sample,
- * so the mean of a constant input is exact to 1 LSB however long the window
- * (a plain running sum would leave the fixed-point range; plain x/n would
- * round the same way every sample). */
-static void mean_add(mc_t *mean, mc_t *res, mc_t x, int32_t n)
-{
-    const mc_t t = mc_add(x, *res);
-    const mc_t q = mc_div_i(t, n);
-    *res = mc_sub(t, mc_mul_i(q, n));
-    *mean = mc_add(*mean, q);
 }
 
 static bool within_factor_two(mc_t x, mc_t ref)
@@ -50,11 +40,11 @@ bool rl_id_step(rl_id_t *id, mc_t i_f_A, mc_t v_f_V, mc_t omega_ref_rad_s)
         id->i0_A = i_f_A;
     }
     const int32_t N = c->window_ticks;
-    mean_add(&id->mean_v_V, &id->res[0], v_f_V, N);
-    mean_add(&id->mean_i_A, &id->res[1], i_f_A, N);
+    mc_mean_add(&id->mean_v_V, &id->res[0], v_f_V, N);
+    mc_mean_add(&id->mean_i_A, &id->res[1], i_f_A, N);
     if (id->k >= N - c->steady_ticks) {
-        mean_add(&id->ss_v_V, &id->res[2], v_f_V, c->steady_ticks);
-        mean_add(&id->ss_i_A, &id->res[3], i_f_A, c->steady_ticks);
+        mc_mean_add(&id->ss_v_V, &id->res[2], v_f_V, c->steady_ticks);
+        mc_mean_add(&id->ss_i_A, &id->res[3], i_f_A, c->steady_ticks);
     }
     id->k += 1;
     if (id->k < N) {

@@ -30,6 +30,7 @@
 
 #include "drives/paper000_drive.h"
 #include "drives/paper001_drive.h"
+#include "motorsim/commission.h"
 #include "motorsim/speed_recorder.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
@@ -203,6 +204,21 @@ int run(const Options& opt)
                                     " s at this Ts_s)");
     }
 
+    // Commissioning ([speed] identify): the motor's R, L and Phi measured by
+    // the firmware on the same plant before the run replace the drive model's.
+    mcsim::CommissionResult commission;
+    if (sc.speed_drive && sc.speed_gains.identify) {
+        commission = mcsim::commission_pmsm(sc);
+        if (!commission.ok) {
+            throw std::runtime_error(sc.path + ": identification failed after " +
+                                     std::to_string(commission.duration_s) + " s: " + commission.why);
+        }
+        sc.drive_model.R_ohm = commission.R_ohm;
+        sc.drive_model.L_H = commission.L_H;
+        sc.drive_model.L_q_H = commission.L_H;
+        sc.drive_model.K_Nm_per_A = commission.Phi_Wb * static_cast<double>(sc.drive_model.n_p);
+    }
+
     mcsim::Rig rig(sc);
     mcsim::PmPlant& plant = rig.plant;
     mcsim::CurrentSensor& sensor = rig.sensor;
@@ -240,7 +256,16 @@ int run(const Options& opt)
     const double wall_s = run_loop(sc.n_ticks(), opt.quiet);
     hal_safe_state();
     hal_sw_plant_detach();
-    const mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
+    mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
+    if (commission.ok) {
+        metrics.emplace_back("id_R_ohm", commission.R_ohm);
+        metrics.emplace_back("id_L_H", commission.L_H);
+        metrics.emplace_back("id_Phi_Wb", commission.Phi_Wb);
+        metrics.emplace_back("id_R_err_pct", 100.0 * (commission.R_ohm / sc.motor.R_ohm - 1.0));
+        metrics.emplace_back("id_L_err_pct", 100.0 * (commission.L_H / sc.motor.L_H - 1.0));
+        metrics.emplace_back("id_Phi_err_pct", 100.0 * (commission.Phi_Wb / sc.motor.Phi_Wb() - 1.0));
+        metrics.emplace_back("id_time_s", commission.duration_s);
+    }
 
     // ---- outputs ----------------------------------------------------------
     if (write_csv) {

@@ -67,6 +67,7 @@ struct Scenario {
         double gamma = 0.0, a1 = 0.0, a2 = 0.0, r_ohm = 0.0;  // 0: the design's default
         double handover_sweep_rad = 0.0, fit_det_min = 0.0, blend_tau_s = 0.0;
         double probe_s = -1.0;  // start-up probe [s]; 0: none; < 0: the design's default
+        bool identify = false;  // commissioning run (R, L, Phi) before the run
     } speed_gains;
 
     SensorParams sensor;

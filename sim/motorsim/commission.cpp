@@ -1,0 +1,86 @@
+#include "motorsim/commission.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "hal_sw_plant.h"
+#include "scenario/design_input.h"
+#include "scenario/rig.h"
+
+extern "C" {
+#include "adapter/phase_adapter.h"
+#include "design/paper001_design.h"
+#include "hal/hal.h"
+#include "math/mc_convert.h"
+#include "startup/pmsm_identification.h"
+}
+
+namespace mcsim {
+namespace {
+
+struct Ctx {
+    pmsm_id_t id;
+    uint8_t n_phases;
+};
+
+void commission_callback(void* vctx, const hal_sample_t* in, hal_command_t* out)
+{
+    Ctx* ctx = static_cast<Ctx*>(vctx);
+    mc_t i_zero;
+    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
+    // a leg swings +-v_bus/2 about the midpoint (three phases), an H-bridge +-v_bus
+    const mc_t v_max = (ctx->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V;
+    mc_ab_t v_ab;
+    (void)pmsm_id_step(&ctx->id, i_ab, in->i_A, in->n_phases, v_max, &v_ab);
+    phase_adapter_voltages(ctx->n_phases, v_ab, out);
+}
+
+}  // namespace
+
+CommissionResult commission_pmsm(const Scenario& sc)
+{
+    p001_design_input_t in;
+    make_speed_design_input(sc, &in);
+    Ctx ctx{};
+    pmsm_id_config_t cfg;
+    double duration_s = 0.0;
+    char err[256] = {0};
+    if (!p001_identification_design(&in, &cfg, &duration_s, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": identification design: " + err);
+    }
+    CommissionResult r;
+    if (!pmsm_id_init(&ctx.id, &cfg)) {
+        r.why = std::string("configuration rejected: ") + ctx.id.why;
+        return r;
+    }
+    ctx.n_phases = static_cast<uint8_t>(sc.motor.n_phases());
+    Scenario unloaded = sc;  // commissioning runs without the run's load
+    unloaded.load.clear();
+    Rig rig(unloaded);
+    hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
+    if (!hal_start(&commission_callback, &ctx)) {
+        hal_sw_plant_detach();
+        throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+    }
+    // the nominal length and 1 s more for the ramp-down
+    const auto limit = static_cast<std::uint32_t>((duration_s + 1.0) / sc.ts_s);
+    std::uint32_t n = 0;
+    while (n < limit && ctx.id.phase != PMSM_ID_DONE && ctx.id.phase != PMSM_ID_REJECTED) {
+        hal_sw_plant_run(1);
+        ++n;
+    }
+    hal_safe_state();
+    hal_sw_plant_detach();
+    r.duration_s = n * sc.ts_s;
+    if (ctx.id.phase != PMSM_ID_DONE) {
+        r.why = ctx.id.phase == PMSM_ID_REJECTED ? ctx.id.why : "did not finish in time";
+        return r;
+    }
+    r.ok = true;
+    r.R_ohm = mc_to_double(ctx.id.R_ohm);
+    r.L_H = mc_to_double(ctx.id.L_fs_ohm) * sc.ts_s;
+    r.Phi_Wb = mc_to_double(ctx.id.Phi_Wb);
+    return r;
+}
+
+}  // namespace mcsim

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""The measured tables of docs/paper001.md, from fresh motorsim runs.
+
+Runs the paper-001 benchmark from the ten initial rotor angles of the ctest
+loop (k/10 of an electrical turn, 2 pi/3 rad mechanical at n_p = 3), the
+identification scenario, and the three robustness scenarios, in the float
+build and (--fixed) the fixed-point build, and prints markdown tables:
+
+    python3 tools/bench/paper001_tables.py [--build build/host] [--fixed build/host-fixed]
+
+Standard library only; about 2 s per build.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SC = ROOT / "sim" / "scenarios"
+ANGLES = [k * (2.0 * math.pi / 3.0) / 10.0 for k in range(10)]
+KEYS = [("speed_err_settled_max_rpm", "< 0.1", "%.3f"), ("speed_err_rms_rpm", "< 3.5", "%.2f"),
+        ("speed_err_max_rpm", "< 25", "%.1f"), ("theta_est_max_deg_e", "< 0.5", "%.3f"),
+        ("load_est_err_settled_nm", "< 0.01", "%.4f"), ("lock_time_s", "reported", "%.3f"),
+        ("speed_err_ramp_max_rpm", "reported", "%.2f"), ("max_abs_current_A", "< 8", "%.1f")]
+
+
+def run(motorsim: Path, scenario: Path, *extra: str) -> dict:
+    with tempfile.TemporaryDirectory() as d:
+        out = Path(d) / "m.json"
+        r = subprocess.run([str(motorsim), "--scenario", str(scenario), "--metrics-out", str(out), "--quiet", *extra],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"paper001_tables: {scenario.name} {' '.join(extra)}: motorsim exit {r.returncode}: {r.stderr}")
+        return json.loads(out.read_text())
+
+
+def fmt(fmt_: str, x) -> str:
+    return "null" if x is None else fmt_ % x
+
+
+def rng(fmt_: str, xs: list) -> str:
+    if any(x is None for x in xs):
+        return "null in %d" % sum(x is None for x in xs)
+    lo, hi = fmt_ % min(xs), fmt_ % max(xs)
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
+def tables(build: Path, label: str) -> None:
+    ms = build / "sim" / "motorsim"
+    bench = SC / "paper001_benchmark.toml"
+    angles = [run(ms, bench, "--theta0-rad", "%.5f" % th) for th in ANGLES]
+    ident = run(ms, SC / "paper001_identify.toml")
+    print(f"#### {label}: `{ms.relative_to(ROOT)}`\n")
+    print("| metric | θ(0) = 0 | 10 angles | identify (R +50 %, Φ +15 %) | threshold |")
+    print("|---|---|---|---|---|")
+    for key, thr, f in KEYS:
+        print(f"| {key} | {fmt(f, angles[0][key])} | {rng(f, [a[key] for a in angles])} | {fmt(f, ident[key])} | {thr} |")
+    print()
+    print("| identified (`paper001_identify.toml`) | value | plant | error |")
+    print("|---|---|---|---|")
+    for key, plant, unit in (("R_ohm", 0.3375, "Ω"), ("L_H", 3.8e-3, "H"), ("Phi_Wb", 0.1955, "Wb")):
+        print(f"| {key} | {ident['id_' + key]:.6g} {unit} | {plant:g} {unit} | {ident['id_' + key.split('_')[0] + '_err_pct']:+.4f} % |")
+    print(f"| commissioning time | {ident['id_time_s']:.2f} s | | |")
+    print()
+    print("| robustness scenario | settled, moving (rpm) | settled incl. standstill (rpm) | load err settled (N m) | lock_time_s | fault |")
+    print("|---|---|---|---|---|---|")
+    for case, what in (("R150", "R +50 %"), ("L150", "L +50 %"), ("Phi115", "Φ +15 %")):
+        m = run(ms, SC / f"paper001_{case}.toml")
+        print(f"| `paper001_{case}.toml` ({what}) | {m['speed_err_settled_moving_max_rpm']:.3f} | "
+              f"{m['speed_err_settled_max_rpm']:.3f} | {m['load_est_err_settled_nm']:.4f} | "
+              f"{fmt('%.3f', m['lock_time_s'])} | {m['fault']} |")
+    print()
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build" / "host"))
+    ap.add_argument("--fixed", default=None, help="also the fixed-point build (e.g. build/host-fixed)")
+    a = ap.parse_args()
+    tables(Path(a.build).resolve(), "float")
+    if a.fixed:
+        tables(Path(a.fixed).resolve(), "fixed point (Q14.17)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
