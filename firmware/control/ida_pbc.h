@@ -39,7 +39,8 @@ typedef struct {
     mc_t npL_ohm_s;      /* n_p L [V per A rad/s] */
     mc_t Ke_V_s;         /* n_p Phi [V s/rad] */
     mc_t inv_Kt_A_Nm;    /* 1/K_t */
-    mc_t J_Nm_s2;        /* J for the feed-forward J dw_ref/dt */
+    mc_t J_over_Kt_A_s2; /* J/K_t: the feed-forward current per unit dw_ref/dt (J alone is
+                          * below the fixed-point coefficient range on small motors) */
     mc_t i_max_A;        /* |i_q*| limit */
 } ida_pbc_config_t;
 
@@ -55,8 +56,9 @@ static inline void ida_pbc_step(ida_pbc_t *s, const ida_pbc_config_t *c, mc_t i_
                                 mc_t load_hat_Nm, mc_t omega_ref_rad_s, mc_t accel_ref_rad_s2, mc_t *v_d_V,
                                 mc_t *v_q_V)
 {
-    const mc_t torque_ref = mc_mac(load_hat_Nm, c->J_Nm_s2, accel_ref_rad_s2);
-    const mc_t i_q_ref = mc_clamp(mc_mul(torque_ref, c->inv_Kt_A_Nm), mc_neg(c->i_max_A), c->i_max_A);
+    /* i_q* = tau_hat/K_t + (J/K_t) dw_ref/dt */
+    const mc_t i_q_ff = mc_dot2(load_hat_Nm, c->inv_Kt_A_Nm, c->J_over_Kt_A_s2, accel_ref_rad_s2);
+    const mc_t i_q_ref = mc_clamp(i_q_ff, mc_neg(c->i_max_A), c->i_max_A);
     /* (11a) */
     *v_d_V = mc_sub(mc_mul(c->R_minus_r_ohm, i_d_A), mc_mul(mc_mul(c->npL_ohm_s, omega_hat_rad_s), i_q_ref));
     /* (11b) */

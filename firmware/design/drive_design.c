@@ -106,6 +106,45 @@ static bool fail(char *err, size_t n, const char *field, const char *why, double
 
 static double pick(double override_value, double derived) { return override_value > 0.0 ? override_value : derived; }
 
+void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t *ec, double *Pi_d_out)
+{
+    const double K = in->K_emf_V_s, L = in->L_H, J = in->J_kgm2, Ts = in->ts_s, fs = 1.0 / in->ts_s;
+    const int np = in->n_p;
+    const drive_gain_override_t *ov = &in->override;
+    /* Electrical observer, section 3.1.1: Pi_d = (K/L)(|w'|max + n_p |w dw|max) */
+    const double Pi_d = (K / L) * (in->accel_max_rad_s2 + np * in->speed_max_rad_s * in->delta_omega_max_rad_s);
+    const double alpha_e = pick(ov->emf_alpha_A_s2, ST_ALPHA_OVER_PI * Pi_d);
+    const double lambda_e = pick(ov->emf_lambda, sqrt(4.0 * Pi_d * (alpha_e + Pi_d) / fmax(alpha_e - Pi_d, 1e-9 * alpha_e)));
+    const double l_e = pick(ov->emf_l_per_s, EMF_POLE_OVER_FS * fs);
+    const double tau_f = pick(ov->injection_filter_s, INJECTION_FILTER_S);
+    ec->emf.lambda_A = mc_from_double(lambda_e * Ts);
+    ec->emf.l_ts = mc_from_double(l_e * Ts);
+    ec->emf.alpha_V = mc_from_double(L * alpha_e * Ts);
+    ec->emf.alpha_V_s = mc_from_double(L * alpha_e);
+    ec->emf.lpf_coeff = mc_from_double(Ts / (tau_f + Ts));
+
+    /* Position estimator (29)-(32), (71) */
+    ec->pos.n_p = np;
+    ec->pos.pitch_rad = mc_from_double(2.0 * 3.14159265358979323846 / np);
+    ec->pos.inv_K_rad_s_per_V = mc_from_double(1.0 / K);
+    const double e_min = EMF_OBSERVABLE_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s;
+    ec->pos.e2_min_V2 = mc_from_double(e_min * e_min);
+
+    /* Mechanical observer, section 3.2: Pi = |dC_r/dt|max / J; its torque
+     * is K_t i_q (K_t = K for paper 000's two-phase motor) */
+    const double Pi_m = in->load_rate_max_Nm_s / J;
+    const double alpha_m = pick(ov->mech_alpha_rad_s3, ST_ALPHA_OVER_PI * Pi_m);
+    const double lambda_m = pick(ov->mech_lambda, sqrt(4.0 * Pi_m * (alpha_m + Pi_m) / fmax(alpha_m - Pi_m, 1e-9 * alpha_m)));
+    const double l_m = pick(ov->mech_l_per_s, MECH_POLE_OVER_FS * fs);
+    ec->mech.lambda_ts = mc_from_double(lambda_m * Ts);
+    ec->mech.l_ts = mc_from_double(l_m * Ts);
+    ec->mech.alpha_Nm = mc_from_double(J * alpha_m * Ts);
+    ec->mech.tau_max_Nm = mc_from_double(LOAD_ESTIMATE_CLAMP_OVER_KIMAX * in->K_torque_Nm_A * in->i_max_A);
+    if (Pi_d_out != NULL) {
+        *Pi_d_out = Pi_d;
+    }
+}
+
 bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err, size_t err_len)
 {
     const drive_motor_si_t *m = &in->motor;
@@ -167,35 +206,22 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     const double load_max = in->bound_load_Nm > 0.0 ? in->bound_load_Nm : m->coulomb_Nm;
     const drive_gain_override_t *ov = &in->override;
 
-    /* Electrical observer, section 3.1.1: Pi_d = (K/L)(|w'|max + n_p |w dw|max) */
-    const double Pi_d = (K / L) * (a_max + np * w_max * dw_max);
-    const double alpha_e = pick(ov->emf_alpha_A_s2, ST_ALPHA_OVER_PI * Pi_d);
-    const double lambda_e = pick(ov->emf_lambda, sqrt(4.0 * Pi_d * (alpha_e + Pi_d) / fmax(alpha_e - Pi_d, 1e-9 * alpha_e)));
-    const double l_e = pick(ov->emf_l_per_s, EMF_POLE_OVER_FS * fs);
-    const double tau_f = pick(ov->injection_filter_s, INJECTION_FILTER_S);
-    fg_estimator_config_t *ec = &cfg->est;
-    ec->emf.lambda_A = mc_from_double(lambda_e * Ts);
-    ec->emf.l_ts = mc_from_double(l_e * Ts);
-    ec->emf.alpha_V = mc_from_double(L * alpha_e * Ts);
-    ec->emf.alpha_V_s = mc_from_double(L * alpha_e);
-    ec->emf.lpf_coeff = mc_from_double(Ts / (tau_f + Ts));
-
-    /* Position estimator (29)-(32), (71) */
-    ec->pos.n_p = np;
-    ec->pos.pitch_rad = mc_from_double(2.0 * 3.14159265358979323846 / np);
-    ec->pos.inv_K_rad_s_per_V = mc_from_double(1.0 / K);
-    const double e_min = EMF_OBSERVABLE_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s;
-    ec->pos.e2_min_V2 = mc_from_double(e_min * e_min);
-
-    /* Mechanical observer, section 3.2: Pi = |dC_r/dt|max / J */
-    const double Pi_m = in->bound_load_rate_Nm_s / J;
-    const double alpha_m = pick(ov->mech_alpha_rad_s3, ST_ALPHA_OVER_PI * Pi_m);
-    const double lambda_m = pick(ov->mech_lambda, sqrt(4.0 * Pi_m * (alpha_m + Pi_m) / fmax(alpha_m - Pi_m, 1e-9 * alpha_m)));
-    const double l_m = pick(ov->mech_l_per_s, MECH_POLE_OVER_FS * fs);
-    ec->mech.lambda_ts = mc_from_double(lambda_m * Ts);
-    ec->mech.l_ts = mc_from_double(l_m * Ts);
-    ec->mech.alpha_Nm = mc_from_double(J * alpha_m * Ts);
-    ec->mech.tau_max_Nm = mc_from_double(LOAD_ESTIMATE_CLAMP_OVER_KIMAX * K * in->i_max_A);
+    fg_estimator_design_t ed;
+    ed.K_emf_V_s = K;
+    ed.K_torque_Nm_A = K;
+    ed.L_H = L;
+    ed.J_kgm2 = J;
+    ed.n_p = np;
+    ed.ts_s = Ts;
+    ed.accel_max_rad_s2 = a_max;
+    ed.speed_max_rad_s = w_max;
+    ed.delta_omega_max_rad_s = dw_max;
+    ed.load_rate_max_Nm_s = in->bound_load_rate_Nm_s;
+    ed.omega_lim_rad_s = in->omega_lim_rad_s;
+    ed.i_max_A = in->i_max_A;
+    ed.override = *ov;
+    double Pi_d;
+    fg_estimator_design(&ed, &cfg->est, &Pi_d);
 
     /* i_f loop (46)-(51): after the feed-forward of (48) the perturbation
      * left in dS_f/dt is the back-EMF error of the estimated frame, whose

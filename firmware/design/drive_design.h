@@ -80,6 +80,22 @@ void drive_design_defaults(drive_design_input_t *in);
  * the offending field into err (if err_len > 0) when in is non-physical. */
 bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err, size_t err_len);
 
+/* The gains of paper 000's estimator (back-EMF observer (23)-(28), position
+ * estimator (29)-(32), mechanical observer (33)-(37)) from the motor and
+ * the bounds of sections 3.1.1 and 3.2; shared by the position drive and
+ * by any drive that uses that estimator (paper001_drive's estimator
+ * option). K_torque differs from K_emf on a three-phase motor. */
+typedef struct {
+    double K_emf_V_s, K_torque_Nm_A, L_H, J_kgm2, ts_s;
+    int n_p;
+    double accel_max_rad_s2, speed_max_rad_s, delta_omega_max_rad_s, load_rate_max_Nm_s;
+    double omega_lim_rad_s, i_max_A;
+    drive_gain_override_t override;
+} fg_estimator_design_t;
+
+/* *Pi_d_out (if not NULL): the back-EMF rate bound Pi_d of section 3.1.1. */
+void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t *ec, double *Pi_d_out);
+
 #ifdef __cplusplus
 }
 #endif

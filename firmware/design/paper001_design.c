@@ -20,6 +20,12 @@
 /* Paper 001 section 5.1's tuning: gamma = 5000 for the flux observer,
  * a1 = 20, a2 = 6 for the I&I observer. */
 #define P001_PAPER_GAMMA 5000.0
+/* gamma enters (12) as gamma Phi^2 (the radial rate 2 gamma Phi^2 of
+ * |rho| towards 1, with rho = lambda/Phi): on another motor the default keeps
+ * the paper's rate, 289 1/s, by gamma = 5000 (Phi_paper / Phi)^2 (the
+ * paper's gamma on a stepper with Phi = 5.4 mWb would be 34 times slower,
+ * and gamma Phi^3 would fall below the fixed-point coefficient range). */
+#define P001_PAPER_PHI_WB 0.17
 #define P001_PAPER_A1 20.0
 #define P001_PAPER_A2 6.0
 /* IDA-PBC damping: r puts the closed loop of (40) linearised about the
@@ -72,6 +78,16 @@
  * counts as not moved. */
 #define P001_PROBE_TURN2 0.64
 #define P001_PROBE_DET_MIN 3e-3
+/* Paper 000's estimator on this drive (estimator = BACK_EMF): the loop
+ * closes from the speed whose back-EMF K_e omega_lim is paper 000's own,
+ * 0.27 V s/rad x 3 rad/s = 0.81 V (section 5.3): 1.6 rad/s on paper 001's
+ * motor, 3 rad/s on paper 000's stepper. Its gains follow paper 000's
+ * bounds (design/drive_design.c) with that design's defaults for what a
+ * speed profile does not give: 1 rad/s of closed-loop speed error and
+ * 2 N m/s of load rate. */
+#define P001_EMF_AT_OMEGA_LIM_V 0.81
+#define P001_EMF_DELTA_OMEGA_RAD_S 1.0
+#define P001_EMF_LOAD_RATE_NM_S 2.0
 /* The open-loop vector's magnitude is not capped below the bus. */
 #define P001_OPEN_LOOP_VCAP_V 1000.0
 /* A bus below 1 V is no bus: the drive refuses the sample. */
@@ -99,6 +115,8 @@ void p001_design_defaults(p001_design_input_t *in)
     in->fit_det_min = 0.0;
     in->i_open_loop_A = 0.0;
     in->probe_s = P001_PROBE_S;
+    in->estimator = P001_ESTIMATOR_FLUX;
+    in->omega_lim_rad_s = 0.0;
 }
 
 /* A per-sample coefficient the fixed-point build can hold. */
@@ -136,7 +154,8 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     const double np = (double)m->n_p;
     const double Ke = np * m->Phi_Wb;
     const double Kt = 0.5 * (double)m->n_phases * np * m->Phi_Wb;
-    const double gamma = (in->gamma > 0.0) ? in->gamma : P001_PAPER_GAMMA;
+    const double phi_ratio = P001_PAPER_PHI_WB / m->Phi_Wb;
+    const double gamma = (in->gamma > 0.0) ? in->gamma : P001_PAPER_GAMMA * phi_ratio * phi_ratio;
     const double a1 = (in->a1 > 0.0) ? in->a1 : P001_PAPER_A1;
     const double a2 = (in->a2 > 0.0) ? in->a2 : P001_PAPER_A2;
     const double r = (in->r_ohm > 0.0) ? in->r_ohm
@@ -198,7 +217,7 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
          p001_coeff(np * m->L_H, "ctrl.npL_ohm_s", &co->npL_ohm_s, err, err_len) &&
          p001_coeff(Ke, "ctrl.Ke_V_s", &co->Ke_V_s, err, err_len) &&
          p001_coeff(1.0 / Kt, "ctrl.inv_Kt_A_Nm", &co->inv_Kt_A_Nm, err, err_len) &&
-         p001_coeff(m->J_kgm2, "ctrl.J_Nm_s2", &co->J_Nm_s2, err, err_len);
+         p001_coeff(m->J_kgm2 / Kt, "ctrl.J_over_Kt_A_s2", &co->J_over_Kt_A_s2, err, err_len);
     if (!ok) {
         return false;
     }
@@ -230,6 +249,40 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         if (rep != NULL) {
             rep->i_probe_A = i_probe;
         }
+    }
+
+    /* estimator */
+    double a_max = 0.0, w_max = 0.0;
+    for (size_t k = 0; k < in->n_points; ++k) {
+        w_max = fmax(w_max, fabs(in->omega_rad_s[k]));
+        if (k + 1 < in->n_points && in->t_s[k + 1] > in->t_s[k]) {
+            a_max = fmax(a_max, fabs(in->omega_rad_s[k + 1] - in->omega_rad_s[k]) / (in->t_s[k + 1] - in->t_s[k]));
+        }
+    }
+    if (in->estimator != P001_ESTIMATOR_FLUX && in->estimator != P001_ESTIMATOR_BACK_EMF) {
+        return p001_fail(err, err_len, "estimator", "must be FLUX (0) or BACK_EMF (1)", in->estimator);
+    }
+    cfg->estimator = (p001_estimator_t)in->estimator;
+    {
+        const double w_lim = (in->omega_lim_rad_s > 0.0) ? in->omega_lim_rad_s : P001_EMF_AT_OMEGA_LIM_V / Ke;
+        fg_estimator_design_t ed;
+        memset(&ed, 0, sizeof ed);
+        ed.K_emf_V_s = Ke;
+        ed.K_torque_Nm_A = Kt;
+        ed.L_H = m->L_H;
+        ed.J_kgm2 = m->J_kgm2;
+        ed.n_p = m->n_p;
+        ed.ts_s = ts;
+        ed.accel_max_rad_s2 = a_max;
+        ed.speed_max_rad_s = fmax(w_max, w_lim);
+        ed.delta_omega_max_rad_s = P001_EMF_DELTA_OMEGA_RAD_S;
+        ed.load_rate_max_Nm_s = P001_EMF_LOAD_RATE_NM_S;
+        ed.omega_lim_rad_s = w_lim;
+        ed.i_max_A = in->i_max_A;
+        fg_estimator_design(&ed, &cfg->emf, NULL);
+        cfg->emf_torque_model = cfg->model;
+        cfg->emf_torque_model.K_V_s = mc_from_double(Kt);
+        cfg->omega_lim_rad_s = mc_from_double(w_lim);
     }
 
     /* speed profile: ticks, slopes, lengths, angles at the corners */

@@ -11,6 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "design/drive_design.h"
 #include "drives/paper001_drive.h"
 #include "startup/pmsm_identification.h"
 
@@ -41,6 +42,8 @@ typedef struct {
     double handover_sweep_rad; /* electrical; <= 0: derived */
     double fit_det_min;      /* smallest arc measure of the circle fit; <= 0: derived */
     double probe_s;          /* longest start-up probe [s]; 0: no probe (defaults: 0.3) */
+    int estimator;           /* p001_estimator_t: FLUX (default) or BACK_EMF */
+    double omega_lim_rad_s;  /* BACK_EMF: closed loop from |w*| >= this; <= 0: derived */
     /* speed profile: corners (t [s], w [rad/s mechanical]) */
     size_t n_points;
     double t_s[SPEED_PROFILE_MAX_POINTS];

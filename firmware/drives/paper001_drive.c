@@ -42,7 +42,10 @@ static bool p001_config_ok(const paper001_config_t *c)
            c->ctrl.i_max_A > MC_ZERO && c->flux.Phi_fs_V > MC_ZERO && c->flux.rho_gain > MC_ZERO &&
            c->flux.gPhi3_V >= MC_ZERO && c->speed.k_omega >= MC_ZERO && c->speed.k_load_Nm_s >= MC_ZERO &&
            c->sup.blend_decay >= MC_ZERO && c->sup.blend_decay < MC_ONE && c->fit.decim >= 1 &&
-           c->fit.det_min > MC_ZERO && c->v_bus_min_V > MC_ZERO;
+           c->fit.det_min > MC_ZERO && c->v_bus_min_V > MC_ZERO &&
+           (c->estimator == P001_ESTIMATOR_FLUX ||
+            (c->estimator == P001_ESTIMATOR_BACK_EMF && c->omega_lim_rad_s > MC_ZERO &&
+             c->emf_torque_model.K_V_s > MC_ZERO && c->emf.pos.n_p == m->n_p));
 }
 
 bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
@@ -69,6 +72,8 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     d->probe_dir.c = MC_ONE;
     d->ol_origin = angle0;
     d->ol_theta0_rad = MC_ZERO;
+    d->ol_origin_mech_rad = MC_ZERO;
+    fg_estimator_init(&d->emf, &cfg->emf);
     speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
     ida_pbc_init(&d->ctrl);
     const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
@@ -131,9 +136,67 @@ static void p001_probe(paper001_drive_t *d)
         const mc_rot_t minus_ref = {mc_neg(ref.s), ref.c};
         const mc_rot_t at = found ? d->flux.unit : (mc_rot_t){MC_ZERO, MC_ONE};
         d->ol_origin = mc_rot_compose(at, minus_ref);
+        d->ol_origin_mech_rad = mc_div_i(mc_atan2(d->ol_origin.s, d->ol_origin.c), c->model.n_p);
         d->ol_theta0_rad = d->ref.theta_rad;
         d->probing = false;
     }
+}
+
+/* Steps 2-6 with paper 000's estimator (estimator = BACK_EMF), after the
+ * probe: the (f-g) frame is the open-loop vector's, turned by the reference
+ * each sample as in paper000_drive.c; IDA-PBC (11) in the estimated frame
+ * U(n_p (theta_hat - theta_r)) of (44), its voltage back to (f-g). */
+static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, hal_command_t *out)
+{
+    const paper001_config_t *c = &d->cfg;
+    const int32_t n_p = c->model.n_p;
+    speed_point_t next;
+    speed_profile_eval(&d->profile, d->tick + 1u, &next);
+    const mc_t theta_r = mc_add(d->ref.theta_rad, d->ol_origin_mech_rad);
+    const mc_rot_t rot_k = mc_rot_compose(d->ol_origin, mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, n_p)));
+    /* n_p (theta_r[k+1] - theta_r[k]): exact, small */
+    const mc_t dphi = mc_mul_i(mc_sub(next.theta_rad, d->ref.theta_rad), n_p);
+    const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
+    const mc_rot_t rot_mid = mc_rot_compose(rot_k, rot_half);
+    mc_t i_f, i_g;
+    mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, &i_f, &i_g); /* paper 000 (6) */
+    fg_estimator_correct(&d->emf, i_f, i_g);
+    const bool want_closed =
+        !(mc_abs(d->ref.omega_rad_s) < c->omega_lim_rad_s) && fg_estimator_observable(&d->emf);
+    if (want_closed) {
+        fg_estimator_track(&d->emf, theta_r, d->ref.omega_rad_s);
+    }
+    bool switched = false;
+    if (want_closed != (d->sup.state == SUP_STATE_CLOSED_LOOP)) {
+        switched = supervisor_dispatch(&d->sup, want_closed ? SUP_EV_ESTIMATE_TRUSTED : SUP_EV_ESTIMATE_LOST);
+        if (switched && want_closed) {
+            fg_estimator_lock_branch(&d->emf, theta_r);
+        }
+    }
+    const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    fg_estimator_mechanics(&d->emf, &c->emf_torque_model, closed, d->ref.omega_rad_s, i_f, i_g);
+    mc_t v_f, v_g;
+    if (closed) {
+        mc_estimate_t est;
+        fg_estimator_get(&d->emf, true, theta_r, d->ref.omega_rad_s, d->ref.accel_rad_s2, &est);
+        mc_t v_d, v_q;
+        ida_pbc_step(&d->ctrl, &c->ctrl, d->emf.i_d_A, d->emf.i_q_A, est.omega_rad_s, est.load_Nm, d->ref.omega_rad_s,
+                     d->ref.accel_rad_s2, &v_d, &v_q); /* (11) */
+        mc_rot_inv(d->emf.u_est, v_d, v_q, &v_f, &v_g); /* estimated frame (44) -> (f-g) */
+    } else {
+        v_f = open_loop_voltage(&c->open_loop, &c->model, d->ref.omega_rad_s); /* paper 000 (68) */
+        v_g = MC_ZERO;
+    }
+    supervisor_blend(&d->sup, switched, &v_f, &v_g);
+    /* to alpha-beta at the mid-sample angle, limited by the measured bus */
+    mc_ab_t v_ab;
+    mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
+    (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g);
+    fg_estimator_predict(&d->emf, &c->model, v_f, v_g, i_f, i_g, rot_half);
+    phase_adapter_voltages(c->n_phases, v_ab, out);
+    d->last.i_d_A = d->emf.i_d_A;
+    d->last.i_q_A = d->emf.i_q_A;
+    d->last.v_ab_V = v_ab;
 }
 
 bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
@@ -160,6 +223,11 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
     (void)i_zero_A; /* star without neutral: the measurement's offset, unused here */
     speed_profile_eval(&d->profile, d->tick, &d->ref);
+    if (c->estimator == P001_ESTIMATOR_BACK_EMF && !d->probing) {
+        p001_step_back_emf(d, i_ab, (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V, out);
+        d->tick += 1u;
+        return true;
+    }
 
     /* 2. flux observer */
     flux_observer_step(&d->flux, i_ab);
@@ -228,6 +296,14 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
 void paper001_drive_estimate(const paper001_drive_t *d, mc_estimate_t *e)
 {
     const int32_t n_p = d->cfg.model.n_p;
+    if (d->cfg.estimator == P001_ESTIMATOR_BACK_EMF) {
+        /* in open loop paper 000's estimator reports the reference (the rotor follows it) */
+        const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+        fg_estimator_get(&d->emf, closed, mc_add(d->ref.theta_rad, d->ol_origin_mech_rad), d->ref.omega_rad_s,
+                         d->ref.accel_rad_s2, e);
+        e->valid = closed;
+        return;
+    }
     /* (e + 2 pi n)/n_p without forming the sum */
     e->theta_rad = mc_add(mc_div_i(d->speed.unwrap.e_rad, n_p),
                           mc_mul_i(mc_div_i(MC_TWO_PI, n_p), d->speed.unwrap.n_turns));
@@ -250,10 +326,22 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
     t->omega_ref_rad_s = d->ref.omega_rad_s;
     t->accel_ref_rad_s2 = d->ref.accel_rad_s2;
     t->theta_ref_rad = d->ref.theta_rad;
-    t->theta_e_turns = d->speed.unwrap.n_turns;
-    t->theta_e_rad = d->speed.unwrap.e_rad;
-    t->omega_est_rad_s = d->speed.omega_rad_s;
-    t->load_est_Nm = d->speed.load_Nm;
+    if (d->cfg.estimator == P001_ESTIMATOR_BACK_EMF) {
+        mc_estimate_t e;
+        paper001_drive_estimate(d, &e);
+        const mc_t e_rad = mc_elec_angle(e.theta_rad, d->cfg.model.n_p);
+        /* whole electrical turns: (n_p theta - e)/(2 pi), an integer up to rounding */
+        const mc_t turns = mc_mul(mc_sub(mc_mul_i(e.theta_rad, d->cfg.model.n_p), e_rad), MC_C(0.15915494309189535));
+        t->theta_e_turns = mc_round_i(turns);
+        t->theta_e_rad = e_rad;
+        t->omega_est_rad_s = e.omega_rad_s;
+        t->load_est_Nm = e.load_Nm;
+    } else {
+        t->theta_e_turns = d->speed.unwrap.n_turns;
+        t->theta_e_rad = d->speed.unwrap.e_rad;
+        t->omega_est_rad_s = d->speed.omega_rad_s;
+        t->load_est_Nm = d->speed.load_Nm;
+    }
     t->rho2 = d->flux.rho2;
     t->estimate_valid = d->sup.state == SUP_STATE_CLOSED_LOOP;
     t->i_d_A = d->last.i_d_A;

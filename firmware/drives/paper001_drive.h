@@ -39,6 +39,13 @@
  * electrical and the arc suffices, the observer is corrected, its gradient
  * term switched on, the speed observer started at the reference speed,
  * and the loop closed; the estimate is reported valid from then on.
+ *
+ * Estimator by configuration (cfg.estimator): with BACK_EMF, paper 000's
+ * estimator replaces the flux and I&I observers after the probe: it runs
+ * in the (f-g) frame of the open-loop vector (the reference angle plus the
+ * probe's offset), the loop closes as in paper 000 once |w*| >= omega_lim
+ * and the back-EMF is observable (and reopens if it is lost), and IDA-PBC
+ * (11) runs on its angle, speed and load. The controller is the same.
  */
 #ifndef DRIVES_PAPER001_DRIVE_H
 #define DRIVES_PAPER001_DRIVE_H
@@ -49,6 +56,7 @@
 #include "adapter/phase_adapter.h"
 #include "control/ida_pbc.h"
 #include "estimators/estimate.h"
+#include "estimators/fg_estimator.h"
 #include "estimators/flux_observer.h"
 #include "estimators/speed_load_observer.h"
 #include "hal/hal_types.h"
@@ -64,8 +72,17 @@
 extern "C" {
 #endif
 
+/* The estimator the drive controls with, chosen by configuration. */
+typedef enum {
+    P001_ESTIMATOR_FLUX = 0,     /* paper 001: flux observer (12)-(14), unwrap (App. A), I&I (15)-(16) */
+    P001_ESTIMATOR_BACK_EMF = 1  /* paper 000: back-EMF observer (23)-(28) in the (f-g) frame of the
+                                  * open-loop vector, arctan and jump counter (29)-(32), (71),
+                                  * mechanical observer (33)-(37) (estimators/fg_estimator.h) */
+} p001_estimator_t;
+
 typedef struct {
     uint8_t n_phases;              /* 3: PMSM (star, three legs); 2: stepper (two H-bridges) */
+    p001_estimator_t estimator;
     motor_model_t model;           /* R, L, K_e = n_p Phi (K_V_s), n_p, fs */
     drive_limits_t limits;         /* i_trip_A on every phase; v_max_V unused (the bus is measured) */
     flux_observer_config_t flux;
@@ -83,6 +100,10 @@ typedef struct {
     flux_circle_fit_config_t probe_fit; /* the through-origin fit of the probe's short arc */
     mc_t handover_sweep_rad;       /* electrical angle the open loop turns before the switch */
     mc_t v_bus_min_V;              /* below this measured bus the sample is refused */
+    /* estimator = BACK_EMF only */
+    fg_estimator_config_t emf;     /* paper 000's estimator gains (design/drive_design.h) */
+    motor_model_t emf_torque_model;/* the model with K = K_t: the torque of (33)-(37) */
+    mc_t omega_lim_rad_s;          /* |w*| from which the back-EMF angle is trusted (paper 000 4.2) */
 } paper001_config_t;
 
 typedef struct {
@@ -116,6 +137,8 @@ typedef struct {
     mc_rot_t probe_dir;            /* the probe's vector direction */
     mc_rot_t ol_origin;            /* open-loop vector angle minus the reference angle (electrical) */
     mc_t ol_theta0_rad;            /* reference angle when the open-loop turn starts */
+    mc_t ol_origin_mech_rad;       /* ol_origin as a mechanical angle (the (f-g) frame's offset) */
+    fg_estimator_t emf;            /* estimator = BACK_EMF */
     speed_load_observer_t speed;
     ida_pbc_t ctrl;
     speed_profile_t profile;

@@ -73,6 +73,7 @@ struct Options {
     bool seed_given = false;
     double theta0_rad = 0.0;
     bool theta0_given = false;
+    std::string estimator;  // empty: the scenario's
     bool no_plot = false;
     bool no_csv = false;
     bool quiet = false;
@@ -170,6 +171,13 @@ int run(const Options& opt)
             throw std::invalid_argument("--theta0-rad: must be finite");
         }
         sc.theta0_rad = opt.theta0_rad;
+    }
+    if (!opt.estimator.empty()) {
+        if (!sc.speed_drive) {
+            throw std::invalid_argument("--estimator: " + sc.path +
+                                        " has no [speed] table (the estimator choice is the speed drive's)");
+        }
+        sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
     }
     // Metrics only: --metrics-out without --out. Else DIR gets the CSV (no
     // --no-csv), the PNG (drawn from the CSV; no --no-plot) and, without
@@ -334,6 +342,11 @@ int main(int argc, char** argv)
     CLI::Option* theta0_opt =
         app.add_option("--theta0-rad", opt.theta0_rad, "initial rotor angle [rad, mechanical], overrides [run] theta0_rad")
             ->type_name("RAD");
+    app.add_option("--estimator", opt.estimator,
+                   "speed drive's estimator, overrides [speed] estimator: flux (paper 001's flux and I&I "
+                   "observers) or back_emf (paper 000's back-EMF chain)")
+        ->check(CLI::IsMember({"flux", "back_emf"}))
+        ->type_name("NAME");
     app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
     app.add_flag("--no-csv", opt.no_csv, "do not record or write the CSV log (and so no PNG either)");
     app.add_flag("--quiet", opt.quiet, "print nothing but warnings and errors");

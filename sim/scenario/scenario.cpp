@@ -552,7 +552,7 @@ Scenario load_scenario(const std::string& path)
     // [speed]: the speed drive's reference and design choices
     if (const auto v = root.table("speed")) {
         v->only({"profile_rpm", "gamma", "a1", "a2", "r_ohm", "handover_sweep_rad", "fit_det_min",
-                 "blend_tau_s", "probe_s", "identify"});
+                 "blend_tau_s", "probe_s", "identify", "estimator"});
         const auto pts = v->pairs("profile_rpm");
         if (!pts || pts->empty()) {
             v->fail("profile_rpm", "missing required field (corners [[t_s, rpm], ...], the first at t = 0)");
@@ -585,6 +585,15 @@ Scenario load_scenario(const std::string& path)
         opt("handover_sweep_rad", &sc.speed_gains.handover_sweep_rad);
         opt("fit_det_min", &sc.speed_gains.fit_det_min);
         opt("blend_tau_s", &sc.speed_gains.blend_tau_s);
+        if (const auto e = v->string("estimator")) {
+            if (*e == "flux") {
+                sc.speed_gains.estimator = 0;
+            } else if (*e == "back_emf") {
+                sc.speed_gains.estimator = 1;
+            } else {
+                v->fail("estimator", "must be \"flux\" (paper 001) or \"back_emf\" (paper 000) (got \"" + *e + "\")");
+            }
+        }
         if (const auto b = v->boolean("identify")) {
             sc.speed_gains.identify = *b;
         }

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""The estimator comparison of docs/observers.md, from fresh motorsim runs.
+
+The paper-001 speed drive takes its estimator by configuration ([speed]
+estimator = "flux" | "back_emf"; firmware/drives/paper001_drive.h): paper
+001's gradient flux observer (12)-(14) with the I&I speed and load observer
+(15)-(16), or paper 000's back-EMF chain (super-twisting observer (23)-(28),
+arctan and jump counter (29)-(32), (71), mechanical observer (33)-(37)).
+Both run, with the same IDA-PBC (11), on both motors:
+
+  PMSM     sim/scenarios/paper001_benchmark.toml (paper 001's motor and benchmark)
+  stepper  sim/scenarios/stepper_speed.toml      (paper 000's stepper, n_p = 50)
+
+For each of the four runs it prints, from the metrics JSON and the CSV:
+time to lock (lock_time_s: the first sample with a valid estimate within
+5 deg electrical, held 50 ms), the electrical angle error and the speed
+estimate error (w_hat - w) while the estimate is valid after the lock (max
+and RMS), the speed tracking error over the run (RMS, max), and the share of
+the run in closed loop. With --pil FILE (a JSON of tools/bench/pil.py for
+the paper-001 drive) it adds the instructions per step on Cortex-M4F.
+
+    python3 tools/bench/observers.py [--build build/host] [--pil FILE] [--markdown]
+
+Standard library only; a few seconds.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SC = ROOT / "sim" / "scenarios"
+MOTORS = [("PMSM (paper 001)", SC / "paper001_benchmark.toml"), ("stepper (paper 000)", SC / "stepper_speed.toml")]
+ESTIMATORS = [("flux", "flux + I&I (paper 001)"), ("back_emf", "back-EMF chain (paper 000)")]
+RPM = 60.0 / (2.0 * math.pi)
+SETTLE_S = 0.05  # after the lock, as theta_est_max_deg_e (sim/motorsim/speed_recorder.h)
+
+
+def run(motorsim: Path, scenario: Path, est: str) -> dict:
+    with tempfile.TemporaryDirectory() as d:
+        r = subprocess.run([str(motorsim), "--scenario", str(scenario), "--estimator", est, "--out", d, "--no-plot",
+                            "--quiet"], capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"observers: {scenario.name} --estimator {est}: motorsim exit {r.returncode}: {r.stderr.strip()}")
+        m = json.loads((Path(d) / f"{scenario.stem}_metrics.json").read_text())
+        rows = list(csv.DictReader(open(Path(d) / f"{scenario.stem}.csv")))
+    lock = m["lock_time_s"]
+    th, dw = [], []
+    if lock is not None:
+        for row in rows:
+            if float(row["t_s"]) >= lock + SETTLE_S and row["estimate_valid"] == "1":
+                th.append(abs(float(row["theta_e_err_rad"])) * 180.0 / math.pi)
+                dw.append((float(row["omega_est_rad_s"]) - float(row["omega_rad_s"])) * RPM)
+    rms = lambda xs: math.sqrt(sum(x * x for x in xs) / len(xs)) if xs else float("nan")
+    return {"lock_time_s": lock, "theta_max_deg": max(th) if th else float("nan"), "theta_rms_deg": rms(th),
+            "dw_max_rpm": max(abs(x) for x in dw) if dw else float("nan"), "dw_rms_rpm": rms(dw),
+            "track_rms_rpm": m["speed_err_rms_rpm"], "track_max_rpm": m["speed_err_max_rpm"],
+            "closed": m["closed_loop_fraction"], "fault": m["fault"]}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build" / "host"))
+    ap.add_argument("--pil", help="pil.py JSON of the paper-001 drive (instructions per step)")
+    ap.add_argument("--markdown", action="store_true")
+    a = ap.parse_args()
+    ms = Path(a.build).resolve() / "sim" / "motorsim"
+    pil = json.loads(Path(a.pil).read_text()) if a.pil else None
+    head = ["motor", "estimator", "lock (s)", "angle err max / rms (deg e)", "speed est err max / rms (rpm)",
+            "tracking rms / max (rpm)", "closed loop"]
+    if pil:
+        head.append("M4F instr/step mean (max)")
+    rows = []
+    for mname, sc in MOTORS:
+        for est, ename in ESTIMATORS:
+            r = run(ms, sc, est)
+            lock = "never" if r["lock_time_s"] is None else "%.3f" % r["lock_time_s"]
+            row = [mname, ename, lock, "%.2f / %.2f" % (r["theta_max_deg"], r["theta_rms_deg"]),
+                   "%.2f / %.2f" % (r["dw_max_rpm"], r["dw_rms_rpm"]),
+                   "%.2f / %.1f" % (r["track_rms_rpm"], r["track_max_rpm"]), "%.0f %%" % (100 * r["closed"])]
+            if pil:
+                key = f"{'pmsm' if 'PMSM' in mname else 'stepper'}_{est}"
+                p = pil.get(key)
+                row.append("%.0f (%d)" % (p["mean"], p["max"]) if p else "not measured")
+            rows.append(row)
+    if a.markdown:
+        print("| " + " | ".join(head) + " |")
+        print("|" + "---|" * len(head))
+        for row in rows:
+            print("| " + " | ".join(row) + " |")
+    else:
+        w = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(head)]
+        print("  ".join(h.ljust(w[i]) for i, h in enumerate(head)))
+        for row in rows:
+            print("  ".join(c.ljust(w[i]) for i, c in enumerate(row)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
