@@ -63,3 +63,13 @@ drive_mode_t supervisor_mode(const supervisor_t *s)
         return DRIVE_MODE_OPEN_LOOP;
     }
 }
+
+const char *drive_fault_name(drive_fault_t f)
+{
+    switch (f) {
+    case DRIVE_FAULT_NONE: return "none";
+    case DRIVE_FAULT_OVERCURRENT: return "over-current";
+    case DRIVE_FAULT_BAD_INPUT: return "bad-input";
+    default: return "unknown";
+    }
+}

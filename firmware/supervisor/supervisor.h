@@ -58,8 +58,14 @@ typedef enum {
 typedef enum {
     DRIVE_FAULT_NONE = 0,
     DRIVE_FAULT_OVERCURRENT = 1, /* a measured phase current beyond i_trip_A */
-    DRIVE_FAULT_BAD_INPUT = 2    /* inconsistent configuration or a sample of the wrong phase count */
+    DRIVE_FAULT_BAD_INPUT = 2,   /* inconsistent configuration or a sample of the wrong phase count */
+    DRIVE_FAULT_COUNT = 3        /* number of codes, NONE included */
 } drive_fault_t;
+
+/* One-word name of a fault code ("none", "over-current", "bad-input";
+ * "unknown" outside the enum): the one place the names live, for logs,
+ * telemetry and tools. Static strings; nothing is formatted. */
+const char *drive_fault_name(drive_fault_t f);
 
 typedef struct {
     mc_t blend_decay;  /* per-sample decay exp(-Ts/tau) of the voltage offset added at a switch */

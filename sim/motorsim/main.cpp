@@ -14,7 +14,11 @@
 // the sensor model, calls the drive (drive_glue.cpp), clamps the voltages in
 // the amplifier model and integrates the plant with them held. Everything is
 // validated before the run and nothing is written before the run is over.
-// Exit status: 0 ok, 1 run or I/O failure, 2 bad command line or scenario.
+// Exit status (kExitStatus below, also in --help and the README): 0 ok,
+// 1 run or I/O failure, 2 bad command line or scenario, 3 the drive latched
+// a fault, 4 a metric missed its [expect] bound, 5 the plant diverged.
+// A run that fails still writes its outputs: it is the one a user most
+// wants to look at.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -31,6 +35,7 @@
 #include "drives/paper000_drive.h"
 #include "drives/paper001_drive.h"
 #include "motorsim/commission.h"
+#include "motorsim/run_watch.h"
 #include "motorsim/speed_recorder.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
@@ -61,8 +66,28 @@ constexpr const char* kOutputModes =
     "                        (fastest; the metrics are the same as in a full run)\n"
     "  neither               as --out out\n"
     "The metrics are also printed on stdout unless --quiet. Nothing is written\n"
-    "before the run has succeeded, and each file appears whole or not at all.\n"
-    "Exit status: 0 ok, 1 run or I/O failure, 2 bad command line or scenario.";
+    "before the run is over, and each file appears whole or not at all; a run that\n"
+    "fails (status 3-5) still writes its outputs and says why on stderr.\n";
+
+// One place for the exit statuses (--help, the README, tests).
+enum ExitStatus : int {
+    kExitOk = 0,
+    kExitRunError = 1,
+    kExitBadInput = 2,
+    kExitFault = 3,
+    kExitExpect = 4,
+    kExitDiverged = 5,
+};
+constexpr const char* kExitStatusHelp =
+    "Exit status:\n"
+    "  0  ok\n"
+    "  1  run or I/O failure (nothing or not everything written)\n"
+    "  2  bad command line or scenario (nothing written)\n"
+    "  3  the drive latched a fault (code, name and time on stderr)\n"
+    "  4  a metric missed its bound in the scenario's [expect] table\n"
+    "  5  the plant diverged: a non-finite state, or a current or speed beyond\n"
+    "     what the supply allows (the integration step is too large for the motor)\n"
+    "When several apply, the first of 5, 3, 4 is returned; all are printed.";
 
 struct Options {
     std::string scenario;
@@ -74,6 +99,7 @@ struct Options {
     double theta0_rad = 0.0;
     bool theta0_given = false;
     std::string estimator;  // empty: the scenario's
+    bool no_expect = false;
     bool no_plot = false;
     bool no_csv = false;
     bool quiet = false;
@@ -135,7 +161,7 @@ private:
 
 // Runs the HAL backend for n_total periods with a progress line; returns
 // the wall time of the loop.
-double run_loop(std::uint32_t n_total, bool quiet)
+double run_loop(std::uint32_t n_total, bool quiet, const mcsim::RunWatch& watch)
 {
     const std::uint32_t chunk = std::max<std::uint32_t>(1, n_total / 100);
     Progress progress(!quiet, n_total);
@@ -145,6 +171,9 @@ double run_loop(std::uint32_t n_total, bool quiet)
         const std::uint32_t n = std::min(chunk, n_total - done);
         hal_sw_plant_run(n);
         done += n;
+        if (watch.diverged()) {
+            break;  // the rest would be NaN; the outputs end where physics did
+        }
         wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         progress.update(done, wall_s);
     }
@@ -157,6 +186,120 @@ void speed_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* ou
     if (!paper001_drive_step(static_cast<paper001_drive_t*>(ctx), in, out)) {
         hal_safe_state();
     }
+}
+
+// Warns (stderr, the run goes on) where the reference asks more than the
+// supply and the current limit can give: a motor turning at w needs K_e w
+// of back-EMF plus R i within the voltage the drive has, and an
+// acceleration a needs J a / K_t of current (plus the load) within i_max.
+// The peak speed and acceleration of paper 000's eq. (70) are
+// 2.1875 d/T and 7.5132 d/T^2 for a move d over T.
+void warn_feasibility(const mcsim::Scenario& sc)
+{
+    const mcsim::MotorParams& m = sc.motor;
+    const double Ke = m.K_Nm_per_A;
+    const double Kt = m.torque_scale() * Ke;
+    double w_pk = 0.0, a_pk = 0.0;
+    if (sc.speed_drive) {
+        for (std::size_t k = 0; k < sc.speed_points.size(); ++k) {
+            w_pk = std::max(w_pk, std::fabs(sc.speed_points[k].second));
+            if (k + 1 < sc.speed_points.size()) {
+                const double dt = sc.speed_points[k + 1].first - sc.speed_points[k].first;
+                a_pk = std::max(a_pk, std::fabs(sc.speed_points[k + 1].second - sc.speed_points[k].second) / dt);
+            }
+        }
+    } else {
+        double from = 0.0;
+        for (const auto& g : sc.segments) {
+            const double d = std::fabs(g.theta_to_rad - from);
+            w_pk = std::max(w_pk, 2.1875 * d / g.duration_s);
+            a_pk = std::max(a_pk, 7.5132 * d / (g.duration_s * g.duration_s));
+            from = g.theta_to_rad;
+        }
+    }
+    double load_pk = m.coulomb_Nm + m.fv_Nms_per_rad * w_pk;
+    double lmax = 0.0;
+    for (const auto& l : sc.load) {
+        lmax = std::max(lmax, std::fabs(l.torque_Nm));
+    }
+    load_pk += lmax;
+    const double v_need = Ke * w_pk;
+    const double i_need = (m.J_kgm2 * a_pk + load_pk) / Kt;
+    if (v_need > sc.v_max_V) {
+        std::fprintf(stderr,
+                     "warning: %s: the reference's peak speed %.4g rad/s needs %.4g V of back-EMF alone, more than the "
+                     "%.4g V the drive has: the drive cannot follow it\n",
+                     sc.path.c_str(), w_pk, v_need, sc.v_max_V);
+    }
+    if (i_need > sc.i_max_A) {
+        std::fprintf(stderr,
+                     "warning: %s: the reference's peak acceleration %.4g rad/s^2 with %.4g N m of load needs %.4g A, "
+                     "more than [limits] i_max_A = %.4g A: the drive cannot follow it\n",
+                     sc.path.c_str(), a_pk, load_pk, i_need, sc.i_max_A);
+    }
+}
+
+std::string num6(double v)
+{
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+// The exit status of a finished run and its reasons on stderr.
+int verdict(const mcsim::Scenario& sc, const mcsim::MetricList& metrics, const mcsim::RunWatch& w)
+{
+    int status = kExitOk;
+    auto set = [&status](int s) {
+        // precedence 5, 3, 4
+        auto rank = [](int x) { return x == kExitDiverged ? 3 : x == kExitFault ? 2 : x == kExitExpect ? 1 : 0; };
+        if (rank(s) > rank(status)) {
+            status = s;
+        }
+    };
+    if (w.diverged()) {
+        std::fprintf(stderr,
+                     "motorsim: FAILED: the plant left its physical envelope at t = %.4f s: %s (an integration "
+                     "step too large for the motor, see [run] substeps, or an external torque beyond the motor's); "
+                     "the run stopped there\n",
+                     w.diverged_t_s(), w.diverged_what().c_str());
+        set(kExitDiverged);
+    }
+    if (w.faulted()) {
+        const auto f = static_cast<drive_fault_t>(w.fault());
+        std::fprintf(stderr, "motorsim: FAILED: drive fault %lld (%s) at t = %.4f s", static_cast<long long>(w.fault()),
+                     drive_fault_name(f), w.fault_t_s());
+        if (f == DRIVE_FAULT_OVERCURRENT) {
+            std::fprintf(stderr, ": measured phase current %.4g A beyond [limits] i_trip_A = %.4g A",
+                         w.fault_i_meas_A(), sc.i_trip_A);
+        }
+        std::fprintf(stderr, "; the drive held 0 V from then on\n");
+        set(kExitFault);
+    }
+    for (const mcsim::Expectation& e : sc.expect) {
+        double x = NAN;
+        for (const auto& kv : metrics) {
+            if (kv.first == e.metric) {
+                x = std::holds_alternative<double>(kv.second) ? std::get<double>(kv.second)
+                                                              : static_cast<double>(std::get<std::int64_t>(kv.second));
+            }
+        }
+        const bool bad = !std::isfinite(x) || (e.has_max && x > e.max) || (e.has_min && x < e.min);
+        if (bad) {
+            std::string bound;
+            if (!std::isfinite(x)) {
+                bound = "not a number (the run never measured it)";
+            } else if (e.has_max && x > e.max) {
+                bound = "> max " + num6(e.max);
+            } else {
+                bound = "< min " + num6(e.min);
+            }
+            std::fprintf(stderr, "motorsim: FAILED: %s: expect.%s: %s %s\n", sc.path.c_str(), e.metric.c_str(),
+                         std::isfinite(x) ? num6(x).c_str() : "null", bound.c_str());
+            set(kExitExpect);
+        }
+    }
+    return status;
 }
 
 int run(const Options& opt)
@@ -212,6 +355,11 @@ int run(const Options& opt)
                                     " s at this Ts_s)");
     }
 
+    warn_feasibility(sc);
+    if (opt.no_expect) {
+        sc.expect.clear();
+    }
+
     // Commissioning ([speed] identify): the motor's R, L and Phi measured by
     // the firmware on the same plant before the run replace the drive model's.
     mcsim::CommissionResult commission;
@@ -261,7 +409,25 @@ int run(const Options& opt)
     }
 
     // ---- the loop: plant + drive + metrics only --------------------------
-    const double wall_s = run_loop(sc.n_ticks(), opt.quiet);
+    // [expect] names must be metrics of this drive: checked before the run
+    {
+        const mcsim::MetricList names = sc.speed_drive ? speed_rec->metrics(0.0) : rec->metrics(0.0);
+        for (const mcsim::Expectation& e : sc.expect) {
+            bool known = false;
+            std::string all;
+            for (const auto& kv : names) {
+                known = known || kv.first == e.metric;
+                all += (all.empty() ? "" : ", ") + kv.first;
+            }
+            if (!known) {
+                throw mcsim::ScenarioError(sc.path + ": expect." + e.metric + ": not a metric of the " +
+                                           (sc.speed_drive ? "speed" : "position") + " drive (its metrics: " + all +
+                                           ")");
+            }
+        }
+    }
+    const mcsim::RunWatch& watch = sc.speed_drive ? speed_rec->watch() : rec->watch();
+    const double wall_s = run_loop(sc.n_ticks(), opt.quiet, watch);
     hal_safe_state();
     hal_sw_plant_detach();
     mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
@@ -310,7 +476,7 @@ int run(const Options& opt)
             std::fprintf(stderr, "motorsim: wrote %s\n", png_path.c_str());
         }
     }
-    return 0;
+    return verdict(sc, metrics, watch);
 }
 
 }  // namespace
@@ -347,10 +513,17 @@ int main(int argc, char** argv)
                    "observers) or back_emf (paper 000's back-EMF chain)")
         ->check(CLI::IsMember({"flux", "back_emf"}))
         ->type_name("NAME");
+    app.add_flag("--no-expect", opt.no_expect,
+                 "do not judge the metrics against the scenario's [expect] table (for variants: another "
+                 "estimator, seed or angle); a fault or a diverged plant still fails the run");
     app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
     app.add_flag("--no-csv", opt.no_csv, "do not record or write the CSV log (and so no PNG either)");
     app.add_flag("--quiet", opt.quiet, "print nothing but warnings and errors");
-    app.footer(kOutputModes);
+    std::string footer = std::string(kOutputModes) + "\n" + kExitStatusHelp + "\nDrive fault codes (metrics key \"fault\"):";
+    for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
+        footer += "\n  " + std::to_string(f) + "  " + drive_fault_name(static_cast<drive_fault_t>(f));
+    }
+    app.footer(footer);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

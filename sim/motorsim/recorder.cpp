@@ -25,7 +25,8 @@ Recorder::Recorder(const Scenario& sc, const PmPlant& plant, const drive_t& driv
       K_over_L_(plant.motor().K_Nm_per_A / plant.motor().L_H),
       inv_L_drive_(1.0 / sc.drive_model.L_H),
       omega_lim_rad_s_(sc.omega_lim_rad_s),
-      n_max_(sc.n_ticks())
+      n_max_(sc.n_ticks()),
+      watch_(sc)
 {
     // One row per period, allocated and touched (zeroed) here: the loop
     // itself neither allocates nor takes first-touch page faults.
@@ -137,6 +138,7 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     if (tl.fault != DRIVE_FAULT_NONE) {
         fault_ = static_cast<std::int64_t>(tl.fault);
     }
+    watch_.on_period(p, static_cast<std::int64_t>(tl.fault), plant_);
     // "Closed loop" by the reference speed, as in section 5.4, so that the
     // open/closed switch transients count against the drive.
     if (std::fabs(ref.omega_rad_s) >= omega_lim_rad_s_) {

@@ -18,6 +18,7 @@
 #include "hal_sw_plant.h"
 #include "model/reference.h"
 #include "model/pm_plant.h"
+#include "motorsim/run_watch.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -86,6 +87,7 @@ public:
 
     // Final metrics; wall_loop_s is the wall time of the simulation loop.
     MetricList metrics(double wall_loop_s) const;
+    const RunWatch& watch() const { return watch_; }
 
 private:
     void on_period(const hal_sw_plant_period_t& p);
@@ -110,6 +112,7 @@ private:
     std::int64_t mode_switches_ = 0;
     int last_mode_ = -1;
     std::int64_t fault_ = 0;
+    RunWatch watch_;
     double first_switch_t_ = -1.0;
 };
 

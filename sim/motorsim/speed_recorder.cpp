@@ -32,7 +32,7 @@ const char* const kSpeedColumnNames[kSpNumColumns] = {
 
 SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const paper001_drive_t& drive,
                              bool record_rows)
-    : sc_(sc), plant_(plant), drive_(drive), n_max_(sc.n_ticks())
+    : sc_(sc), plant_(plant), drive_(drive), n_max_(sc.n_ticks()), watch_(sc)
 {
     for (const auto& p : sc.speed_points) {
         events_.push_back(p.first);
@@ -147,6 +147,7 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
     if (tm.fault != DRIVE_FAULT_NONE) {
         fault_ = static_cast<std::int64_t>(tm.fault);
     }
+    watch_.on_period(p, static_cast<std::int64_t>(tm.fault), plant_);
     if (!rows_.empty()) {
         double* r = &rows_[static_cast<std::size_t>(n_) * kSpNumColumns];
         r[kSpT] = t;

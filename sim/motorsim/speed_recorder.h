@@ -28,6 +28,7 @@
 #include "drives/paper001_drive.h"
 #include "hal_sw_plant.h"
 #include "model/pm_plant.h"
+#include "motorsim/run_watch.h"
 #include "motorsim/recorder.h"
 #include "scenario/scenario.h"
 
@@ -69,6 +70,7 @@ public:
     const double* data() const { return rows_.data(); }
     std::size_t size() const { return rows_.empty() ? 0 : static_cast<std::size_t>(n_); }
     MetricList metrics(double wall_loop_s) const;
+    const RunWatch& watch() const { return watch_; }
 
     // reference speed of the scenario at t (double, independent of the drive's)
     double omega_ref(double t_s, double* slope) const;
@@ -88,6 +90,7 @@ private:
     double load_settled_max_ = 0.0, theta_max_deg_ = 0.0, i_max_ = 0.0, v_max_ = 0.0;
     double lock_t_ = -1.0, lock_run_start_ = 0.0, first_closed_t_ = -1.0;
     std::int64_t fault_ = 0;
+    RunWatch watch_;
 };
 
 }  // namespace mcsim

@@ -72,6 +72,15 @@ public:
 
     bool has(const std::string& k) const { return t_.contains(k); }
 
+    std::vector<std::string> keys() const
+    {
+        std::vector<std::string> ks;
+        for (auto&& kv : t_) {
+            ks.emplace_back(kv.first.str());
+        }
+        return ks;
+    }
+
     std::optional<double> number(const std::string& k) const
     {
         const toml::node* n = t_.get(k);
@@ -361,7 +370,7 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed"});
+               "trajectory", "gains", "bounds", "speed", "expect"});
     // [speed] makes it the speed drive (paper 001); else the position drive
     // of paper 000 with its [trajectory].
     sc.speed_drive = root.has("speed");
@@ -398,10 +407,12 @@ Scenario load_scenario(const std::string& path)
             sc.seed = static_cast<std::uint64_t>(*s);
         }
         if (const auto n = v.integer("substeps")) {
-            if (*n < 1 || *n > 1000) {
-                v.fail("substeps", "must be an integer in [1, 1000] (got " + std::to_string(*n) + ")");
+            if (*n < 1 || *n > kMaxSubsteps) {
+                v.fail("substeps", "must be an integer in [1, " + std::to_string(kMaxSubsteps) + "] (got " +
+                                       std::to_string(*n) + ")");
             }
             sc.substeps = static_cast<int>(*n);
+            sc.substeps_given = true;
         }
         sc.theta0_rad = v.number("theta0_rad").value_or(0.0);
     }
@@ -428,6 +439,46 @@ Scenario load_scenario(const std::string& path)
         }
         sc.motor = read_motor_file(sc.motor_file);
         read_motor_fields(v, &sc.motor, false, true);
+    }
+
+    // The plant's integration step against the motor's fastest modes: RK4 is
+    // stable for h lambda < 2.78 on the real axis and 2.83 on the imaginary
+    // one, and accurate well inside; h lambda <= 1 is asked here. Modes: the
+    // electrical R/L (R/L_q too), the Coulomb friction's tanh slope
+    // C/(w_s J), viscous f_v/J, and the electromechanical oscillation
+    // sqrt(K_e K_t/(L J)). Without [run] substeps the sub-steps are chosen;
+    // with it, too few is an error naming the keys.
+    {
+        const MotorParams& m = sc.motor;
+        const double L_min = std::min(m.L_H, m.L_q());
+        const double K = m.K_Nm_per_A;
+        struct Mode {
+            double rate;
+            const char* keys;
+        } modes[] = {{m.R_ohm / L_min, "motor R_ohm / L (L_H or L_d_H, L_q_H)"},
+                     {m.coulomb_Nm / (m.coulomb_omega_s_rad_s * m.J_kgm2), "motor coulomb_Nm / (coulomb_omega_s_rad_s J_kgm2)"},
+                     {m.fv_Nms_per_rad / m.J_kgm2, "motor fv_Nms_per_rad / J_kgm2"},
+                     {std::sqrt(K * K * m.torque_scale() / (L_min * m.J_kgm2)), "motor K (Phi_Wb n_p) / sqrt(L J_kgm2)"}};
+        const Mode* fastest = &modes[0];
+        for (const Mode& md : modes) {
+            if (std::isfinite(md.rate) && md.rate > fastest->rate) {
+                fastest = &md;
+            }
+        }
+        const double need = std::ceil(sc.ts_s * fastest->rate / kRk4StepTimesRateMax);
+        if (need > static_cast<double>(sc.substeps)) {
+            const std::string why = "the plant's fastest mode (" + std::string(fastest->keys) + " = " +
+                                    fmt_num(fastest->rate) + " 1/s) needs " + fmt_num(need) +
+                                    " RK4 sub-steps per Ts_s = " + fmt_num(sc.ts_s) + " s";
+            if (need > static_cast<double>(kMaxSubsteps)) {
+                fail(sc.path, "motor", why + ", more than the " + std::to_string(kMaxSubsteps) +
+                                           " allowed: the motor file's values are implausible for this Ts_s");
+            }
+            if (sc.substeps_given) {
+                fail(sc.path, "run.substeps", why + " (got " + std::to_string(sc.substeps) + ")");
+            }
+            sc.substeps = static_cast<int>(need);
+        }
     }
 
     // [drive_model]: what the drive is designed for; defaults to the plant.
@@ -603,6 +654,35 @@ Scenario load_scenario(const std::string& path)
                 v->fail("probe_s", "must be <= 10 s (got " + fmt_num(*x) + ")");
             }
             sc.speed_gains.probe_s = *x;
+        }
+    }
+
+    // [expect]: bounds on the run's metrics; names are checked against the
+    // drive's metrics before the run (motorsim), values here
+    if (const auto v = root.table("expect")) {
+        for (const std::string& k : v->keys()) {
+            const auto e = v->table(k);
+            if (!e) {
+                continue;
+            }
+            e->only({"max", "min"});
+            Expectation x;
+            x.metric = k;
+            if (const auto hi = e->number("max")) {
+                x.has_max = true;
+                x.max = *hi;
+            }
+            if (const auto lo = e->number("min")) {
+                x.has_min = true;
+                x.min = *lo;
+            }
+            if (!x.has_max && !x.has_min) {
+                v->fail(k, "needs max and/or min (e.g. { max = 0.03 })");
+            }
+            if (x.has_max && x.has_min && !(x.min <= x.max)) {
+                v->fail(k, "min must be <= max (got min " + fmt_num(x.min) + ", max " + fmt_num(x.max) + ")");
+            }
+            sc.expect.push_back(x);
         }
     }
 

@@ -31,6 +31,19 @@ constexpr double kRpmToRadS = 3.14159265358979323846 / 30.0;
 
 // RK4 sub-steps per control sample when [run] substeps is not given.
 constexpr int kDefaultSubsteps = PmPlant::kDefaultSubsteps;
+// [run] substeps is at most this; a motor that needs more is refused.
+constexpr int kMaxSubsteps = 1000;
+// The plant's RK4 sub-step h must keep h * (fastest rate of the motor) at or
+// below this (RK4's real-axis stability limit is 2.78; 1 keeps it accurate).
+constexpr double kRk4StepTimesRateMax = 1.0;
+
+// One [expect] entry: the run fails (motorsim exit 4) if the metric is
+// above max, below min, or not a number.
+struct Expectation {
+    std::string metric;
+    bool has_max = false, has_min = false;
+    double max = 0.0, min = 0.0;
+};
 
 struct Scenario {
     std::string path;         // as given by the user
@@ -42,6 +55,7 @@ struct Scenario {
     double ts_s = 0.0;
     std::uint64_t seed = 1;
     int substeps = kDefaultSubsteps;
+    bool substeps_given = false;  // [run] substeps was in the file
     double theta0_rad = 0.0;  // initial rotor angle; the drive assumes 0
 
     // [motor] (plant) and [drive_model] (what the drive is designed for)
@@ -70,6 +84,8 @@ struct Scenario {
         bool identify = false;  // commissioning run (R, L, Phi) before the run
         int estimator = 0;      // p001_estimator_t: 0 flux (paper 001), 1 back_emf (paper 000)
     } speed_gains;
+
+    std::vector<Expectation> expect;  // [expect], in file order
 
     SensorParams sensor;
     std::vector<LoadStep> load;

@@ -44,7 +44,7 @@ SETTLE_S = 0.05  # after the lock, as theta_est_max_deg_e (sim/motorsim/speed_re
 
 def run(motorsim: Path, scenario: Path, est: str) -> dict:
     with tempfile.TemporaryDirectory() as d:
-        r = subprocess.run([str(motorsim), "--scenario", str(scenario), "--estimator", est, "--out", d, "--no-plot",
+        r = subprocess.run([str(motorsim), "--scenario", str(scenario), "--estimator", est, "--no-expect", "--out", d, "--no-plot",
                             "--quiet"], capture_output=True, text=True)
         if r.returncode != 0:
             sys.exit(f"observers: {scenario.name} --estimator {est}: motorsim exit {r.returncode}: {r.stderr.strip()}")
