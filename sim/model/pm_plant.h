@@ -55,6 +55,9 @@ public:
     // test (tests/sim/test_plant.cpp) keeps this value honest (< 1e-5 rad
     // against twice as many sub-steps).
     static constexpr int kDefaultSubsteps = 1;
+    // States below this magnitude are set to zero after each step (no
+    // subnormal numbers in long holds; see step()).
+    static constexpr double kStateFloor = 1e-200;
 
     PmPlant(const MotorParams& motor, const LoadProfile& load, int substeps);
 

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""Real-time factor of long runs: paper 000's experiment (the move, then a
+hold at rest) run for 4.25 s, 100 s and 1,000 s. A benchmark, not a test.
+
+Long holds used to slow the simulator down tenfold (realtime_factor 276 at
+4.25 s, 51 at 100 s, about 35 from 390 s on): the plant's state decayed into
+subnormal numbers. The plant now sets components below 1e-200 to zero after
+each step (sim/model/pm_plant.h, kStateFloor); the firmware produces none
+(tests/sim/test_drive_plant.cpp, LongHoldGivesNoSubnormals*). The target:
+every duration within 10 % of the 4.25 s run's factor.
+
+    python3 tools/bench/long_runs.py [--binary build/host/sim/motorsim] [--runs 3] [--markdown]
+
+Metrics-only runs (no CSV: 1,000 s is beyond the in-memory log), pinned to
+one CPU with taskset when available; median of --runs. Standard library only.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENARIO = ROOT / "sim" / "scenarios" / "paper000_experiment.toml"
+DURATIONS = (4.25, 100.0, 1000.0)
+
+
+def rtf(binary: Path, duration: float, runs: int) -> float:
+    text = SCENARIO.read_text()
+    text, n = re.subn(r"(?m)^duration_s = .*$", f"duration_s = {duration}", text, count=1)
+    if n != 1:
+        sys.exit("long_runs: duration_s not found in the scenario")
+    pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
+    vals = []
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", dir=SCENARIO.parent, prefix=".long_") as f, \
+            tempfile.TemporaryDirectory() as d:
+        f.write(text)
+        f.flush()
+        for _ in range(runs):
+            out = Path(d) / "m.json"
+            r = subprocess.run(pin + [str(binary), "--scenario", f.name, "--metrics-out", str(out), "--quiet", "--no-expect"],
+                               capture_output=True, text=True)
+            if r.returncode != 0:
+                sys.exit(f"long_runs: {duration} s: motorsim exit {r.returncode}: {r.stderr.strip()}")
+            vals.append(json.loads(out.read_text())["realtime_factor"])
+    return statistics.median(vals)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--binary", type=Path, default=ROOT / "build" / "host" / "sim" / "motorsim")
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--markdown", action="store_true")
+    a = ap.parse_args()
+    if not a.binary.exists():
+        print(f"long_runs: {a.binary}: no such binary (build the host preset)", file=sys.stderr)
+        return 2
+    res = [(d, rtf(a.binary, d, a.runs)) for d in DURATIONS]
+    base = res[0][1]
+    if a.markdown:
+        print("| run length (s) | realtime_factor | vs 4.25 s |")
+        print("|---|---|---|")
+        for d, f in res:
+            print(f"| {d:g} | {f:.0f} | {100.0 * (f / base - 1.0):+.1f} % |")
+    else:
+        for d, f in res:
+            print(f"{d:8g} s  realtime_factor {f:7.1f}  {100.0 * (f / base - 1.0):+6.1f} % vs 4.25 s")
+    print(json.dumps({"realtime_factor": {str(d): f for d, f in res}}))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
