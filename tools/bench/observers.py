@@ -74,8 +74,6 @@ def main() -> int:
     pil = json.loads(Path(a.pil).read_text()) if a.pil else None
     head = ["motor", "estimator", "lock (s)", "angle err max / rms (deg e)", "speed est err max / rms (rpm)",
             "tracking rms / max (rpm)", "closed loop"]
-    if pil:
-        head.append("M4F instr/step mean (max)")
     rows = []
     for mname, sc in MOTORS:
         for est, ename in ESTIMATORS:
@@ -84,10 +82,6 @@ def main() -> int:
             row = [mname, ename, lock, "%.2f / %.2f" % (r["theta_max_deg"], r["theta_rms_deg"]),
                    "%.2f / %.2f" % (r["dw_max_rpm"], r["dw_rms_rpm"]),
                    "%.2f / %.1f" % (r["track_rms_rpm"], r["track_max_rpm"]), "%.0f %%" % (100 * r["closed"])]
-            if pil:
-                key = f"{'pmsm' if 'PMSM' in mname else 'stepper'}_{est}"
-                p = pil.get(key)
-                row.append("%.0f (%d)" % (p["mean"], p["max"]) if p else "not measured")
             rows.append(row)
     if a.markdown:
         print("| " + " | ".join(head) + " |")
@@ -99,7 +93,45 @@ def main() -> int:
         print("  ".join(h.ljust(w[i]) for i, h in enumerate(head)))
         for row in rows:
             print("  ".join(c.ljust(w[i]) for i, c in enumerate(row)))
+    if pil:
+        print()
+        print_pil(pil, a.markdown)
     return 0
+
+
+def print_pil(pil: dict, markdown: bool) -> None:
+    """Instructions per control step of the paper-001 drive on the PMSM
+    benchmark, from a tools/bench/pil.py --drive paper001 results JSON."""
+    head = ["estimator", "M4F float: step, closed loop mean (max)", "M4F float: whole run mean (max)",
+            "M3 fixed: step, closed loop mean (max)", "M3 fixed: whole run mean (max)"]
+    rows = []
+    for est, ename in ESTIMATORS:
+        row = [ename]
+        for typ in ("m4f_float", "m3_fixed"):
+            k = f"p001_{est}_{typ}"
+            if f"{k}_instr_mean" not in pil:
+                row += ["not measured", "not measured"]
+                continue
+            row.append("%.0f (%d)" % (pil[f"{k}_closed_loop_instr_mean"], pil[f"{k}_closed_loop_instr_max"]))
+            row.append("%.0f (%d)" % (pil[f"{k}_instr_mean"], pil[f"{k}_instr_max"]))
+        rows.append(row)
+    parts = [("flux observer (12)-(14)", "flux_observer"), ("I&I observer (15)-(16)", "ii"),
+             ("IDA-PBC (11)", "ida_pbc"), ("flux observer + IDA-PBC", "fo_ida")]
+    if markdown:
+        print("| " + " | ".join(head) + " |")
+        print("|" + "---|" * len(head))
+        for row in rows:
+            print("| " + " | ".join(row) + " |")
+        print()
+        print("| part of the flux step (closed loop) | M4F float mean | M3 fixed mean |")
+        print("|---|---|---|")
+        for name, key in parts:
+            f = pil.get(f"p001_flux_m4f_float_part_{key}_instr_mean")
+            x = pil.get(f"p001_flux_m3_fixed_part_{key}_instr_mean")
+            print(f"| {name} | {'-' if f is None else '%.0f' % f} | {'-' if x is None else '%.0f' % x} |")
+    else:
+        for row in [head] + rows:
+            print("  ".join(row))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Processor-in-the-loop cost of the drive's control step on emulated Cortex-M.
+"""Processor-in-the-loop cost of the drives' control step on emulated Cortex-M.
 
 For each numeric type (float on Cortex-M4F / mps2-an386, fixed point Q14.17
 on Cortex-M3 / mps2-an385):
@@ -13,6 +13,31 @@ on Cortex-M3 / mps2-an385):
   3. qemu-system-arm runs the image with -icount: every drive_step() is timed
      with SysTick and its outputs are compared BIT FOR BIT with the host's.
 
+--drive paper001 (or --drive paper000,paper001) does the same for the
+paper-001 speed drive (paper001_drive_step, drives/paper001_drive.h) on a
+[speed] scenario (default sim/scenarios/paper001_benchmark.toml, the 3-phase
+PMSM benchmark), once per estimator of --estimators (default
+flux,back_emf; mc_pil_gen --estimator sets paper001_config_t.estimator
+whatever the scenario says): the host records the three phase currents, the
+bus voltage and the three phase voltages per period, the image
+(hal/backends/mcu/pil_paper001_main.c, cmake -DMC_PIL_DRIVE=paper001)
+replays them and compares the three voltages bit for bit. With the FLUX
+estimator, in every period that starts and ends in closed loop, the image
+also times the parts of the step on copies of their states, replayed with
+the step's own inputs and checked bit for bit against the drive's states
+afterwards: flux_observer_step (12)-(14), speed_load_observer_step (I&I,
+(15)-(16)), ida_pbc_step (11, inline in the step) and the two dq rotations
+(inline), each called through a noipa wrapper that takes its arguments in
+one struct, minus an empty wrapper timed in the same period (the same
+pointer + bl sequence): a part's count is its body plus loading its
+arguments (and the bl for the library calls), as in the step.
+Keys p001_<estimator>_<m4f_float|m3_fixed>_...: the whole step (instr_*,
+over all periods), closed_loop_instr_* / open_loop_instr_* (periods that
+start and end in that state), part_<flux_observer|ii|ida_pbc|frames>_instr_*,
+part_fo_ida_instr_* (flux observer + IDA-PBC per period) and
+part_fo_ida_frames_instr_* (+ the rotations). Target: flux observer +
+IDA-PBC on M4F float, mean <= 600 instructions.
+
 Instruction counts: qemu's mps2 SysTick runs at the 25 MHz core clock (40 ns
 a tick); with -icount shift=S an instruction lasts 2^S ns of virtual time.
 With shift=0 a tick is 40 instructions, too coarse for one step; the default
@@ -23,16 +48,20 @@ sequences when this was written). The count of an empty timed region
 40-instruction-resolution numbers.
 
 Writes JSON to stdout (keys m4f_float_instr_mean/max/min, m3_fixed_instr_...,
-sizes, stack, bit-exactness); progress goes to stderr. --check exits 1 when
-an image fails to run or an output differs from the host build (the ctest);
---check-targets also when a cost target (float M4F mean <= 1000 and
-max <= 1200, fixed M3 mean <= 1500) is missed; misses are always listed
-under "target_misses".
+sizes, stack, bit-exactness; p001_... for --drive paper001); progress goes
+to stderr. --check exits 1 when an image fails to run or an output differs
+from the host build (the ctest); --check-targets also when a cost target
+(paper 000: float M4F mean <= 1000 and max <= 1200, fixed M3 mean <= 1500;
+paper 001: flux observer + IDA-PBC on M4F float mean <= 600) is missed;
+misses are always listed under "target_misses".
 Exit 77 (ctest skip) when the arm toolchain or qemu is not installed.
 
-  tools/bench/pil.py                       # both types, full scenario
+  tools/bench/pil.py                       # paper 000, both types, full scenario
   tools/bench/pil.py --types fixed --max-samples 5000 --check
   tools/bench/pil.py --results tools/bench/results/pil_$(date +%F).json
+  tools/bench/pil.py --drive paper001      # paper 001, both estimators, both types
+  tools/bench/pil.py --drive paper001 --estimators flux --types float
+  tools/bench/pil.py --drive paper001 --results tools/bench/results/pil_paper001_$(date +%F).json
 """
 import argparse
 import datetime
@@ -48,6 +77,11 @@ import crossbuild as cb  # noqa: E402
 
 TARGETS = {"float": {"mean": 1000, "max": 1200}, "fixed": {"mean": 1500}}
 PREFIX = {"float": "m4f_float", "fixed": "m3_fixed"}
+# paper 001: (estimator, type) -> {key suffix: limit}
+P001_TARGETS = {("flux", "float"): {"part_fo_ida_instr_mean": 600}}
+DEFAULT_SCENARIO = {"paper000": os.path.join(cb.ROOT, "sim", "scenarios", "paper000_ideal.toml"),
+                    "paper001": os.path.join(cb.ROOT, "sim", "scenarios", "paper001_benchmark.toml")}
+P001_IO_WORDS = 7  # hal/backends/mcu/pil_vectors.h PIL_P001_IO_WORDS
 
 
 def host_generator(typ, given):
@@ -109,12 +143,12 @@ def run_type(typ, args):
     gen = host_generator(typ, getattr(args, "gen_" + typ))
     os.makedirs(args.build_root, exist_ok=True)
     vec = os.path.join(args.build_root, "pil_vectors_%s.c" % typ)
-    cmd = [gen, args.scenario, vec]
+    cmd = [gen, args.scenario_paper000, vec]
     if args.max_samples:
         cmd.append(str(args.max_samples))
     cb.run(cmd)
     bdir = os.path.join(args.build_root, preset)
-    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_QEMU_SHIFT": args.shift},
+    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_QEMU_SHIFT": args.shift, "MC_PIL_DRIVE": "paper000"},
                    targets=["mc_firmware", "mc_pil", "mc_selftest"])
     elf = os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.elf")
     rc, out = cb.qemu(machine, elf, args.shift)
@@ -172,10 +206,156 @@ def run_type(typ, args):
     return res
 
 
+def instr_stats(prefix, instr):
+    """mean/min/max/p99 of a list of instruction counts, keys prefix_instr_*."""
+    res = {}
+    if instr:
+        res[prefix + "_instr_mean"] = round(sum(instr) / len(instr), 1)
+        res[prefix + "_instr_min"] = min(instr)
+        res[prefix + "_instr_max"] = max(instr)
+        srt = sorted(instr)
+        res[prefix + "_instr_p99"] = srt[min(len(srt) - 1, int(0.99 * len(srt)))]
+    return res
+
+
+def linked_firmware_bytes(map_path):
+    """Flash (text, rodata, data) and RAM (data, bss) bytes of the
+    libmc_firmware.a sections the linker kept in an image (its .map file)."""
+    try:
+        text = open(map_path).read()
+    except OSError:
+        return None
+    text = text[text.find("Linker script and memory map"):]
+    flash = ram = 0
+    for m in re.finditer(r"^ (\.text\S*|\.rodata\S*|\.data\S*|\.bss\S*)\s*\n?\s+0x[0-9a-f]+\s+0x([0-9a-f]+)\s+(\S+)",
+                         text, re.M):
+        sec, size, obj = m.group(1), int(m.group(2), 16), m.group(3)
+        if "libmc_firmware.a" not in obj:
+            continue
+        if not sec.startswith(".bss"):
+            flash += size
+        if sec.startswith((".data", ".bss")):
+            ram += size
+    return {"flash": flash, "ram": ram}
+
+
+def run_p001(typ, est, args):
+    """The paper-001 speed drive with estimator est (flux | back_emf) on type typ."""
+    preset, machine, _ = cb.PRESETS[typ]
+    gen = host_generator(typ, getattr(args, "gen_" + typ))
+    os.makedirs(args.build_root, exist_ok=True)
+    vec = os.path.join(args.build_root, "pil_vectors_paper001_%s_%s.c" % (est, typ))
+    cmd = [gen, "--drive", "paper001", "--estimator", est, args.scenario_paper001, vec]
+    if args.max_samples:
+        cmd.append(str(args.max_samples))
+    cb.run(cmd)
+    bdir = os.path.join(args.build_root, preset)
+    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_QEMU_SHIFT": args.shift, "MC_PIL_DRIVE": "paper001"},
+                   targets=["mc_firmware", "mc_pil"])
+    elf = os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.elf")
+    rc, out = cb.qemu(machine, elf, args.shift)
+    ticks, states, parts, info = [], "", [], {}
+    for line in out.splitlines():
+        if line.startswith("T "):
+            ticks += [int(t) for t in line.split()[1:]]
+        elif line.startswith("S "):
+            states += line[2:].strip()
+        elif line.startswith("P "):
+            parts.append([int(t) for t in line.split()[1:]])
+        elif line.startswith("PIL "):
+            for k, v in re.findall(r"(\w+)=(\S+)", line):
+                info[k] = v
+    scale = cb.TICK_NS / float(2 ** args.shift)
+    to_instr = (lambda t: int(round(t * scale))) if args.shift >= 7 else (lambda t: t * scale)
+    calib = to_instr(int(info.get("calib", 0)))
+    instr = [to_instr(t) - calib for t in ticks]
+    n = int(info.get("n", "0"))
+    ok_run = (rc == 0 and "PIL PASS" in out and len(instr) == n and n > 0 and len(states) == n)
+    p = "p001_%s_%s" % (est, PREFIX[typ])
+    res = {}
+    res.update(instr_stats(p, instr))
+    if instr:
+        res[p + "_instr_max_at_period"] = instr.index(max(instr))
+    res[p + "_periods"] = len(instr)
+    # by supervisor state: periods that start and end in the same state
+    # (state before period i = state after period i-1)
+    names = {"1": "open_loop", "2": "closed_loop"}
+    if len(states) == len(instr):
+        for code, name in names.items():
+            sel = [instr[i] for i in range(len(instr)) if states[i] == code and states[max(i - 1, 0)] == code]
+            res.update(instr_stats(p + "_" + name, sel))
+            res[p + "_" + name + "_periods"] = len(sel)
+        first_closed = states.find("2")
+        res[p + "_first_closed_loop_period"] = first_closed if first_closed >= 0 else None
+        res[p + "_transition_periods"] = sum(1 for i in range(1, len(states)) if states[i] != states[i - 1])
+        res[p + "_final_state"] = {"0": "identify", "1": "open_loop", "2": "closed_loop", "3": "fault"}.get(
+            states[-1:], states[-1:])
+    if parts:
+        # P <period> <flux> <ii> <empty> <ida> <empty> <frames> <empty>: each
+        # part's noipa wrapper minus its empty twin (same call sequence)
+        flux = [to_instr(r[1]) - to_instr(r[3]) for r in parts]
+        ii = [to_instr(r[2]) - to_instr(r[3]) for r in parts]
+        ida = [to_instr(r[4]) - to_instr(r[5]) for r in parts]
+        frames = [to_instr(r[6]) - to_instr(r[7]) for r in parts]
+        res[p + "_part_periods"] = len(parts)
+        res.update(instr_stats(p + "_part_flux_observer", flux))
+        res.update(instr_stats(p + "_part_ii", ii))
+        res.update(instr_stats(p + "_part_ida_pbc", ida))
+        res.update(instr_stats(p + "_part_frames", frames))
+        res.update(instr_stats(p + "_part_fo_ida", [a + b for a, b in zip(flux, ida)]))
+        res.update(instr_stats(p + "_part_fo_ida_frames", [a + b + c for a, b, c in zip(flux, ida, frames)]))
+        if len(instr) == n:
+            whole = [instr[r[0]] for r in parts]
+            res.update(instr_stats(p + "_part_whole_step", whole))
+            res[p + "_part_rest_instr_mean"] = round(
+                (sum(whole) - sum(flux) - sum(ii) - sum(ida) - sum(frames)) / len(parts), 1)
+        res[p + "_part_call_overhead_subtracted"] = round(sum(to_instr(r[3]) for r in parts) / len(parts) - calib, 1)
+    res[p + "_part_mismatches"] = int(info.get("part_mismatches", "-1"))
+    if parts:
+        res[p + "_part_outputs_checked"] = int(info.get("part_outputs_checked", "0"))
+    res[p + "_bit_exact_vs_host"] = (info.get("mismatches") == "0" and ok_run)
+    res[p + "_mismatches"] = int(info.get("mismatches", "-1"))
+    res[p + "_image_ok"] = ok_run
+    lib = os.path.join(bdir, "firmware", "libmc_firmware.a")
+    sz_lib = cb.size_of([lib])
+    sz_img = cb.size_of([elf])
+    res[p + "_lib_flash_bytes"] = sz_lib["text"] + sz_lib["data"]
+    res[p + "_lib_ram_static_bytes"] = sz_lib["data"] + sz_lib["bss"]
+    res[p + "_drive_state_ram_bytes"] = int(info["state_bytes"]) if "state_bytes" in info else None
+    res[p + "_drive_config_bytes"] = int(info["cfg_bytes"]) if "cfg_bytes" in info else None
+    vec_bytes = n * P001_IO_WORDS * 4
+    res[p + "_pil_image_flash_bytes"] = sz_img["text"] + sz_img["data"]
+    res[p + "_pil_image_flash_bytes_without_vectors"] = sz_img["text"] + sz_img["data"] - vec_bytes
+    res[p + "_pil_image_ram_bytes"] = sz_img["data"] + sz_img["bss"]
+    linked = linked_firmware_bytes(os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.map"))
+    if linked:
+        # the part of the library the paper-001 drive pulls in (both estimators)
+        res[p + "_image_firmware_flash_bytes"] = linked["flash"]
+        res[p + "_image_firmware_ram_static_bytes"] = linked["ram"]
+    st = parse_ci_stack(bdir, "paper001_drive_step")
+    if st:
+        res[p + "_step_stack_bytes_static"] = st["bytes"]
+        res[p + "_step_stack_path"] = st["path"]
+        res[p + "_step_stack_external_calls"] = st["external_calls_not_counted"]
+    if "stack_used" in info:
+        res[p + "_run_stack_measured_bytes"] = int(info["stack_used"])
+        res[p + "_step_stack_measured_bytes"] = int(info["stack_used"]) - int(info.get("stack_main", 0))
+    res[p + "_qemu"] = "%s -icount shift=%d" % (machine, args.shift)
+    if not ok_run:
+        cb.log(out[-3000:])
+    return res
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--types", default="float,fixed", help="comma list of float,fixed")
-    ap.add_argument("--scenario", default=os.path.join(cb.ROOT, "sim", "scenarios", "paper000_ideal.toml"))
+    ap.add_argument("--drive", default="paper000",
+                    help="comma list of paper000 (drive_step, default), paper001 (paper001_drive_step)")
+    ap.add_argument("--estimators", "--estimator", default="flux,back_emf",
+                    help="paper001 only: comma list of flux, back_emf (default both)")
+    ap.add_argument("--scenario", default=None,
+                    help="scenario of the (one) drive of --drive (default: sim/scenarios/paper000_ideal.toml, "
+                         "paper001_benchmark.toml for paper001)")
     ap.add_argument("--max-samples", type=int, default=0, help="record at most N periods (0 = whole scenario)")
     ap.add_argument("--gen-float", default=None, help="mc_pil_gen of a float host build (default: build/host)")
     ap.add_argument("--gen-fixed", default=None, help="mc_pil_gen of a fixed host build (default: build/host-fixed)")
@@ -184,37 +364,91 @@ def main():
     ap.add_argument("--check", action="store_true",
                     help="exit 1 when an image does not run to the end or an output differs from the host build")
     ap.add_argument("--check-targets", action="store_true",
-                    help="also exit 1 when a cost target is missed (float M4F mean/max, fixed M3 mean)")
+                    help="also exit 1 when a cost target is missed (float M4F mean/max, fixed M3 mean; "
+                         "paper001: flux observer + IDA-PBC M4F mean)")
     ap.add_argument("--results", default=None, help="also write the JSON to this file")
     args = ap.parse_args()
     args.build_root = os.path.abspath(args.build_root)
+    drives = [d.strip() for d in args.drive.split(",") if d.strip()]
+    ests = [e.strip() for e in args.estimators.split(",") if e.strip()]
+    if not drives or any(d not in DEFAULT_SCENARIO for d in drives):
+        ap.error("--drive: comma list of paper000, paper001")
+    if not ests or any(e not in ("flux", "back_emf") for e in ests):
+        ap.error("--estimators: comma list of flux, back_emf")
+    if args.scenario and len(drives) > 1:
+        ap.error("--scenario: give one --drive with it")
+    for d in DEFAULT_SCENARIO:
+        setattr(args, "scenario_" + d, os.path.abspath(args.scenario) if args.scenario else DEFAULT_SCENARIO[d])
     miss = cb.missing_tools()
     if miss:
         print("SKIP: PIL needs %s (apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)"
               % ", ".join(miss), file=sys.stderr)
         return cb.SKIP
     types = [t.strip() for t in args.types.split(",") if t.strip()]
-    out = {"scenario": os.path.relpath(args.scenario, cb.ROOT), "date": datetime.date.today().isoformat(),
-           "instr_counting": "SysTick ticks * 40 ns / 2^shift ns, minus the empty-region count",
-           "targets": {"m4f_float_instr_mean": 1000, "m4f_float_instr_max": 1200, "m3_fixed_instr_mean": 1500}}
+    out = {}
+    if "paper000" in drives:
+        out["scenario"] = os.path.relpath(args.scenario_paper000, cb.ROOT)
+    if "paper001" in drives:
+        out["p001_scenario"] = os.path.relpath(args.scenario_paper001, cb.ROOT)
+        out["p001_estimators"] = ests
+        out["p001_max_samples"] = args.max_samples or None
+        try:  # the drive changes under these snapshots: say which tree was measured
+            head = subprocess.run(["git", "-C", cb.ROOT, "rev-parse", "--short", "HEAD"], stdout=subprocess.PIPE,
+                                  stderr=subprocess.DEVNULL, text=True).stdout.strip()
+            dirty = subprocess.run(["git", "-C", cb.ROOT, "status", "--porcelain", "--untracked-files=no"],
+                                   stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout.strip()
+            out["p001_git_head"] = head + ("-dirty" if dirty else "") if head else None
+        except OSError:
+            pass
+    out.update({"date": datetime.date.today().isoformat(),
+                "instr_counting": "SysTick ticks * 40 ns / 2^shift ns, minus the empty-region count"})
+    targets = {}
+    if "paper000" in drives:
+        targets.update({"m4f_float_instr_mean": 1000, "m4f_float_instr_max": 1200, "m3_fixed_instr_mean": 1500})
+    if "paper001" in drives:
+        for (e, t), lims in P001_TARGETS.items():
+            for k, lim in lims.items():
+                targets["p001_%s_%s_%s" % (e, PREFIX[t], k)] = lim
+    out["targets"] = targets
     try:
         out["gcc"] = subprocess.run(["arm-none-eabi-gcc", "-dumpversion"], stdout=subprocess.PIPE,
                                     text=True).stdout.strip()
     except OSError:
         pass
     failures, misses = [], []
-    for t in types:
-        r = run_type(t, args)
-        out.update(r)
-        p = PREFIX[t]
-        if not r.get(p + "_image_ok"):
-            failures.append("%s: image did not run to PIL PASS" % t)
-        if r.get(p + "_mismatches", -1) != 0:
-            failures.append("%s: %s outputs differ from the host build" % (t, r.get(p + "_mismatches")))
-        for k, lim in TARGETS[t].items():
-            v = r.get("%s_instr_%s" % (p, k))
-            if v is None or v > lim:
-                misses.append("%s: instr %s %s > target %d" % (t, k, v, lim))
+    if "paper000" in drives:
+        for t in types:
+            r = run_type(t, args)
+            out.update(r)
+            p = PREFIX[t]
+            if not r.get(p + "_image_ok"):
+                failures.append("%s: image did not run to PIL PASS" % t)
+            if r.get(p + "_mismatches", -1) != 0:
+                failures.append("%s: %s outputs differ from the host build" % (t, r.get(p + "_mismatches")))
+            for k, lim in TARGETS[t].items():
+                v = r.get("%s_instr_%s" % (p, k))
+                if v is None or v > lim:
+                    misses.append("%s: instr %s %s > target %d" % (t, k, v, lim))
+    if "paper001" in drives:
+        for e in ests:
+            for t in types:
+                r = run_p001(t, e, args)
+                out.update(r)
+                p = "p001_%s_%s" % (e, PREFIX[t])
+                what = "paper001 %s %s" % (e, t)
+                if not r.get(p + "_image_ok"):
+                    failures.append("%s: image did not run to PIL PASS" % what)
+                if r.get(p + "_mismatches", -1) != 0:
+                    failures.append("%s: %s outputs differ from the host build" % (what, r.get(p + "_mismatches")))
+                if r.get(p + "_part_mismatches", -1) != 0:
+                    failures.append("%s: %s replayed parts differ from the drive's states"
+                                    % (what, r.get(p + "_part_mismatches")))
+                for k, lim in P001_TARGETS.get((e, t), {}).items():
+                    v = r.get("%s_%s" % (p, k))
+                    if v is None:
+                        misses.append("%s: %s not measured (no closed-loop period recorded)" % (what, k))
+                    elif v > lim:
+                        misses.append("%s: %s %s > target %d" % (what, k, v, lim))
     out["failures"] = failures
     out["target_misses"] = misses
     text = json.dumps(out, indent=2)
