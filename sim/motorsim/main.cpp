@@ -19,6 +19,7 @@
 // a fault, 4 a metric missed its [expect] bound, 5 the plant diverged.
 // A run that fails still writes its outputs: it is the one a user most
 // wants to look at.
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -94,6 +95,7 @@ struct Options {
     std::string out_dir = "out";
     bool out_given = false;
     std::string metrics_out;
+    bool metrics_out_given = false;
     std::int64_t seed = 0;
     bool seed_given = false;
     double theta0_rad = 0.0;
@@ -322,6 +324,12 @@ int run(const Options& opt)
         }
         sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
     }
+    if (opt.out_given && opt.out_dir.empty()) {
+        throw std::invalid_argument("--out: empty path");
+    }
+    if (opt.metrics_out_given && opt.metrics_out.empty()) {
+        throw std::invalid_argument("--metrics-out: empty path");
+    }
     // Metrics only: --metrics-out without --out. Else DIR gets the CSV (no
     // --no-csv), the PNG (drawn from the CSV; no --no-plot) and, without
     // --metrics-out, the metrics JSON.
@@ -341,7 +349,7 @@ int run(const Options& opt)
             throw std::invalid_argument("--metrics-out: '" + json_path + "' is a directory");
         }
     }
-    if (fs::path(json_path).has_parent_path()) {
+    if (json_path != "-" && fs::path(json_path).has_parent_path()) {
         check_output_dir(fs::path(json_path).parent_path().string(), "--metrics-out");
     }
 
@@ -445,7 +453,7 @@ int run(const Options& opt)
     if (write_csv) {
         fs::create_directories(opt.out_dir);
     }
-    if (fs::path(json_path).has_parent_path()) {
+    if (json_path != "-" && fs::path(json_path).has_parent_path()) {
         fs::create_directories(fs::path(json_path).parent_path());
     }
     if (write_csv) {
@@ -457,7 +465,7 @@ int run(const Options& opt)
         }
     }
     mcsim::write_metrics_json_atomic(json_path, metrics);
-    if (!opt.quiet) {
+    if (!opt.quiet && json_path != "-") {
         mcsim::print_metrics(stdout, metrics);
         std::fflush(stdout);
         if (write_csv) {
@@ -493,7 +501,7 @@ int main(int argc, char** argv)
                        "output directory for <stem>.csv, <stem>_metrics.json, <stem>.png (default: out, "
                        "unless --metrics-out is given alone: then metrics only)")
             ->type_name("DIR");
-    app.add_option("--metrics-out", opt.metrics_out,
+    CLI::Option* metrics_out_opt = app.add_option("--metrics-out", opt.metrics_out,
                    "metrics JSON path (default DIR/<stem>_metrics.json); without --out, the only output")
         ->type_name("FILE.json");
     // Signed so that "-3" is an error rather than a wrapped 2^64 - 3.
@@ -501,8 +509,16 @@ int main(int argc, char** argv)
                                 ->type_name("N")
                                 ->check(CLI::Validator(
                                     [](std::string& v) {
-                                        return (!v.empty() && v[0] == '-') ? "must be >= 0 (got " + v + ")"
-                                                                           : std::string();
+                                        if (!v.empty() && v[0] == '-') {
+                                            return "must be >= 0 (got " + v + ")";
+                                        }
+                                        errno = 0;
+                                        char* end = nullptr;
+                                        (void)std::strtoll(v.c_str(), &end, 10);
+                                        if (errno == ERANGE) {
+                                            return "must be at most 9223372036854775807 (got " + v + ")";
+                                        }
+                                        return std::string();
                                     },
                                     ">= 0"));
     CLI::Option* theta0_opt =
@@ -535,7 +551,9 @@ int main(int argc, char** argv)
     opt.seed_given = seed_opt->count() > 0;
     opt.theta0_given = theta0_opt->count() > 0;
     opt.out_given = out_opt->count() > 0;
+    opt.metrics_out_given = metrics_out_opt->count() > 0;
 
+    mcsim::install_output_signal_handlers();
     try {
         return run(opt);
     } catch (const mcsim::ScenarioError& e) {

@@ -3,6 +3,7 @@
 #include "motorsim/num_format.h"
 
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -35,13 +36,103 @@ struct FileCloser {
     }
 };
 
-// Opens PATH.tmp, lets `body` write it, then renames it onto PATH.
+// The temporary files that exist right now, for the signal handler: fixed
+// buffers (no allocation in the handler), unlink() is async-signal-safe.
+constexpr int kMaxTemps = 2;
+constexpr std::size_t kTempPathMax = 4096;
+char g_temps[kMaxTemps][kTempPathMax];
+volatile std::sig_atomic_t g_temp_used[kMaxTemps];
+
+int temp_register(const std::string& path)
+{
+    for (int i = 0; i < kMaxTemps; ++i) {
+        if (!g_temp_used[i] && path.size() < kTempPathMax) {
+            std::memcpy(g_temps[i], path.c_str(), path.size() + 1);
+            g_temp_used[i] = 1;
+            return i;
+        }
+    }
+    return -1;
+}
+
+void temp_release(int slot)
+{
+    if (slot >= 0) {
+        g_temp_used[slot] = 0;
+    }
+}
+
+extern "C" void remove_temps_and_die(int sig)
+{
+    for (int i = 0; i < kMaxTemps; ++i) {
+        if (g_temp_used[i]) {
+            ::unlink(g_temps[i]);
+        }
+    }
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+}
+
+// Where writing PATH really goes: symlinks followed (relative targets
+// against the link's directory), up to 40 levels like the kernel.
+fs::path follow_links(const fs::path& path)
+{
+    fs::path p = path;
+    for (int depth = 0; depth < 40; ++depth) {
+        std::error_code ec;
+        if (!fs::is_symlink(fs::symlink_status(p, ec))) {
+            return p;
+        }
+        const fs::path t = fs::read_symlink(p, ec);
+        if (ec) {
+            return p;
+        }
+        p = t.is_absolute() ? t : p.parent_path() / t;
+    }
+    throw std::runtime_error(path.string() + ": too many levels of symbolic links");
+}
+
+// Writes an output like a careful Unix tool: "-" is stdout; a symlink is
+// followed; a FIFO, a device or a socket is written in place (renaming over
+// it would replace it); a regular file, or a new one, is written to a
+// temporary file beside it and renamed onto it, so it appears whole or not
+// at all. SIGINT/SIGTERM/SIGHUP while the temporary exists remove it
+// (install_output_signal_handlers).
 template <typename Body>
 void write_atomic(const std::string& path, Body body)
 {
-    const std::string tmp = tmp_name(path);
+    if (path == "-") {
+        body(stdout);
+        if (std::fflush(stdout) != 0 || std::ferror(stdout) != 0) {
+            throw std::runtime_error("-: write to stdout failed (" + std::string(std::strerror(errno)) + ")");
+        }
+        return;
+    }
+    const fs::path target = follow_links(path);
+    std::error_code ec;
+    const fs::file_status st = fs::status(target, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st)) {
+        if (fs::is_directory(st)) {
+            throw std::runtime_error(path + ": is a directory");
+        }
+        std::unique_ptr<std::FILE, FileCloser> f(std::fopen(target.c_str(), "wb"));
+        if (!f) {
+            throw std::runtime_error(path + ": cannot open (" + std::strerror(errno) + ")");
+        }
+        body(f.get());
+        const bool ok = std::fflush(f.get()) == 0 && std::ferror(f.get()) == 0;
+        const int e = errno;
+        const int rc = std::fclose(f.release());
+        if (!ok || rc != 0) {
+            throw std::runtime_error(path + ": write failed (" + std::strerror(ok ? errno : e) + ")");
+        }
+        return;
+    }
+    const std::string tmp = tmp_name(target.string());
+    const int slot = temp_register(tmp);
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));
     if (!f) {
+        temp_release(slot);
         throw std::runtime_error(path + ": cannot create (" + std::strerror(errno) + ")");
     }
     body(f.get());
@@ -49,16 +140,29 @@ void write_atomic(const std::string& path, Body body)
     const int rc = std::fclose(f.release());
     if (!ok || rc != 0) {
         std::remove(tmp.c_str());
+        temp_release(slot);
         throw std::runtime_error(path + ": write failed (" + std::strerror(errno) + ")");
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (std::rename(tmp.c_str(), target.c_str()) != 0) {
         const int e = errno;
         std::remove(tmp.c_str());
+        temp_release(slot);
         throw std::runtime_error(path + ": cannot rename into place (" + std::strerror(e) + ")");
     }
+    temp_release(slot);
 }
 
 }  // namespace
+
+void install_output_signal_handlers()
+{
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction sa {};
+        sa.sa_handler = remove_temps_and_die;
+        sigemptyset(&sa.sa_mask);
+        sigaction(sig, &sa, nullptr);
+    }
+}
 
 // 10 significant digits (format_g10): below the float resolution of the
 // telemetry and 1e-9 relative for the double plant values, at half the size
@@ -148,6 +252,11 @@ std::string run_plot(const std::string& python, const std::string& script, const
     // format from the extension), then renamed like the other outputs.
     const fs::path p(png);
     const std::string tmp = (p.parent_path() / ("." + p.stem().string() + ".tmp.png")).string();
+    const int slot = temp_register(tmp);
+    struct Release {
+        int slot;
+        ~Release() { temp_release(slot); }
+    } release{slot};
     std::vector<std::string> args = {python, script, csv, tmp};
     std::vector<char*> argv;
     for (std::string& a : args) {

@@ -19,6 +19,10 @@ void write_table_csv_atomic(const std::string& path, const char* const* names, i
                             std::size_t n_rows);
 void write_metrics_json_atomic(const std::string& path, const MetricList& m);
 
+// SIGINT, SIGTERM, SIGHUP remove the output's temporary file (if one is
+// being written) and end the process with that signal. Call once in main.
+void install_output_signal_handlers();
+
 // `key value` lines, one metric per line.
 void print_metrics(std::FILE* f, const MetricList& m);
 
