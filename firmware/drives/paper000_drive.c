@@ -17,6 +17,8 @@
  */
 #include "drives/paper000_drive.h"
 
+#include "mc_version.h"
+
 /* Samples between exact recomputations of the (f-g) frame rotation: in
  * between it turns by composition (four products per sample instead of a
  * sincos of a large angle). Each composition rounds the sine and cosine by
@@ -194,6 +196,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
 
 void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
 {
+    t->fw_version = MC_VERSION_U32;
     const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
     const fg_estimator_t *e = &d->est;
     t->mode = supervisor_mode(&d->sup);

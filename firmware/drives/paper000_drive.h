@@ -80,6 +80,7 @@ typedef struct {
     /* model in use: the configured one, or the standstill measurement */
     rl_id_state_t rl_id_state;
     mc_t R_model_ohm, L_model_H;
+    uint32_t fw_version;           /* MC_VERSION_U32: major << 16 | minor << 8 | patch */
 } drive_telemetry_t;
 
 typedef struct {

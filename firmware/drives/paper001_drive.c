@@ -17,6 +17,8 @@
  */
 #include "drives/paper001_drive.h"
 
+#include "mc_version.h"
+
 /* The probe's points are p = 8 (rho - rho(0)): det M of a through-origin
  * fit of points spread evenly along an arc is 1.3e-8 for an arc of 0.3 rad
  * (6th power of the arc), below the resolution of Q14.17 (7.6e-6); scaled
@@ -318,6 +320,7 @@ void paper001_drive_estimate(const paper001_drive_t *d, mc_estimate_t *e)
 
 void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_t *t)
 {
+    t->fw_version = MC_VERSION_U32;
     const bool fault = d->sup.state == SUP_STATE_FAULT;
     t->mode = supervisor_mode(&d->sup);
     t->fault = d->sup.fault;

@@ -122,6 +122,7 @@ typedef struct {
     mc_t i_d_A, i_q_A, i_q_ref_A;
     mc_t v_d_V, v_q_V, v_alpha_V, v_beta_V;
     bool v_saturated;
+    uint32_t fw_version;           /* MC_VERSION_U32: major << 16 | minor << 8 | patch */
 } paper001_telemetry_t;
 
 typedef struct {

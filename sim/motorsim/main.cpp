@@ -49,6 +49,7 @@
 #include "motorsim/outputs.h"
 #include "motorsim/recorder.h"
 #include "motorsim_config.h"
+#include "mc_version.h"
 #include "scenario/design_input.h"
 #include "scenario/scenario.h"
 
@@ -360,7 +361,8 @@ int run(const Options& opt)
                                     " samples exceed the in-memory log limit of " +
                                     std::to_string(kMaxLoggedSamples) + " (" +
                                     std::to_string(static_cast<int>(kMaxLoggedSamples * sc.ts_s)) +
-                                    " s at this Ts_s)");
+                                    " s at this Ts_s) of a run with a CSV; run it without one (--no-csv, or "
+                                    "--metrics-out without --out), which keeps no log");
     }
 
     warn_feasibility(sc);
@@ -491,8 +493,11 @@ int run(const Options& opt)
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"motorsim: closed-loop simulation of the paper-000 sensorless stepper drive", "motorsim"};
+    CLI::App app{"motorsim: closed-loop simulation of the sensorless drives (paper 000 position drive on a stepper, paper 001 speed drive on a PMSM or a stepper) on a model motor", "motorsim"};
     Options opt;
+    app.set_version_flag("--version", std::string("motorsim ") + MOTORSIM_VERSION +
+                                          " (sensorless_drive; firmware " + MC_VERSION_STRING + ", " +
+                                          (MC_FIXED ? "fixed point Q14.17" : "float") + ")");
     app.add_option("--scenario", opt.scenario, "scenario TOML file (format: sim/scenarios/README.md)")
         ->required()
         ->type_name("FILE");
@@ -543,6 +548,8 @@ int main(int argc, char** argv)
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "error: %s (see motorsim --help)\n", e.what());
