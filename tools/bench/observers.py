@@ -69,7 +69,14 @@ def main() -> int:
     ap.add_argument("--build", default=str(ROOT / "build" / "host"))
     ap.add_argument("--pil", help="pil.py JSON of the paper-001 drive (instructions per step)")
     ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--pil-only", action="store_true", help="print only the --pil tables (no simulation)")
     a = ap.parse_args()
+    if a.pil_only:
+        if not a.pil:
+            print("observers: --pil-only needs --pil FILE", file=sys.stderr)
+            return 2
+        print_pil(json.loads(Path(a.pil).read_text()), a.markdown)
+        return 0
     ms = Path(a.build).resolve() / "sim" / "motorsim"
     pil = json.loads(Path(a.pil).read_text()) if a.pil else None
     head = ["motor", "estimator", "lock (s)", "angle err max / rms (deg e)", "speed est err max / rms (rpm)",

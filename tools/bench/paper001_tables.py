@@ -55,7 +55,6 @@ def tables(build: Path, label: str) -> None:
     bench = SC / "paper001_benchmark.toml"
     angles = [run(ms, bench, "--theta0-rad", "%.5f" % th) for th in ANGLES]
     ident = run(ms, SC / "paper001_identify.toml")
-    print(f"#### {label}: `{ms.relative_to(ROOT)}`\n")
     print("| metric | θ(0) = 0 | 10 angles | identify (R +50 %, Φ +15 %) | threshold |")
     print("|---|---|---|---|---|")
     for key, thr, f in KEYS:
@@ -79,12 +78,14 @@ def tables(build: Path, label: str) -> None:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--build", default=str(ROOT / "build" / "host"))
-    ap.add_argument("--fixed", default=None, help="also the fixed-point build (e.g. build/host-fixed)")
+    ap.add_argument("--build", default=str(ROOT / "build" / "host"),
+                    help="host build to run (build/host: float; build/host-fixed: fixed point)")
     a = ap.parse_args()
-    tables(Path(a.build).resolve(), "float")
-    if a.fixed:
-        tables(Path(a.fixed).resolve(), "fixed point (Q14.17)")
+    ms = Path(a.build).resolve() / "sim" / "motorsim"
+    if not ms.exists():
+        print(f"paper001_tables: {ms}: not built", file=sys.stderr)
+        return 2
+    tables(Path(a.build).resolve(), "")
     return 0
 
 
