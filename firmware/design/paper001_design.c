@@ -41,9 +41,9 @@
 #define P001_START_SLIP_RAD_S 2.0
 /* The switch to closed loop: after one electrical turn of the reference,
  * when the circle fit of the flux (startup/flux_circle_fit.h) has an arc
- * long enough. det Cov(q) is 1/4 for a full turn of points; an arc of
- * 120 degrees gives about 0.02 (its points spread 0.43 along the chord and
- * 0.08 across it), the least the fit is allowed to use. */
+ * long enough. det Cov(q) is 1/4 for a full turn of evenly spread points;
+ * 0.02, the least the fit is allowed to use, is an arc of about 150 degrees
+ * (120 degrees gives 0.007). */
 #define P001_HANDOVER_SWEEP_RAD (2.0 * 3.14159265358979323846)
 #define P001_FIT_DET_MIN 0.02
 /* One point of the fit every 8 samples (0.8 ms): an arc of the open-loop

@@ -20,7 +20,7 @@
  * taken at the start of the sample (explicit Euler; its radial rate
  * 2 gamma Phi^2 Ts must stay below 1, which the design checks). Then
  *   rho[k] = (w[k] - (L/Ts) i[k]) / (Phi/Ts),
- * computed as a multiplication by 2^-s then by 2^s Ts/Phi in [0.5, 1), so
+ * computed as a multiplication by 2^-s then by 2^s Ts/Phi in (1, 2], so
  * the fixed-point coefficient keeps 17 significant bits (Ts/Phi itself,
  * 6e-4 for paper 001's motor, would keep only 7).
  *
@@ -47,7 +47,7 @@ typedef struct {
     mc_t L_fs_ohm;       /* L/Ts of (14) in w units */
     mc_t Phi_fs_V;       /* Phi/Ts: |eta| in w units (for the initial state) */
     mc_t rho_pre;        /* 2^-s, exact */
-    mc_t rho_gain;       /* 2^s Ts/Phi, in [0.5, 1) */
+    mc_t rho_gain;       /* 2^s Ts/Phi, in (1, 2] (s = floor(log2(Phi/Ts)) + 1) */
     mc_t gPhi3_V;        /* gamma Phi^3 of (12) [V] */
 } flux_observer_config_t;
 
