@@ -263,6 +263,11 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         return p001_fail(err, err_len, "estimator", "must be FLUX (0) or BACK_EMF (1)", in->estimator);
     }
     cfg->estimator = (p001_estimator_t)in->estimator;
+    if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0)) {
+        return p001_fail(err, err_len, "compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
+    }
+    cfg->compute_delay = mc_from_double(in->compute_delay_samples);
+    cfg->advance_np = mc_from_double(np * (0.5 + in->compute_delay_samples));
     {
         const double w_lim = (in->omega_lim_rad_s > 0.0) ? in->omega_lim_rad_s : P001_EMF_AT_OMEGA_LIM_V / Ke;
         fg_estimator_design_t ed;

@@ -43,6 +43,7 @@ typedef struct {
     double fit_det_min;      /* smallest arc measure of the circle fit; <= 0: derived */
     double probe_s;          /* longest start-up probe [s]; 0: no probe (defaults: 0.3) */
     int estimator;           /* p001_estimator_t: FLUX (default) or BACK_EMF */
+    double compute_delay_samples; /* the board's computation delay, [0, 1] samples */
     double omega_lim_rad_s;  /* BACK_EMF: closed loop from |w*| >= this; <= 0: derived */
     /* speed profile: corners (t [s], w [rad/s mechanical]) */
     size_t n_points;

@@ -44,7 +44,8 @@ static bool p001_config_ok(const paper001_config_t *c)
            c->ctrl.i_max_A > MC_ZERO && c->flux.Phi_fs_V > MC_ZERO && c->flux.rho_gain > MC_ZERO &&
            c->flux.gPhi3_V >= MC_ZERO && c->speed.k_omega >= MC_ZERO && c->speed.k_load_Nm_s >= MC_ZERO &&
            c->sup.blend_decay >= MC_ZERO && c->sup.blend_decay < MC_ONE && c->fit.decim >= 1 &&
-           c->fit.det_min > MC_ZERO && c->v_bus_min_V > MC_ZERO &&
+           c->fit.det_min > MC_ZERO && c->v_bus_min_V > MC_ZERO && c->compute_delay >= MC_ZERO &&
+           c->compute_delay <= MC_ONE &&
            (c->estimator == P001_ESTIMATOR_FLUX ||
             (c->estimator == P001_ESTIMATOR_BACK_EMF && c->omega_lim_rad_s > MC_ZERO &&
              c->emf_torque_model.K_V_s > MC_ZERO && c->emf.pos.n_p == m->n_p));
@@ -194,7 +195,12 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     mc_ab_t v_ab;
     mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
     (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g);
-    fg_estimator_predict(&d->emf, &c->model, v_f, v_g, i_f, i_g, rot_half);
+    mc_t v_f_obs = v_f, v_g_obs = v_g;
+    if (c->compute_delay != MC_ZERO) {
+        const mc_ab_t v_mean = paper001_applied_mean(c, v_ab, d->last.v_ab_V);
+        mc_rot_fwd(rot_mid, v_mean.alpha, v_mean.beta, &v_f_obs, &v_g_obs);
+    }
+    fg_estimator_predict(&d->emf, &c->model, v_f_obs, v_g_obs, i_f, i_g, rot_half);
     phase_adapter_voltages(c->n_phases, v_ab, out);
     d->last.i_d_A = d->emf.i_d_A;
     d->last.i_q_A = d->emf.i_q_A;
@@ -280,13 +286,17 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     }
     supervisor_blend(&d->sup, switched, &v_d, &v_q);
     mc_ab_t v_ab;
-    mc_rot_inv(rho, v_d, v_q, &v_ab.alpha, &v_ab.beta); /* v_ab = (rho_a I + rho_b Jm) v, (11) */
+    /* v_ab = (rho_a I + rho_b Jm) v, (11), at the angle the rotor has on
+     * average while the voltage acts: (1/2 + d) of a sample ahead in closed
+     * loop (held over the sample, and d samples of computation delay) */
+    const mc_rot_t rho_out = closed ? paper001_output_rot(c, rho, d->speed.omega_rad_s) : rho;
+    mc_rot_inv(rho_out, v_d, v_q, &v_ab.alpha, &v_ab.beta);
 
     /* 6. limited by the measured bus: a leg swings +-v_bus/2 about the
      * midpoint (three phases), an H-bridge +-v_bus (two) */
     const mc_t v_max = (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V;
     (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_d, &v_q);
-    flux_observer_hold(&d->flux, v_ab);
+    flux_observer_hold(&d->flux, paper001_applied_mean(c, v_ab, d->last.v_ab_V));
     phase_adapter_voltages(c->n_phases, v_ab, out);
     d->last.i_d_A = i_d;
     d->last.i_q_A = i_q;

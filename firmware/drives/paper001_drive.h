@@ -100,11 +100,50 @@ typedef struct {
     flux_circle_fit_config_t probe_fit; /* the through-origin fit of the probe's short arc */
     mc_t handover_sweep_rad;       /* electrical angle the open loop turns before the switch */
     mc_t v_bus_min_V;              /* below this measured bus the sample is refused */
+    mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
+                                    * currents were sampled, the last one before (the board's
+                                    * property: a DAC card ~0, an MCU PWM 1); the observers
+                                    * integrate (1 - d) v[k] + d v[k-1] over the sample */
+    mc_t advance_np;               /* n_p (1/2 + d): the output angle's lead per unit of
+                                    * w_hat Ts (the voltage acts on average that late) */
     /* estimator = BACK_EMF only */
     fg_estimator_config_t emf;     /* paper 000's estimator gains (design/drive_design.h) */
     motor_model_t emf_torque_model;/* the model with K = K_t: the torque of (33)-(37) */
     mc_t omega_lim_rad_s;          /* |w*| from which the back-EMF angle is trusted (paper 000 4.2) */
 } paper001_config_t;
+
+/* The voltage the plant really sees over the coming sample with a
+ * computation delay d: v_prev for d Ts, then v for (1 - d) Ts; its mean
+ * (1 - d) v + d v_prev is what the observers integrate. d = 0: v itself. */
+static inline mc_ab_t paper001_applied_mean(const paper001_config_t *c, mc_ab_t v, mc_ab_t v_prev)
+{
+    if (c->compute_delay == MC_ZERO) {
+        return v;
+    }
+    mc_ab_t m;
+    m.alpha = mc_mac(v.alpha, c->compute_delay, mc_sub(v_prev.alpha, v.alpha));
+    m.beta = mc_mac(v.beta, c->compute_delay, mc_sub(v_prev.beta, v.beta));
+    return m;
+}
+
+/* Below this lead the output angle is not advanced: 1e-6 rad is far below
+ * anything the drive resolves, and sin/cos of smaller angles would make
+ * subnormal intermediates (x^3) in the float build at standstill. */
+#define P001_ADVANCE_MIN_RAD MC_C(1e-6)
+
+/* The angle the voltage of (11) is turned to alpha-beta with: the estimate
+ * rho advanced by n_p w_hat (1/2 + d) Ts, the electrical angle the rotor
+ * has on average while the voltage acts (held over the sample, d samples
+ * of computation delay). Without it the voltage lags the rotor by half a
+ * sample and more. */
+static inline mc_rot_t paper001_output_rot(const paper001_config_t *c, mc_rot_t rho, mc_t omega_hat_rad_s)
+{
+    const mc_t adv = mc_div_i(mc_mul(omega_hat_rad_s, c->advance_np), c->model.fs_hz);
+    if (mc_abs(adv) < P001_ADVANCE_MIN_RAD) {
+        return rho;
+    }
+    return mc_rot_compose(rho, mc_rot_from_angle(adv));
+}
 
 typedef struct {
     drive_mode_t mode;

@@ -58,6 +58,7 @@ CommissionResult commission_pmsm(const Scenario& sc)
     unloaded.load.clear();
     Rig rig(unloaded);
     hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
+    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);
     if (!hal_start(&commission_callback, &ctx)) {
         hal_sw_plant_detach();
         throw std::runtime_error(std::string("hal_start: ") + hal_last_error());

@@ -102,6 +102,8 @@ struct Options {
     double theta0_rad = 0.0;
     bool theta0_given = false;
     std::string estimator;  // empty: the scenario's
+    double delay_samples = 0.0;
+    bool delay_given = false;
     bool no_expect = false;
     bool no_plot = false;
     bool no_csv = false;
@@ -312,6 +314,12 @@ int run(const Options& opt)
     if (opt.seed_given) {
         sc.seed = static_cast<std::uint64_t>(opt.seed);
     }
+    if (opt.delay_given) {
+        if (!(opt.delay_samples >= 0.0 && opt.delay_samples <= 1.0)) {
+            throw std::invalid_argument("--compute-delay-samples: must be in [0, 1] (got " + num6(opt.delay_samples) + ")");
+        }
+        sc.compute_delay_samples = opt.delay_samples;
+    }
     if (opt.theta0_given) {
         if (!std::isfinite(opt.theta0_rad)) {
             throw std::invalid_argument("--theta0-rad: must be finite");
@@ -390,6 +398,7 @@ int run(const Options& opt)
     mcsim::CurrentSensor& sensor = rig.sensor;
     const mcsim::Amplifier& amp = rig.amp;
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
+    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
 
     // The drive of the scenario: the speed drive of paper 001 ([speed]) or
     // the position drive of paper 000 ([trajectory]). Both are a few kB:
@@ -529,6 +538,9 @@ int main(int argc, char** argv)
     CLI::Option* theta0_opt =
         app.add_option("--theta0-rad", opt.theta0_rad, "initial rotor angle [rad, mechanical], overrides [run] theta0_rad")
             ->type_name("RAD");
+    CLI::Option* delay_opt = app.add_option("--compute-delay-samples", opt.delay_samples,
+                                            "computation delay in samples [0, 1], overrides [run] compute_delay_samples")
+                                 ->type_name("D");
     app.add_option("--estimator", opt.estimator,
                    "speed drive's estimator, overrides [speed] estimator: flux (paper 001's flux and I&I "
                    "observers) or back_emf (paper 000's back-EMF chain)")
@@ -557,6 +569,7 @@ int main(int argc, char** argv)
     }
     opt.seed_given = seed_opt->count() > 0;
     opt.theta0_given = theta0_opt->count() > 0;
+    opt.delay_given = delay_opt->count() > 0;
     opt.out_given = out_opt->count() > 0;
     opt.metrics_out_given = metrics_out_opt->count() > 0;
 

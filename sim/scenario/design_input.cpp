@@ -169,6 +169,7 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
     in->handover_sweep_rad = sc.speed_gains.handover_sweep_rad;
     in->fit_det_min = sc.speed_gains.fit_det_min;
     in->estimator = sc.speed_gains.estimator;
+    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
     in->omega_lim_rad_s = sc.omega_lim_rad_s;
     if (sc.speed_gains.probe_s >= 0.0) {
         in->probe_s = sc.speed_gains.probe_s;

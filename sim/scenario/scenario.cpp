@@ -390,7 +390,7 @@ Scenario load_scenario(const std::string& path)
     // [run]
     {
         const View v = required_table("run");
-        v.only({"duration_s", "Ts_s", "seed", "substeps", "theta0_rad"});
+        v.only({"duration_s", "Ts_s", "seed", "substeps", "theta0_rad", "compute_delay_samples"});
         sc.duration_s = v.number_req("duration_s");
         gt(v, "duration_s", sc.duration_s, 0.0);
         sc.ts_s = v.number_req("Ts_s");
@@ -415,6 +415,12 @@ Scenario load_scenario(const std::string& path)
             sc.substeps_given = true;
         }
         sc.theta0_rad = v.number("theta0_rad").value_or(0.0);
+        if (const auto d = v.number("compute_delay_samples")) {
+            if (!(*d >= 0.0 && *d <= 1.0)) {
+                v.fail("compute_delay_samples", "must be in [0, 1] (got " + fmt_num(*d) + ")");
+            }
+            sc.compute_delay_samples = *d;
+        }
     }
 
     // [motor]: a motor file plus optional overrides

@@ -57,6 +57,9 @@ struct Scenario {
     int substeps = kDefaultSubsteps;
     bool substeps_given = false;  // [run] substeps was in the file
     double theta0_rad = 0.0;  // initial rotor angle; the drive assumes 0
+    // computation delay of the drive, fraction of Ts in [0, 1]: its voltage
+    // acts that much after the currents were sampled (hal_sw_plant.h)
+    double compute_delay_samples = 0.0;
 
     // [motor] (plant) and [drive_model] (what the drive is designed for)
     std::string motor_file;   // resolved path of the motor file

@@ -19,7 +19,8 @@
  *   flux    flux_observer_step (12)-(14)        (a library call in the step)
  *   ii      speed_load_observer_step (15)-(16)  (a library call in the step)
  *   ida     ida_pbc_step (11)                   (inline in the step)
- *   frames  mc_rot_fwd of i and mc_rot_inv of v (inline in the step)
+ *   frames  mc_rot_fwd of i and mc_rot_inv of v at the advanced output
+ *           angle (paper001_output_rot; inline in the step)
  * each through a noipa wrapper that takes its arguments in one struct, so
  * that the timed sequence (pointer, bl) is the same for every part and for
  * an empty wrapper timed in the same period, which tools/bench/pil.py
@@ -100,7 +101,9 @@ __attribute__((noipa)) static void pil_ida(pil_ida_args_t *a)
 __attribute__((noipa)) static void pil_ida_empty(pil_ida_args_t *a) { (void)a; }
 
 typedef struct {
+    const paper001_config_t *c;
     mc_rot_t rho;
+    mc_t w_hat;
     mc_ab_t i;
     mc_t v_d, v_q;
     mc_t i_d, i_q;
@@ -109,7 +112,7 @@ typedef struct {
 __attribute__((noipa)) static void pil_frames(pil_frames_args_t *a)
 {
     mc_rot_fwd(a->rho, a->i.alpha, a->i.beta, &a->i_d, &a->i_q);
-    mc_rot_inv(a->rho, a->v_d, a->v_q, &a->v.alpha, &a->v.beta);
+    mc_rot_inv(paper001_output_rot(a->c, a->rho, a->w_hat), a->v_d, a->v_q, &a->v.alpha, &a->v.beta);
 }
 __attribute__((noipa)) static void pil_frames_empty(pil_frames_args_t *a) { (void)a; }
 
@@ -237,6 +240,8 @@ int main(void)
         /* the bumpless offset the supervisor adds to this step's command */
         const mc_t blend_d = drive.sup.blend_V[0];
         const mc_t blend_q = drive.sup.blend_V[1];
+        /* the voltage held over the last sample (the delay's v[k-1]) */
+        const mc_ab_t v_ab_before = drive.last.v_ab_V;
         if (part) {
             memcpy(&flux_copy, &drive.flux, sizeof flux_copy);
             memcpy(&speed_copy, &drive.speed, sizeof speed_copy);
@@ -289,7 +294,9 @@ int main(void)
                 v_d = mc_add(v_d, blend_d);
                 v_q = mc_add(v_q, blend_q);
             }
+            frames_args.c = &cfg;
             frames_args.rho = rho;
+            frames_args.w_hat = speed_copy.omega_rad_s;
             frames_args.i = i_ab;
             frames_args.v_d = v_d;
             frames_args.v_q = v_q;
@@ -298,7 +305,7 @@ int main(void)
             const mc_t i_d = frames_args.i_d;
             const mc_t i_q = frames_args.i_q;
             const mc_ab_t v_ab = frames_args.v;
-            flux_observer_hold(&flux_copy, drive.last.v_ab_V);
+            flux_observer_hold(&flux_copy, paper001_applied_mean(&cfg, drive.last.v_ab_V, v_ab_before));
             bool same = memcmp(&flux_copy, &drive.flux, sizeof flux_copy) == 0 &&
                         memcmp(&speed_copy, &drive.speed, sizeof speed_copy) == 0 &&
                         memcmp(&ctrl_copy, &drive.ctrl, sizeof ctrl_copy) == 0 &&

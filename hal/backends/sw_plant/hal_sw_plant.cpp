@@ -20,6 +20,8 @@ struct Backend {
     bool safe = false;
     std::uint32_t tick = 0;
     double t_start_s = 0.0;  // plant time at hal_start
+    double delay = 0.0;      // computation delay, fraction of a sample
+    double v_prev[3] = {0.0, 0.0, 0.0};  // voltage applied over the last sample
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -40,6 +42,16 @@ void hal_sw_plant_attach(mcsim::PmPlant* plant, mcsim::CurrentSensor* sensor,
 }
 
 void hal_sw_plant_detach(void) { g_hal = Backend{}; }
+
+bool hal_sw_plant_set_compute_delay(double fraction)
+{
+    if (!(fraction >= 0.0 && fraction <= 1.0)) {
+        g_hal.error = "hal_sw_plant_set_compute_delay: the fraction must be in [0, 1]";
+        return false;
+    }
+    g_hal.delay = fraction;
+    return true;
+}
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
@@ -113,7 +125,20 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         if (g_hal.monitor != nullptr) {
             g_hal.monitor(g_hal.monitor_ctx, &p);
         }
-        plant.step_phases(v_app, g_hal.ts_s);
+        // The voltage computed from this sample's currents acts d Ts later
+        // (d = compute_delay); until then the last one holds. d = 0 is one
+        // step, exactly as without a delay.
+        if (g_hal.delay > 0.0) {
+            plant.step_phases(g_hal.v_prev, g_hal.delay * g_hal.ts_s);
+            if (g_hal.delay < 1.0) {
+                plant.step_phases(v_app, (1.0 - g_hal.delay) * g_hal.ts_s);
+            }
+        } else {
+            plant.step_phases(v_app, g_hal.ts_s);
+        }
+        for (int k = 0; k < 3; ++k) {
+            g_hal.v_prev[k] = v_app[k];
+        }
         ++g_hal.tick;
     }
     return n_periods;

@@ -47,6 +47,14 @@ void hal_sw_plant_attach(mcsim::PmPlant* plant, mcsim::CurrentSensor* sensor,
 // Disconnects the plant and resets the backend (callback, tick, monitor).
 void hal_sw_plant_detach(void);
 
+// The computation delay of a real drive, as a fraction d in [0, 1] of the
+// sample (scenario key [run] compute_delay_samples): the voltage computed
+// from the currents sampled at t_k acts from t_k + d Ts to t_(k+1) + d Ts,
+// the previous one before (a DAC card writes its outputs when the
+// computation ends; an MCU's PWM loads its shadow registers a whole period
+// later: d = 1). 0 after attach. False (and no change) outside [0, 1].
+bool hal_sw_plant_set_compute_delay(double fraction);
+
 // Optional observer of every period; pass nullptr to remove.
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx);
 
