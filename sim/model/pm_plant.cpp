@@ -183,6 +183,7 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
     const double R_L = m_.R_ohm * inv_L_;
     const double fv_J = m_.fv_Nms_per_rad * inv_J_;
     const bool has_load = !load_.empty();
+    const bool has_coulomb = m_.coulomb_Nm != 0.0;
 
     auto f = [&](const State& x, double t) -> State {
         double sd;
@@ -191,7 +192,8 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
         const double s = s0 * cd + c0 * sd;  // sin(n_p theta)
         const double c = c0 * cd - s0 * sd;  // cos(n_p theta)
         const double w = x[kOmega];
-        double T_ext = m_.coulomb_Nm * tanh_fast(w * inv_ws_);
+        // no Coulomb friction (a PMSM's motor file): skip the tanh, same value
+        double T_ext = has_coulomb ? m_.coulomb_Nm * tanh_fast(w * inv_ws_) : 0.0;
         if (has_load) {
             T_ext += load_.torque_Nm(t);
         }

@@ -10,6 +10,9 @@
 // before row k is applied (row 0: zero current). The speed is held by an
 // inertia of 1e30 kg m^2 (the torque changes it by < 1e-29 rad/s per
 // sample). Bad input: one line on stderr, exit 2, nothing written.
+#include <chrono>
+#include <array>
+#include <vector>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -75,6 +78,10 @@ int main(int argc, char** argv)
     app.add_option("--omega", omega, "constant mechanical speed [rad/s]")->required();
     app.add_option("--ts", ts, "hold time of a row [s]")->required();
     app.add_option("--theta0-e", theta0_e, "initial electrical angle [rad]");
+    bool timing = false;
+    app.add_flag("--timing", timing,
+                 "print {\"loop_s\": ..., \"samples\": ...} on stdout: the wall time of the integration loop alone "
+                 "(no file I/O, no formatting), for tools/bench/sim_speed.py");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -97,14 +104,22 @@ int main(int argc, char** argv)
         x0[mcsim::PmPlant::kOmega] = omega;
         x0[mcsim::PmPlant::kTheta] = theta0_e / static_cast<double>(m.n_p);
         plant.reset(x0, 0.0);
+        // the loop alone, timed; the currents are formatted afterwards
+        std::vector<std::array<double, 3>> cur(v.size());
+        const auto t0 = std::chrono::steady_clock::now();
+        for (std::size_t k = 0; k < v.size(); ++k) {
+            plant.phase_currents(cur[k].data());
+            plant.step_phases(v[k].data(), ts);
+        }
+        const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::ostringstream os;
         os.precision(17);
         os << "t_s,i_a_A,i_b_A,i_c_A\n";
         for (std::size_t k = 0; k < v.size(); ++k) {
-            double i[3] = {0.0, 0.0, 0.0};
-            plant.phase_currents(i);
-            os << static_cast<double>(k) * ts << ',' << i[0] << ',' << i[1] << ',' << i[2] << '\n';
-            plant.step_phases(v[k].data(), ts);
+            os << static_cast<double>(k) * ts << ',' << cur[k][0] << ',' << cur[k][1] << ',' << cur[k][2] << '\n';
+        }
+        if (timing) {
+            std::printf("{\"loop_s\": %.9g, \"samples\": %zu}\n", loop_s, v.size());
         }
         const std::string tmp = out + ".tmp";
         {
