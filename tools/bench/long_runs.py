@@ -71,7 +71,8 @@ def main() -> int:
     else:
         for d, f in res:
             print(f"{d:8g} s  realtime_factor {f:7.1f}  {100.0 * (f / base - 1.0):+6.1f} % vs 4.25 s")
-    print(json.dumps({"realtime_factor": {str(d): f for d, f in res}}))
+    if not a.markdown:
+        print(json.dumps({"realtime_factor": {str(d): f for d, f in res}}))
     return 0
 
 
