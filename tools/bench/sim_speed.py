@@ -65,9 +65,9 @@ reference generator, reward and constraint check, its physical-system line
 only the plant. The ratio is a benchmark figure taken on whatever machine
 runs it: the machine and its 1-minute load average are printed with it.
 
-usage: sim_speed.py [--motorsim BIN] [--scenario TOML] [--repeats N]
-                    [--accurate] [--no-gem-system] [--with-plant-replay
-                    [--plant-replay BIN]] [--gem-samples N] [--markdown]
+usage: sim_speed.py [--motorsim BIN] [--plant-replay BIN] [--scenario TOML]
+                    [--repeats N] [--accurate] [--no-gem-system]
+                    [--no-plant-replay] [--gem-samples N] [--markdown]
                     [--json FILE]
 Exit 0 ok, 1 a run failed or the currents disagree (> --tol A),
 2 bad input, 3 GEM not importable.
