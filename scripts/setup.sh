@@ -49,10 +49,16 @@ die() { echo "setup: error: $*" >&2; exit 1; }
 # (scenarios), CLI11 (command line), python3-venv (the venv below).
 BASE_PKGS=(cmake ninja-build gcc g++ googletest libgtest-dev python3-venv
            libeigen3-dev libtomlplusplus-dev libcli11-dev)
+# Static analysis and fuzzing (scripts/check_static.sh, scripts/fuzz.sh, both
+# in CI): cppcheck, clang-tidy; clang with libFuzzer and the sanitizer
+# runtimes (libclang-rt-14-dev: clang 14 only recommends it, and packages are
+# installed here without recommends); llvm for llvm-symbolizer (sanitizer
+# reports with file and line).
+ANALYSIS_PKGS=(cppcheck clang-tidy clang libclang-rt-14-dev llvm)
 # Cross builds and processor-in-the-loop runs.
 CROSS_PKGS=(gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)
 
-PKGS=("${BASE_PKGS[@]}")
+PKGS=("${BASE_PKGS[@]}" "${ANALYSIS_PKGS[@]}")
 [ "$cross" = 1 ] && PKGS+=("${CROSS_PKGS[@]}")
 
 # Only one setup at a time (two terminals, or parallel scripts).

@@ -360,6 +360,8 @@ static inline mc_t mc__round_sat_q34(int64_t p)
     p += (int64_t)1 << (MC_FRAC_BITS - 1);
     const uint32_t hi = (uint32_t)((uint64_t)p >> 32);
     if (hi + 0x10000u >= 0x20000u) {
+        /* cppcheck-suppress knownConditionTrueFalse ; false positive: hi is the high word of a
+         * signed 64-bit sum, >= 2^31 (negative as int32_t) whenever p < 0 */
         return ((int32_t)hi < 0) ? -INT32_MAX : INT32_MAX;
     }
     return (mc_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));

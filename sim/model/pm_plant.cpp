@@ -60,7 +60,6 @@ PmPlant::PmPlant(const MotorParams& motor, const LoadProfile& load, int substeps
       inv_J_(1.0 / motor.J_kgm2),
       K_over_L_(motor.K_Nm_per_A / motor.L_H),
       K_over_J_(motor.torque_scale() * motor.K_Nm_per_A / motor.J_kgm2),
-      C_over_J_(motor.coulomb_Nm / motor.J_kgm2),
       inv_ws_(1.0 / motor.coulomb_omega_s_rad_s),
       salient_(motor.salient())
 {

@@ -118,8 +118,8 @@ private:
     State x_ = State::Zero();
     double t_s_ = 0.0;
     double sin_e_ = 0.0, cos_e_ = 1.0;
-    // Folded constants: 1/L, 1/J, K/L, k_m K/J, C/J, 1/w_s.
-    double inv_L_, inv_J_, K_over_L_, K_over_J_, C_over_J_, inv_ws_;
+    // Folded constants: 1/L, 1/J, K/L, k_m K/J, 1/w_s.
+    double inv_L_, inv_J_, K_over_L_, K_over_J_, inv_ws_;
     bool salient_;
     // alpha-beta current rates and the electromagnetic part of dw/dt of a
     // salient motor at state x with sin/cos s, c of the electrical angle

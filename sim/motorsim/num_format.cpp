@@ -17,6 +17,9 @@ constexpr char kPairs[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
+// The two digits of 0 <= n < 100 in kPairs.
+inline const char* pair(std::uint32_t n) { return kPairs + 2 * static_cast<std::size_t>(n); }
+
 // a * 10^(9 - e10) with a single rounding: the power is exact, |9 - e10| <= 22.
 inline double scale(double a, int e10) { return e10 <= 9 ? a * kPow10[9 - e10] : a / kPow10[e10 - 9]; }
 
@@ -25,13 +28,13 @@ inline void put_10_digits(char* d, std::uint64_t m)
 {
     std::uint32_t hi = static_cast<std::uint32_t>(m / 100000u);  // d[0..4]
     std::uint32_t lo = static_cast<std::uint32_t>(m % 100000u);  // d[5..9]
-    std::memcpy(d + 8, kPairs + 2 * (lo % 100u), 2);
+    std::memcpy(d + 8, pair(lo % 100u), 2);
     lo /= 100u;
-    std::memcpy(d + 6, kPairs + 2 * (lo % 100u), 2);
+    std::memcpy(d + 6, pair(lo % 100u), 2);
     d[5] = static_cast<char>('0' + lo / 100u);
-    std::memcpy(d + 3, kPairs + 2 * (hi % 100u), 2);
+    std::memcpy(d + 3, pair(hi % 100u), 2);
     hi /= 100u;
-    std::memcpy(d + 1, kPairs + 2 * (hi % 100u), 2);
+    std::memcpy(d + 1, pair(hi % 100u), 2);
     d[0] = static_cast<char>('0' + hi / 100u);
 }
 
@@ -47,6 +50,7 @@ char* format_g10(char* p, double v)
     if (!std::isfinite(v)) {
         const char* s = std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
         const std::size_t n = std::strlen(s);
+        // NOLINTNEXTLINE(bugprone-not-null-terminated-result): p is a CSV field, not a C string; the caller ends it
         std::memcpy(p, s, n);
         return p + n;
     }
@@ -102,7 +106,7 @@ char* format_g10(char* p, double v)
         int x = e10;
         *p++ = x < 0 ? '-' : '+';
         x = x < 0 ? -x : x;  // 5 <= |x| <= 31 here
-        std::memcpy(p, kPairs + 2 * x, 2);
+        std::memcpy(p, pair(static_cast<std::uint32_t>(x)), 2);
         return p + 2;
     }
     if (e10 >= 0) {  // ddd or ddd.ddd

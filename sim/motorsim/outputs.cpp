@@ -259,6 +259,7 @@ std::string run_plot(const std::string& python, const std::string& script, const
     } release{slot};
     std::vector<std::string> args = {python, script, csv, tmp};
     std::vector<char*> argv;
+    argv.reserve(args.size() + 1);
     for (std::string& a : args) {
         argv.push_back(a.data());
     }

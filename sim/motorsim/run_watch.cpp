@@ -54,7 +54,7 @@ void RunWatch::on_period(const hal_sw_plant_period_t& p, std::int64_t fault, con
         return;
     }
     const PmPlant::State& x = plant.state();
-    struct Item {
+    const struct Item {
         const char* name;
         double x, bound;
         const char* unit;

@@ -103,7 +103,12 @@ int main(int argc, char** argv)
                          mcsim::to_double(t.theta_est_rad), mcsim::to_double(t.omega_est_rad_s),
                          mcsim::to_double(va), mcsim::to_double(vb));
         }
-        std::fclose(f);
+        // a write error (e.g. a full disk) must not rename a truncated file into place
+        const bool written = std::ferror(f) == 0;
+        if (std::fclose(f) != 0 || !written) {
+            std::remove(tmp.c_str());
+            throw std::runtime_error(std::string(argv[3]) + ": write failed");
+        }
         if (std::rename(tmp.c_str(), argv[3]) != 0) {
             throw std::runtime_error(std::string(argv[3]) + ": cannot rename");
         }

@@ -88,7 +88,7 @@ const std::vector<std::string>& design_bound_keys()
 
 void make_design_input(const Scenario& sc, drive_design_input_t* in)
 {
-    std::memset(in, 0, sizeof(*in));
+    *in = drive_design_input_t{};
     drive_design_defaults(in);
     in->motor = to_design_motor(sc.drive_model);
     in->ts_s = sc.ts_s;
@@ -148,7 +148,7 @@ void design_and_init_drive(const Scenario& sc, drive_t* drive)
 
 void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
 {
-    std::memset(in, 0, sizeof(*in));
+    *in = p001_design_input_t{};
     p001_design_defaults(in);
     const MotorParams& m = sc.drive_model;
     in->motor.n_phases = m.n_phases();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 
 #include <toml++/toml.h>
@@ -243,10 +244,239 @@ void le(const View& v, const std::string& k, double x, double hi)
     }
 }
 
+// Largest scenario or motor file read (the shipped ones are 1-3 KB).
+constexpr std::size_t kMaxFileBytes = 1u << 20;
+
+// "U+03A9" for a valid UTF-8 sequence at s[i], else "byte 0xNN".
+std::string describe_non_ascii(const std::string& s, std::size_t i)
+{
+    const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    // sequence length from the lead byte (0: not a lead byte)
+    const std::size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+    std::uint32_t cp = n == 4 ? c & 0x07u : n == 3 ? c & 0x0Fu : c & 0x1Fu;
+    bool ok = n > 0 && i + n <= s.size();
+    for (std::size_t k = 1; ok && k < n; ++k) {
+        ok = (b(i + k) & 0xC0u) == 0x80u;
+        cp = (cp << 6) | (b(i + k) & 0x3Fu);
+    }
+    ok = ok && !(n == 3 && (cp < 0x800 || (cp >= 0xD800 && cp <= 0xDFFF))) && !(n == 4 && (cp < 0x10000 || cp > 0x10FFFF));
+    char buf[16];
+    if (ok) {
+        std::snprintf(buf, sizeof buf, "U+%04X", static_cast<unsigned>(cp));
+    } else {
+        std::snprintf(buf, sizeof buf, "byte 0x%02X", static_cast<unsigned>(c));
+    }
+    return buf;
+}
+
+// toml++ 3.3.0 (Debian 12) reaches __builtin_unreachable(), undefined
+// behaviour, when it asks whether some non-ASCII characters are whitespace
+// (most of U+00A1-U+0499, Greek letters included, and a few other ranges):
+// a line "Φ_Wb = 0.01" or "x = 1 Ω" does it (found by tests/fuzz; reported
+// upstream as marzer/tomlplusplus#190 and #295, fixed there by #305).
+// TOML allows non-ASCII characters only in comments and strings, so one
+// anywhere else (strings and comments as toml++ would find them) is
+// refused here, before toml++ reads the file, as "FILE:LINE:COL: ..." like
+// its syntax errors. In a multi-line basic string toml++ does the same
+// lookup on the character after a backslash and on the first one after a
+// line-ending backslash: a non-ASCII character there is refused too (valid
+// TOML in the second case). Comments and strings may otherwise hold any
+// UTF-8.
+void check_non_ascii(const std::string& path, const std::string& s)
+{
+    enum class In { kCode, kComment, kBasic, kLiteral, kMlBasic, kMlLiteral } in = In::kCode;
+    std::size_t line = 1, col = 0;  // col: code points (as toml++), of s[i]
+    // Where toml++ would be in the code (outside strings and comments):
+    std::string open;  // brackets open: 'h' table header, 'a' array, '{' inline table
+    bool key = true;   // a key comes next (else a value)
+    bool tok = false;  // inside a bare token: a key, or a value such as 1.5 or true
+    // a line break: a key comes next, unless inside an array (its next value)
+    const auto new_line = [&] {
+        if (open.empty() || open.back() != 'a') {
+            key = true;
+        }
+    };
+    const auto at = [&](std::size_t k, char c) { return k < s.size() && s[k] == c; };
+    const auto refuse = [&](std::size_t i, const std::string& where) {
+        throw ScenarioError(path + ":" + std::to_string(line) + ":" + std::to_string(col) + ": non-ASCII character (" +
+                            describe_non_ascii(s, i) + ") " + where);
+    };
+    std::size_t i = (s.compare(0, 3, "\xEF\xBB\xBF") == 0) ? 3 : 0;  // a UTF-8 byte order mark
+    for (; i < s.size(); ++i) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        if ((c & 0xC0u) != 0x80u) {
+            ++col;
+        }
+        if (c == '\n') {
+            ++line;
+            col = 0;
+        }
+        switch (in) {
+        case In::kCode: {
+            if (c >= 0x80u) {
+                refuse(i, "outside a string or a comment");
+            }
+            const bool blank = c == ' ' || c == '\t' || c == '\r' || c == '\n';
+            if (tok && !key && !(blank || c == ',' || c == ']' || c == '}' || c == '#')) {
+                // toml++ reads a bare value (a number, a date ...) up to
+                // whitespace, ',', ']', '}' or '#' before it judges it: a
+                // quote or bracket in there opens nothing (e.g. -'3 or +[")
+                break;
+            }
+            tok = false;
+            switch (c) {
+            case '#':
+                in = In::kComment;
+                break;
+            case '"':
+            case '\'': {
+                const bool ml = at(i + 1, static_cast<char>(c)) && at(i + 2, static_cast<char>(c));
+                in = c == '"' ? (ml ? In::kMlBasic : In::kBasic) : (ml ? In::kMlLiteral : In::kLiteral);
+                i += ml ? 2 : 0;
+                col += ml ? 2 : 0;
+                break;
+            }
+            case '\n':
+                new_line();
+                break;
+            case '=':
+                key = false;
+                break;
+            case '[':
+                open += key ? 'h' : 'a';
+                break;
+            case '{':
+                open += '{';
+                key = true;
+                break;
+            case ',':
+                key = !open.empty() && open.back() == '{';
+                break;
+            case ']':
+            case '}':
+                if (!open.empty()) {
+                    open.pop_back();
+                }
+                key = false;
+                break;
+            case ' ':
+            case '\t':
+            case '\r':
+            case '.':
+                break;
+            default:
+                tok = true;
+                break;
+            }
+            break;
+        }
+        case In::kComment:
+            if (c == '\n') {
+                in = In::kCode;
+                new_line();
+            }
+            break;
+        case In::kBasic:
+        case In::kLiteral:
+            if (c == '\n' || (in == In::kBasic && c == '"') || (in == In::kLiteral && c == '\'')) {
+                in = In::kCode;  // (an unterminated string is toml++'s to report)
+                if (c == '\n') {
+                    new_line();
+                }
+            } else if (in == In::kBasic && c == '\\' && i + 1 < s.size() && s[i + 1] != '\n') {
+                ++i;  // an escaped character (a non-ASCII one is toml++'s to report)
+                col += (static_cast<unsigned char>(s[i]) & 0xC0u) != 0x80u ? 1 : 0;
+            }
+            break;
+        case In::kMlBasic:
+        case In::kMlLiteral: {
+            const char q = in == In::kMlBasic ? '"' : '\'';
+            if (c == static_cast<unsigned char>(q) && at(i + 1, q) && at(i + 2, q)) {
+                // the closing quotes, and up to two more that belong to the string
+                std::size_t n = 3;
+                while (n < 5 && at(i + n, q)) {
+                    ++n;
+                }
+                i += n - 1;
+                col += n - 1;
+                in = In::kCode;
+            } else if (in == In::kMlBasic && c == '\\') {
+                // toml++ asks whether the character after the backslash is
+                // whitespace (a line-ending backslash may have blanks after
+                // it); after blanks it wants a line break and skips all the
+                // whitespace that follows: the first other character goes
+                // through the same lookup.
+                const auto ws = [&](std::size_t j) {
+                    return j < s.size() && (s[j] == ' ' || s[j] == '\t' || (s[j] >= '\n' && s[j] <= '\r'));
+                };
+                const auto non_ascii = [&](std::size_t j) {
+                    return j < s.size() && static_cast<unsigned char>(s[j]) >= 0x80u;
+                };
+                std::size_t k = i + 1;
+                if (non_ascii(k)) {
+                    ++col;
+                    refuse(k, "right after a backslash in a multi-line string");
+                }
+                if (!ws(k)) {
+                    if (k < s.size()) {
+                        ++i;  // an escaped (ASCII) character
+                        ++col;
+                    }
+                    break;
+                }
+                while (at(k, ' ') || at(k, '\t')) {
+                    ++col;
+                    ++k;
+                }
+                if (non_ascii(k)) {
+                    ++col;
+                    refuse(k, "after the blanks of a line-ending backslash");
+                }
+                while (ws(k)) {
+                    if (s[k] == '\n') {
+                        ++line;
+                        col = 0;
+                    } else {
+                        ++col;
+                    }
+                    ++k;
+                }
+                if (non_ascii(k)) {
+                    ++col;
+                    refuse(k, "first after a line-ending backslash");
+                }
+                i = k - 1;
+            }
+            break;
+        }
+        }
+    }
+}
+
 toml::table parse_toml(const std::string& path)
 {
+    std::string text;
+    {
+        std::ifstream f(path, std::ios::binary);
+        if (!f) {
+            throw ScenarioError(path + ": File could not be opened for reading");
+        }
+        char buf[16384];
+        while (f.read(buf, sizeof buf) || f.gcount() > 0) {
+            text.append(buf, static_cast<std::size_t>(f.gcount()));
+            if (text.size() > kMaxFileBytes) {
+                throw ScenarioError(path + ": larger than " + std::to_string(kMaxFileBytes) +
+                                    " bytes: not a scenario or motor file");
+            }
+        }
+        if (f.bad()) {
+            throw ScenarioError(path + ": read error");
+        }
+    }
+    check_non_ascii(path, text);
     try {
-        return toml::parse_file(path);
+        return toml::parse(text, path);
     } catch (const toml::parse_error& e) {
         const auto& b = e.source().begin;
         std::string where = path;
@@ -319,16 +549,22 @@ void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_f
     }
 }
 
-const std::vector<std::string> kMotorFileKeys = {"name",   "source",         "description", "type",
-                                                 "L_H",    "K_Nm_per_A",     "L_d_H",       "L_q_H",
-                                                 "Phi_Wb", "R_ohm",          "J_kgm2",      "fv_Nms_per_rad",
-                                                 "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p"};
+// A function-local static: built on first use, not during static
+// initialisation, where an exception could not be caught.
+const std::vector<std::string>& motor_file_keys()
+{
+    static const std::vector<std::string> k = {"name",   "source",         "description", "type",
+                                               "L_H",    "K_Nm_per_A",     "L_d_H",       "L_q_H",
+                                               "Phi_Wb", "R_ohm",          "J_kgm2",      "fv_Nms_per_rad",
+                                               "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p"};
+    return k;
+}
 
 MotorParams read_motor_file(const std::string& path)
 {
     const toml::table t = parse_toml(path);
     const View v(t, path, "");
-    v.only(kMotorFileKeys);
+    v.only(motor_file_keys());
     v.string("name");
     v.string("source");
     v.string("description");
@@ -426,7 +662,7 @@ Scenario load_scenario(const std::string& path)
     // [motor]: a motor file plus optional overrides
     {
         const View v = required_table("motor");
-        std::vector<std::string> allowed = kMotorFileKeys;
+        std::vector<std::string> allowed = motor_file_keys();
         allowed.erase(allowed.begin(), allowed.begin() + 4);  // no name/source/description/type here
         allowed.push_back("file");
         v.only(allowed);

@@ -21,10 +21,36 @@
 namespace mcsim {
 
 // what() is "FILE: KEY: reason" (or "FILE: reason" / "FILE:LINE:COL: reason"
-// for errors not tied to a key); callers prefix "error: ".
+// for errors not tied to a key); callers prefix "error: ". It is one line:
+// control characters that a key, a value or a path of the file brings into
+// it (a quoted key "a\nb", a NUL) are written as \n, \r, \xNN.
 class ScenarioError : public std::runtime_error {
 public:
-    using std::runtime_error::runtime_error;
+    explicit ScenarioError(const std::string& what) : std::runtime_error(one_line(what)) {}
+    explicit ScenarioError(const char* what) : ScenarioError(std::string(what)) {}
+
+private:
+    static std::string one_line(const std::string& s)
+    {
+        static const char kHex[] = "0123456789ABCDEF";
+        std::string out;
+        out.reserve(s.size());
+        for (const char ch : s) {
+            const auto c = static_cast<unsigned char>(ch);
+            if (c == '\n') {
+                out += "\\n";
+            } else if (c == '\r') {
+                out += "\\r";
+            } else if ((c < 0x20 && c != '\t') || c == 0x7F) {
+                out += "\\x";
+                out += kHex[c >> 4];
+                out += kHex[c & 0xF];
+            } else {
+                out += ch;
+            }
+        }
+        return out;
+    }
 };
 
 constexpr double kRpmToRadS = 3.14159265358979323846 / 30.0;

@@ -219,7 +219,19 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCase{"gain_name", "", "[gains]\nemf_alpha = 1.0\n", "gains.emf_alpha: unknown key"},
                       BadCase{"nan", "v_max_V = 30.0", "v_max_V = nan", "supply.v_max_V: must be finite"},
                       BadCase{"motor_file", "paper000_stepper.toml", "nope.toml", "motor.file: cannot open"},
-                      BadCase{"syntax", "", "[run\n", ""}),
+                      BadCase{"syntax", "", "[run\n", ""},
+                      // found by tests/fuzz: refused before toml++ 3.3.0 reaches undefined behaviour
+                      BadCase{"non_ascii_key", "", "Φ_Wb = 0.01\n",
+                              ":16:1: non-ASCII character (U+03A6) outside a string or a comment"},
+                      BadCase{"non_ascii_after_value", "v_max_V = 30.0", "v_max_V = 30.0 Ω",
+                              ":8:16: non-ASCII character (U+03A9) outside a string or a comment"},
+                      BadCase{"non_ascii_after_quote_in_value", "v_max_V = 30.0", "v_max_V = -'3Ͽ",
+                              ":8:14: non-ASCII character (U+03FF) outside a string or a comment"},
+                      BadCase{"non_ascii_after_backslash", "", "description = \"\"\"a\\Ω\"\"\"\n",
+                              ":16:20: non-ASCII character (U+03A9) right after a backslash in a multi-line string"},
+                      // a control character in a key: the message stays one line
+                      BadCase{"key_control_char", "v_max_V = 30.0", "v_max_V = 30.0\n\"v\\nV\" = 1",
+                              "supply.v\\nV: unknown key"}),
     [](const ::testing::TestParamInfo<BadCase>& i) { return std::string(i.param.name); });
 
 TEST(Scenario, MotorFileErrorsNameTheMotorFile)
@@ -237,6 +249,34 @@ TEST(Scenario, MotorFileErrorsNameTheMotorFile)
     } catch (const mcsim::ScenarioError& e) {
         EXPECT_NE(std::string(e.what()).find("motors/bad_motor.toml: R_ohm: must be >= 0 (got -3)"), std::string::npos)
             << e.what();
+    }
+}
+
+// Non-ASCII characters where TOML allows them: comments and every kind of
+// string (the check that keeps toml++ 3.3.0 away from the others must not
+// refuse these), after a UTF-8 byte order mark.
+TEST(Scenario, NonAsciiInCommentsAndStringsIsRead)
+{
+    const TempScenario a("\xEF\xBB\xBF# Φ_Wb = 0.01, ω in rad/s\ndescription = \"θ ± 5 %, 'Ω' \\\"Φ\\\"\"  # Ω\n" + kBase);
+    EXPECT_EQ(mcsim::load_scenario(a.path()).description, "θ ± 5 %, 'Ω' \"Φ\"");
+    const TempScenario b("description = '''Φ ''Ω'' θ'''''\n" + kBase);
+    EXPECT_EQ(mcsim::load_scenario(b.path()).description, "Φ ''Ω'' θ''");
+    const TempScenario c("description = \"\"\"\nω \"\"Φ\"\" \\\n   x Ω\"\"\"\n" + kBase);
+    EXPECT_EQ(mcsim::load_scenario(c.path()).description, "ω \"\"Φ\"\" x Ω");
+    const TempScenario d("description = 'Ω'\n" + kBase + "[expect.\"θ\"]\nmax = 1.0\n");
+    EXPECT_EQ(mcsim::load_scenario(d.path()).expect.at(0).metric, "θ");
+    // in arrays, inline tables and headers too: toml++ reads them (these
+    // scenarios are then wrong for other reasons, named in the message)
+    for (const char* extra : {"[sensor]\nnoise=[\"θ\",'Ω']\n",
+                              "[sensor]\nnoise = { a = \"θ\", b = [\n  'Ω', # ω\n  \"\"\"Φ\"\"\" ] }\n",
+                              "[\"θ\".x]\n", "[[trajectory.'Ω']]\n"}) {
+        const TempScenario e(kBase + extra);
+        try {
+            mcsim::load_scenario(e.path());
+            ADD_FAILURE() << "no error for " << extra;
+        } catch (const mcsim::ScenarioError& err) {
+            EXPECT_EQ(std::string(err.what()).find("non-ASCII"), std::string::npos) << err.what();
+        }
     }
 }
 

@@ -10,7 +10,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPTS = ["scripts/setup.sh", "scripts/run_paper000.sh", "scripts/test_all.sh"]
+SCRIPTS = ["scripts/setup.sh", "scripts/run_paper000.sh", "scripts/test_all.sh",
+           "scripts/check_static.sh", "scripts/fuzz.sh"]
 
 
 def run(*cmd: str) -> subprocess.CompletedProcess:
@@ -35,7 +36,8 @@ def test_help(script):
     assert "setup:" not in r.stdout  # --help does nothing else
 
 
-@pytest.mark.parametrize("script", ["scripts/setup.sh", "scripts/test_all.sh"])
+@pytest.mark.parametrize("script", ["scripts/setup.sh", "scripts/test_all.sh",
+                                    "scripts/check_static.sh", "scripts/fuzz.sh"])
 def test_unknown_option(script):
     r = run(str(ROOT / script), "--definitely-not-an-option")
     assert r.returncode == 2
@@ -65,11 +67,18 @@ def test_test_all_presets_exist():
         assert n in build, f"{n} is not a build preset"
 
 
-def test_ci_runs_exactly_test_all():
+def test_ci_runs_the_tests_then_static_analysis_and_fuzzing():
+    """.ci/run: test_all.sh (the README's command 2), check_static.sh and
+    fuzz.sh, in that order, each even if an earlier one failed, and fails
+    if any did."""
     lines = [ln.strip() for ln in (ROOT / ".ci/run").read_text().splitlines()]
     commands = [ln for ln in lines if ln and not ln.startswith("#")
                 and not ln.startswith("set ") and not ln.startswith("cd ")]
-    assert commands == ["scripts/test_all.sh"]
+    assert commands == ["rc=0",
+                        "scripts/test_all.sh || rc=1",
+                        "scripts/check_static.sh || rc=1",
+                        "scripts/fuzz.sh || rc=1",
+                        'exit "$rc"']
 
 
 def test_readme_opens_with_the_two_commands():

@@ -70,9 +70,11 @@ void Default_Handler(void);
 void Reset_Handler(void)
 {
     uint32_t *src = &_sidata;
+    /* cppcheck-suppress comparePointers ; linker symbols: _sdata and _edata bound one section (mps2.ld) */
     for (uint32_t *dst = &_sdata; dst < &_edata;) {
         *dst++ = *src++;
     }
+    /* cppcheck-suppress comparePointers ; linker symbols: _sbss and _ebss bound one section (mps2.ld) */
     for (uint32_t *dst = &_sbss; dst < &_ebss;) {
         *dst++ = 0u;
     }

@@ -135,7 +135,7 @@ __attribute__((noinline)) static void paint_stack(void)
 {
     volatile uint32_t *p = &_ebss;
     uint32_t here;
-    volatile uint32_t *stop = (volatile uint32_t *)((uintptr_t)&here - 256u);
+    const volatile uint32_t *stop = (const volatile uint32_t *)((uintptr_t)&here - 256u);
     while (p < stop) {
         *p++ = 0xDEADBEEFu;
     }
@@ -144,6 +144,7 @@ __attribute__((noinline)) static void paint_stack(void)
 static uint32_t stack_used(void)
 {
     const uint32_t *p = &_ebss;
+    /* cppcheck-suppress comparePointers ; linker symbols: _ebss and _estack bound the stack's RAM (mps2.ld) */
     while (p < &_estack && *p == 0xDEADBEEFu) {
         ++p;
     }

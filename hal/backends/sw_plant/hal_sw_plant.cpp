@@ -71,7 +71,7 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
     }
     mcsim::PmPlant& plant = *g_hal.plant;
     hal_sw_plant_period_t& p = g_hal.last;
-    for (std::uint32_t k = 0; k < n_periods; ++k) {
+    for (std::uint32_t period = 0; period < n_periods; ++period) {
         p.tick = g_hal.tick;
         // Time from the tick count, not an accumulated sum.
         p.t_s = g_hal.t_start_s + static_cast<double>(g_hal.tick) * g_hal.ts_s;

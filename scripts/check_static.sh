@@ -1,0 +1,160 @@
+#!/usr/bin/env bash
+# scripts/check_static.sh - static analysis of the host code; any finding
+# fails it. Called by .ci/run after test_all.sh.
+#
+#   cppcheck     firmware/ (C11) in float and in fixed point, sim/ and
+#                hal/backends/sw_plant (C++17) in both, hal/backends/mcu (C11,
+#                32-bit, as the Cortex-M4F float and Cortex-M3 fixed images)
+#   clang-tidy   the checks of .clang-tidy, through the compile_commands.json
+#                of a host configure: firmware/ in float and in fixed point,
+#                sim/ and hal/backends/sw_plant in float
+#
+# Check sets and why: .clang-tidy and docs/testing.md ("Static analysis and
+# fuzzing"). Suppressions are inline only, each with its reason:
+# "cppcheck-suppress ID ; why" and "NOLINT(check): why".
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+usage() {
+    cat <<'EOF'
+usage: scripts/check_static.sh [--build-dir DIR] [--jobs N] [cppcheck] [clang-tidy]
+
+Runs cppcheck and clang-tidy (default: both) over firmware/, sim/ and hal/;
+exits 1 on any finding, 2 on a usage or set-up error.
+
+  --build-dir DIR  where the host configures for compile_commands.json go
+                   (DIR/float, DIR/fixed; default build/static)
+  --jobs N         parallel clang-tidy and cppcheck processes (default: nproc)
+  -h, --help       this text
+EOF
+}
+
+build="$ROOT/build/static"
+jobs="$(nproc 2>/dev/null || echo 2)"
+tools=()
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --build-dir) build="$(realpath -m "${2:?--build-dir needs a directory}")"; shift ;;
+        --jobs) jobs="${2:?--jobs needs a number}"; shift ;;
+        cppcheck | clang-tidy) tools+=("$1") ;;
+        -h | --help) usage; exit 0 ;;
+        -*) echo "check_static.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
+        *) echo "check_static.sh: unknown tool '$1' (cppcheck or clang-tidy)" >&2; usage >&2; exit 2 ;;
+    esac
+    shift
+done
+[ "${#tools[@]}" -gt 0 ] || tools=(cppcheck clang-tidy)
+want() { printf '%s\n' "${tools[@]}" | grep -qx -- "$1"; }
+
+for t in "${tools[@]}"; do
+    command -v "$t" >/dev/null 2>&1 || {
+        echo "check_static.sh: $t not found (scripts/setup.sh installs it)" >&2
+        exit 2
+    }
+done
+
+t0=$SECONDS
+failed=()
+
+# Host configures (no build needed: the generated headers come from the
+# configure step) that give clang-tidy its compile commands.
+configure() {
+    local dir="$build/$1" fixed="$2" log
+    log="$(mktemp)"
+    if ! cmake -S "$ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMC_FIXED_POINT="$fixed" \
+        -DCMAKE_EXPORT_COMPILE_COMMANDS=ON >"$log" 2>&1; then
+        cat "$log" >&2
+        rm -f "$log"
+        echo "check_static.sh: configuring $dir failed" >&2
+        exit 2
+    fi
+    rm -f "$log"
+}
+echo "==== static: configure $build/{float,fixed} (compile_commands.json)"
+configure float OFF
+configure fixed ON
+gen="$build/float/firmware/generated"
+
+# ------------------------------------------------------------ cppcheck ----
+CPPCHECK=(cppcheck --enable=warning,style,performance,portability --inline-suppr --error-exitcode=1 -q
+          --template=gcc -j "$jobs" --suppress=useStlAlgorithm -I firmware -I hal/include -I "$gen")
+run_cppcheck() {  # NAME ARGS...
+    local name="$1"
+    shift
+    echo "---- cppcheck: $name"
+    if ! "${CPPCHECK[@]}" "$@"; then
+        failed+=("cppcheck: $name")
+    fi
+}
+if want cppcheck; then
+    tc=$SECONDS
+    echo "==== static: $(cppcheck --version), --enable=warning,style,performance,portability"
+    for fx in 0 1; do
+        cfg=$([ $fx = 1 ] && echo "fixed point" || echo float)
+        run_cppcheck "firmware/ (C11, $cfg)" --std=c11 -DMC_FIXED_POINT=$fx firmware
+        run_cppcheck "sim/ hal/backends/sw_plant (C++17, $cfg)" --std=c++17 --language=c++ -DMC_FIXED_POINT=$fx \
+            -I sim -I hal/backends/sw_plant -I "$build/float/sim" sim hal/backends/sw_plant
+    done
+    # The Cortex-M images: 32-bit, the macros of each target (mc_num_fixed.h's
+    # assembly on the M3), each PIL main with the drive its CMake gives it.
+    m4f=(--std=c11 --platform=unix32 -I hal/backends/mcu -DMC_FIXED_POINT=0 -D__arm__ -D__ARM_ARCH_7EM__ -D__ARM_FP=4)
+    m3=(--std=c11 --platform=unix32 -I hal/backends/mcu -DMC_FIXED_POINT=1 -D__arm__ -D__ARM_ARCH_7M__)
+    mcu=(hal/backends/mcu/mcu_rt.c hal/backends/mcu/selftest.c hal/backends/mcu/pil_main.c)
+    run_cppcheck "hal/backends/mcu (C11, Cortex-M4F float)" "${m4f[@]}" "${mcu[@]}"
+    run_cppcheck "hal/backends/mcu/pil_paper001_main.c (C11, Cortex-M4F float)" "${m4f[@]}" \
+        -DMC_PIL_DRIVE_PAPER001=1 hal/backends/mcu/pil_paper001_main.c
+    run_cppcheck "hal/backends/mcu (C11, Cortex-M3 fixed point)" "${m3[@]}" "${mcu[@]}"
+    run_cppcheck "hal/backends/mcu/pil_paper001_main.c (C11, Cortex-M3 fixed point)" "${m3[@]}" \
+        -DMC_PIL_DRIVE_PAPER001=1 hal/backends/mcu/pil_paper001_main.c
+    echo "---- cppcheck: $((SECONDS - tc)) s"
+fi
+
+# ---------------------------------------------------------- clang-tidy ----
+# The translation units of DIR/compile_commands.json under the given source
+# directories (the tests and tools are not checked), one per line.
+units() {  # DIR PREFIX...
+    local db="$1/compile_commands.json"
+    shift
+    python3 - "$db" "$ROOT" "$@" <<'EOF'
+import json, os, sys
+db, root, prefixes = sys.argv[1], sys.argv[2], sys.argv[3:]
+seen = []
+for e in json.load(open(db)):
+    f = os.path.normpath(os.path.join(e["directory"], e["file"]))
+    rel = os.path.relpath(f, root)
+    if any(rel.startswith(p) for p in prefixes) and f not in seen:
+        seen.append(f)
+print("\n".join(seen))
+EOF
+}
+# One clang-tidy per unit, JOBS at a time; each unit's output printed whole.
+run_tidy() {  # NAME DIR PREFIX...
+    local name="$1" dir="$2" list rc=0
+    shift 2
+    list="$(units "$dir" "$@")"
+    echo "---- clang-tidy: $name ($(wc -l <<<"$list") units)"
+    # shellcheck disable=SC2016
+    xargs -P "$jobs" -I{} sh -c 'out=$(clang-tidy -p "$1" --quiet "$2" 2>&1); rc=$?;
+        out=$(printf "%s\n" "$out" | grep -Ev "^[0-9]+ warnings? (and [0-9]+ errors? )?generated\.$");
+        if [ $rc -ne 0 ] || [ -n "$out" ]; then printf "%s\n" "$out"; fi
+        [ $rc -eq 0 ] || echo "clang-tidy: FAILED: $2"; exit $rc' sh "$dir" {} <<<"$list" || rc=$?
+    [ "$rc" -eq 0 ] || failed+=("clang-tidy: $name")
+}
+if want clang-tidy; then
+    tt=$SECONDS
+    n_checks=$(clang-tidy -p "$build/float" --list-checks firmware/model/motor_model.c 2>/dev/null | grep -c '^    ' || true)
+    echo "==== static: clang-tidy $(clang-tidy --version | sed -n 's/.*LLVM version //p' | head -1), $n_checks checks (.clang-tidy)"
+    run_tidy "firmware/, sim/, hal/backends/sw_plant (float)" "$build/float" firmware/ sim/ hal/backends/sw_plant/
+    run_tidy "firmware/ (fixed point)" "$build/fixed" firmware/
+    echo "---- clang-tidy: $((SECONDS - tt)) s"
+fi
+
+echo
+if [ "${#failed[@]}" -gt 0 ]; then
+    echo "==== static: FAILED ($((SECONDS - t0)) s):"
+    printf '  %s\n' "${failed[@]}"
+    exit 1
+fi
+echo "==== static: clean (${tools[*]}; $((SECONDS - t0)) s)"

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# scripts/fuzz.sh - fuzzes the scenario and motor-file parser for a bounded
+# time: builds tests/fuzz/fuzz_scenario.cpp with Clang, libFuzzer,
+# AddressSanitizer and UndefinedBehaviorSanitizer (CMake option MC_FUZZ) and
+# runs it from the seed corpus tests/fuzz/corpus. Fails on a crash, a
+# sanitizer report, a leak, an input that takes over 10 s, an exception
+# other than ScenarioError or an error message of more than one line.
+# Called by .ci/run after test_all.sh; docs/testing.md, "Static analysis
+# and fuzzing".
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+usage() {
+    cat <<'EOF'
+usage: scripts/fuzz.sh [--time SECONDS] [--build-dir DIR] [-- LIBFUZZER_OPTION...]
+
+Builds the fuzzer (DIR, default build/fuzz) and runs it for SECONDS (default
+60, or $MC_FUZZ_SECONDS) from the seed corpus tests/fuzz/corpus; the inputs
+it adds go to DIR/run/corpus, a crashing one to DIR/run/crash-*. Exit status
+1 if it found anything, 2 on a usage or build error.
+
+Reproduce a crash:  DIR/tests/fuzz/fuzz_scenario DIR/run/crash-...
+  --time SECONDS   fuzzing time (libFuzzer -max_total_time)
+  --build-dir DIR  build directory of the MC_FUZZ configure
+  -h, --help       this text
+EOF
+}
+
+build="$ROOT/build/fuzz"
+seconds="${MC_FUZZ_SECONDS:-60}"
+extra=()
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --time) seconds="${2:?--time needs seconds}"; shift ;;
+        --build-dir) build="$(realpath -m "${2:?--build-dir needs a directory}")"; shift ;;
+        --) shift; extra=("$@"); break ;;
+        -h | --help) usage; exit 0 ;;
+        *) echo "fuzz.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
+    esac
+    shift
+done
+[[ "$seconds" =~ ^[0-9]+$ ]] || { echo "fuzz.sh: --time must be a whole number of seconds" >&2; exit 2; }
+for t in clang clang++; do
+    command -v "$t" >/dev/null 2>&1 || { echo "fuzz.sh: $t not found (scripts/setup.sh installs it)" >&2; exit 2; }
+done
+
+t0=$SECONDS
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+# -O1 -g without NDEBUG: the usual fuzzing build (fast, asserts on).
+echo "==== fuzz: configure and build $build (clang, -fsanitize=fuzzer,address,undefined)"
+if ! cmake -S "$ROOT" -B "$build" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS=-O1 -DCMAKE_CXX_FLAGS=-O1 -DMC_FUZZ=ON >"$log" 2>&1 ||
+    ! cmake --build "$build" --target fuzz_scenario >>"$log" 2>&1; then
+    cat "$log" >&2
+    echo "fuzz.sh: configuring or building the fuzzer failed" >&2
+    exit 2
+fi
+echo "---- fuzz: built in $((SECONDS - t0)) s"
+
+# Each run starts from the seed corpus alone, so a failure reproduces from
+# its crash file; the harness's files (the input, the motor files) live in
+# run/work.
+run="$build/run"
+rm -rf "$run"
+mkdir -p "$run/corpus" "$run/work"
+n_seeds=$(find tests/fuzz/corpus -type f | wc -l)
+echo "==== fuzz: scenario + motor-file parser, ${seconds} s, $n_seeds seed inputs (tests/fuzz/corpus)"
+tf=$SECONDS
+rc=0
+MC_FUZZ_WORKDIR="$run/work" \
+    ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
+    UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}" \
+    "$build/tests/fuzz/fuzz_scenario" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
+    -print_final_stats=1 -artifact_prefix="$run/" "${extra[@]}" "$run/corpus" tests/fuzz/corpus \
+    >"$run/fuzz.log" 2>&1 || rc=$?
+
+# libFuzzer's last status line: "#213389 DONE cov: 2076 ft: 5691 corp: 343/148Kb ..."
+status=$(grep -E '^#[0-9]+[[:space:]]+(DONE|pulse|NEW|REDUCE|INITED)' "$run/fuzz.log" | tail -1 || true)
+execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$run/fuzz.log")
+rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$run/fuzz.log")
+seed=$(sed -n 's/^INFO: Seed: *//p' "$run/fuzz.log" | head -1)
+cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$status")
+corp=$(sed -n 's/.* corp: \([0-9]*\/[0-9A-Za-z]*\).*/\1/p' <<<"$status")
+echo "---- fuzz: ${execs:-?} inputs in $((SECONDS - tf)) s (${rate:-?}/s), coverage ${cov:-?} edges," \
+    "corpus ${corp:-?} (seeds + $(find "$run/corpus" -type f | wc -l) new), libFuzzer -seed=${seed:-?}"
+if [ "$rc" -ne 0 ]; then
+    tail -n 60 "$run/fuzz.log"
+    echo
+    echo "==== fuzz: FAILED (libFuzzer exit status $rc); whole log: $run/fuzz.log"
+    for c in "$run"/crash-* "$run"/leak-* "$run"/timeout-* "$run"/oom-*; do
+        [ -e "$c" ] && echo "  reproduce: $build/tests/fuzz/fuzz_scenario $c"
+    done
+    exit 1
+fi
+rm -rf "$run/work"
+echo "==== fuzz: clean ($((SECONDS - t0)) s in all)"
