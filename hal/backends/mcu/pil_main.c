@@ -19,6 +19,7 @@
 #include "drives/paper000_drive.h"
 #include "hal/hal.h"
 #include "mcu_rt.h"
+#include "pil_common.h"
 #include "pil_vectors.h"
 
 static drive_t drive;
@@ -31,42 +32,7 @@ static void drive_callback(void *ctx, const hal_sample_t *in, hal_command_t *out
     (void)drive_step((drive_t *)ctx, in, out);
 }
 static hal_control_fn const control = drive_callback;
-extern uint32_t _ebss, _estack;
 
-static mc_t from_bits(uint32_t u)
-{
-    mc_t v;
-    memcpy(&v, &u, sizeof v);
-    return v;
-}
-
-static uint32_t to_bits(mc_t v)
-{
-    uint32_t u;
-    memcpy(&u, &v, sizeof u);
-    return u;
-}
-
-/* fill the free stack with a pattern to measure the high-water mark */
-__attribute__((noinline)) static void paint_stack(void)
-{
-    volatile uint32_t *p = &_ebss;
-    uint32_t here;
-    const volatile uint32_t *stop = (const volatile uint32_t *)((uintptr_t)&here - 256u);
-    while (p < stop) {
-        *p++ = 0xDEADBEEFu;
-    }
-}
-
-static uint32_t stack_used(void)
-{
-    const uint32_t *p = &_ebss;
-    /* cppcheck-suppress comparePointers ; linker symbols: _ebss and _estack bound the stack's RAM (mps2.ld) */
-    while (p < &_estack && *p == 0xDEADBEEFu) {
-        ++p;
-    }
-    return (uint32_t)((uintptr_t)&_estack - (uintptr_t)p);
-}
 
 int main(void)
 {

@@ -53,6 +53,7 @@
 #include "estimators/speed_load_observer.h"
 #include "hal/hal.h"
 #include "mcu_rt.h"
+#include "pil_common.h"
 #include "pil_vectors.h"
 
 static paper001_drive_t drive;
@@ -69,7 +70,6 @@ static void drive_callback(void *ctx, const hal_sample_t *in, hal_command_t *out
     (void)paper001_drive_step((paper001_drive_t *)ctx, in, out);
 }
 static hal_control_fn const control = drive_callback;
-extern uint32_t _ebss, _estack;
 
 /* The inline parts, out of line (noipa: no constant propagation into them,
  * no removal of the empty ones), and empty twins for the call overhead.
@@ -116,40 +116,6 @@ __attribute__((noipa)) static void pil_frames(pil_frames_args_t *a)
 }
 __attribute__((noipa)) static void pil_frames_empty(pil_frames_args_t *a) { (void)a; }
 
-static mc_t from_bits(uint32_t u)
-{
-    mc_t v;
-    memcpy(&v, &u, sizeof v);
-    return v;
-}
-
-static uint32_t to_bits(mc_t v)
-{
-    uint32_t u;
-    memcpy(&u, &v, sizeof u);
-    return u;
-}
-
-/* fill the free stack with a pattern to measure the high-water mark */
-__attribute__((noinline)) static void paint_stack(void)
-{
-    volatile uint32_t *p = &_ebss;
-    uint32_t here;
-    const volatile uint32_t *stop = (const volatile uint32_t *)((uintptr_t)&here - 256u);
-    while (p < stop) {
-        *p++ = 0xDEADBEEFu;
-    }
-}
-
-static uint32_t stack_used(void)
-{
-    const uint32_t *p = &_ebss;
-    /* cppcheck-suppress comparePointers ; linker symbols: _ebss and _estack bound the stack's RAM (mps2.ld) */
-    while (p < &_estack && *p == 0xDEADBEEFu) {
-        ++p;
-    }
-    return (uint32_t)((uintptr_t)&_estack - (uintptr_t)p);
-}
 
 /* a line built in a buffer, written with one semihosting call */
 static char line[400];
