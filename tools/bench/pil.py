@@ -192,7 +192,15 @@ def run_type(typ, args):
     sz_st = cb.size_of([os.path.join(bdir, "hal", "backends", "mcu", "mc_selftest.elf")])
     res[p + "_selftest_image_flash_bytes"] = sz_st["text"] + sz_st["data"]
     res[p + "_selftest_image_ram_bytes"] = sz_st["data"] + sz_st["bss"]
-    st = parse_ci_stack(bdir)
+    stack_and_qemu(res, p, parse_ci_stack(bdir), info, "%s -icount shift=%d" % (machine, args.shift))
+    if not ok_run:
+        cb.log(out[-3000:])
+    return res
+
+
+def stack_and_qemu(res, p, st, info, qemu):
+    """The stack keys of one image's results (static from the compiler's
+    call graph st, measured from the image's painted stack) and its QEMU line."""
     if st:
         res[p + "_step_stack_bytes_static"] = st["bytes"]
         res[p + "_step_stack_path"] = st["path"]
@@ -200,10 +208,7 @@ def run_type(typ, args):
     if "stack_used" in info:
         res[p + "_run_stack_measured_bytes"] = int(info["stack_used"])
         res[p + "_step_stack_measured_bytes"] = int(info["stack_used"]) - int(info.get("stack_main", 0))
-    res[p + "_qemu"] = "%s -icount shift=%d" % (machine, args.shift)
-    if not ok_run:
-        cb.log(out[-3000:])
-    return res
+    res[p + "_qemu"] = qemu
 
 
 def instr_stats(prefix, instr):
@@ -332,15 +337,8 @@ def run_p001(typ, est, args):
         # the part of the library the paper-001 drive pulls in (both estimators)
         res[p + "_image_firmware_flash_bytes"] = linked["flash"]
         res[p + "_image_firmware_ram_static_bytes"] = linked["ram"]
-    st = parse_ci_stack(bdir, "paper001_drive_step")
-    if st:
-        res[p + "_step_stack_bytes_static"] = st["bytes"]
-        res[p + "_step_stack_path"] = st["path"]
-        res[p + "_step_stack_external_calls"] = st["external_calls_not_counted"]
-    if "stack_used" in info:
-        res[p + "_run_stack_measured_bytes"] = int(info["stack_used"])
-        res[p + "_step_stack_measured_bytes"] = int(info["stack_used"]) - int(info.get("stack_main", 0))
-    res[p + "_qemu"] = "%s -icount shift=%d" % (machine, args.shift)
+    stack_and_qemu(res, p, parse_ci_stack(bdir, "paper001_drive_step"), info,
+                   "%s -icount shift=%d" % (machine, args.shift))
     if not ok_run:
         cb.log(out[-3000:])
     return res
