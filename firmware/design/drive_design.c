@@ -81,6 +81,27 @@
 #define RL_WINDOW_MAX 5000
 #define RL_STILL_OVER_OMEGA_LIM 0.1
 
+/* Rotor alignment (startup/align.h). Its times scale with the period of
+ * the rotor's swing about the aligned equilibrium, T_m = 2 pi sqrt(J /
+ * (n_p K I)) (stiffness n_p K I of the torque K I sin(n_p dtheta), paper
+ * 000 eq. (1); 17.6 ms for the rig at 3 A), and with the current's L/R:
+ *  - the magnitude ramps over 2 L/R, so the current follows the voltage
+ *    with no overshoot and nothing steps;
+ *  - each hold lasts 8 T_m: the swing of the lightly damped rotor (viscous
+ *    zeta ~ 0.01, the rest Coulomb friction and back-EMF) has died out in
+ *    the simulation of every start angle (docs/paper000.md, "Start from any
+ *    angle");
+ *  - the pi/2 excursion turns at most 1/(4 T_m) electrical turn per second
+ *    each way (4 T_m per quarter turn): slow against the swing, so the
+ *    rotor follows it;
+ *  - the current decays over 7 L/R at 0 V (to 1e-3 of I) before the start. */
+#define ALIGN_RAMP_TAUS 2.0
+#define ALIGN_HOLD_PERIODS 8.0
+#define ALIGN_TURN_PERIODS 4.0
+#define ALIGN_SETTLE_PERIODS 8.0
+#define ALIGN_OFF_TAUS 7.0
+#define ALIGN_PHI_TURN_RAD 1.5707963267948966 /* pi/2: the unstable point (pi) is then pulled sideways */
+
 void drive_design_defaults(drive_design_input_t *in)
 {
     memset(in, 0, sizeof(*in));
@@ -94,7 +115,10 @@ void drive_design_defaults(drive_design_input_t *in)
     in->bound_model_error_V = 0.05;    /* errata on (57): volts of model error */
     in->load_feedforward = 1;            /* see drive_design.h */
     in->identify_rl = 1;
+    in->align_rotor = 1;
 }
+
+static int32_t ticks_of(double t_s, double fs) { return (int32_t)ceil(t_s * fs - 1e-9); }
 
 static bool fail(char *err, size_t n, const char *field, const char *why, double got)
 {
@@ -287,6 +311,21 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         return fail(err, err_len, "limits.i_open_loop_A", "must be <= i_max_A", in->i_open_loop_A);
     cfg->open_loop.i_max_A = mc_from_double(in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A);
     cfg->open_loop.v_max_V = cfg->limits.v_max_V;
+    if (in->align_rotor) {
+        const double i_ol = in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A;
+        const double T_m = 2.0 * 3.14159265358979323846 * sqrt(J / (np * K * i_ol));
+        const double tau = L / (R > 0.0 ? R : 1.0);
+        align_config_t *ac = &cfg->align;
+        ac->enabled = true;
+        ac->ramp_ticks = ticks_of(ALIGN_RAMP_TAUS * tau, fs);
+        ac->ramp_ticks = ac->ramp_ticks < 1 ? 1 : ac->ramp_ticks;
+        ac->hold_ticks = ticks_of(ALIGN_HOLD_PERIODS * T_m, fs);
+        ac->turn_ticks = ticks_of(ALIGN_TURN_PERIODS * T_m, fs);
+        ac->turn_ticks = ac->turn_ticks < 1 ? 1 : ac->turn_ticks;
+        ac->settle_ticks = ticks_of(ALIGN_SETTLE_PERIODS * T_m, fs);
+        ac->off_ticks = ticks_of(ALIGN_OFF_TAUS * tau, fs);
+        ac->phi_turn_rad = mc_from_double(ALIGN_PHI_TURN_RAD);
+    }
     if (err && err_len > 0) err[0] = '\0';
     return true;
 }

@@ -65,6 +65,9 @@ typedef struct {
     /* 1 (default): measure R and L during the first open-loop samples at
      * standstill (startup/rl_identification.h); 0: trust the motor model. */
     int identify_rl;
+    /* 1 (default): align the rotor before the start (startup/align.h), so
+     * the drive starts from any rotor angle; 0: assume it rests at 0. */
+    int align_rotor;
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;

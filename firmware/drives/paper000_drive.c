@@ -3,7 +3,8 @@
  *
  * Order inside one sample k (currents sampled at t_k, voltages held over
  * [t_k, t_k + Ts)):
- *   0. supervisor: latched fault, phase count, over-current trip;
+ *   0. supervisor: latched fault, phase count, over-current trip; while
+ *      aligning (startup/align.h) the alignment's voltage and nothing else;
  *   1. reference theta_r[k], theta_r[k+1] (eq. 70) and the (f-g) frame (6)-(8);
  *      the adapter's alpha-beta currents turned into it;
  *   2. estimator correction (25) and observability;
@@ -37,6 +38,13 @@ static void drive_zero_output(drive_t *d, hal_command_t *out)
     d->last.v_b_V = MC_ZERO;
 }
 
+/* The trajectory's sample for drive sample n: the alignment's samples all
+ * map to 0 (the reference holds at its start). */
+static uint32_t drive_traj_tick(const drive_t *d, uint32_t n)
+{
+    return n > d->align_ticks ? n - d->align_ticks : 0u;
+}
+
 static bool drive_config_ok(const drive_config_t *c)
 {
     const motor_model_t *m = &c->model;
@@ -46,7 +54,11 @@ static bool drive_config_ok(const drive_config_t *c)
            l->omega_lim_rad_s > MC_ZERO && c->sup.blend_decay >= MC_ZERO && c->sup.blend_decay < MC_ONE &&
            c->ctrl.pos.lambda_M >= c->ctrl.pos.lambda_m && c->ctrl.pos.lambda_m >= MC_ZERO &&
            c->ctrl.cur.lambda >= MC_ZERO && c->ctrl.cur.alpha_ts >= MC_ZERO && c->est.emf.alpha_V >= MC_ZERO &&
-           c->est.emf.lpf_coeff > MC_ZERO && c->est.emf.lpf_coeff <= MC_ONE;
+           c->est.emf.lpf_coeff > MC_ZERO && c->est.emf.lpf_coeff <= MC_ONE &&
+           (!c->align.enabled ||
+            (c->align.ramp_ticks >= 1 && c->align.hold_ticks >= 0 && c->align.turn_ticks >= 1 &&
+             c->align.settle_ticks >= 0 && c->align.off_ticks >= 0 && c->align.phi_turn_rad > MC_ZERO &&
+             c->align.phi_turn_rad < MC_PI));
 }
 
 bool drive_init(drive_t *d, const drive_config_t *cfg)
@@ -61,7 +73,10 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     fg_tracking_init(&d->ctrl, &cfg->ctrl);
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
     rl_id_init(&d->rl_id, &cfg->rl_id);
-    supervisor_init(&d->sup, &cfg->sup, d->rl_id.state == RL_ID_RUNNING);
+    align_init(&d->align, &cfg->align);
+    const int32_t n_align = align_total_ticks(&cfg->align);
+    d->align_ticks = n_align > 0 ? (uint32_t)n_align : 0u;
+    supervisor_init(&d->sup, &cfg->sup, n_align > 0, d->rl_id.state == RL_ID_RUNNING);
     d->last.tick = 0;
     d->last.i_f_A = MC_ZERO;
     d->last.i_g_A = MC_ZERO;
@@ -72,7 +87,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
         return false;
     }
     trajectory_eval(&d->traj, 0, &d->ref);
-    trajectory_eval(&d->traj, 1, &d->ref_next);
+    trajectory_eval(&d->traj, drive_traj_tick(d, 1), &d->ref_next);
     d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, cfg->model.n_p));
     d->rot_next = d->rot_k;
     return true;
@@ -105,7 +120,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     if (d->tick > 0) {
         /* advance the reference: this sample's is the one computed last time */
         d->ref = d->ref_next;
-        trajectory_eval(&d->traj, d->tick + 1, &d->ref_next);
+        trajectory_eval(&d->traj, drive_traj_tick(d, d->tick + 1), &d->ref_next);
         /* the frame turns by the rotation applied last sample; every
          * DRIVE_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
@@ -122,6 +137,28 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     d->rot_next = mc_rot_compose(rot_mid, rot_half);
     mc_t i_f, i_g;
     mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, &i_f, &i_g); /* eq. (6) */
+
+    if (d->sup.state == SUP_STATE_ALIGN) {
+        mc_t v_f, v_g;
+        const mc_t v_hold = open_loop_voltage(&c->open_loop, &d->model, MC_ZERO); /* (68) at rest */
+        if (!align_step(&d->align, v_hold, &v_f, &v_g)) {
+            /* the reference holds, so the frame does not turn: rot_mid = rot_k */
+            mc_ab_t v_ab;
+            mc_rot_inv(rot_k, v_f, v_g, &v_ab.alpha, &v_ab.beta);
+            (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
+            phase_adapter_voltages((uint8_t)DRIVE_N_PHASES, v_ab, out);
+            d->last.i_f_A = i_f;
+            d->last.i_g_A = i_g;
+            d->last.v_a_V = v_ab.alpha;
+            d->last.v_b_V = v_ab.beta;
+            d->tick += 1;
+            return true;
+        }
+        /* aligned, current decayed: the start begins from rest as without
+         * an alignment, with the estimator in its initial state */
+        (void)supervisor_dispatch(&d->sup, SUP_EV_ALIGNED);
+        fg_estimator_init(&d->est, &c->est);
+    }
 
     /* 2. estimator correction */
     fg_estimator_correct(&d->est, i_f, i_g);

@@ -8,7 +8,8 @@
  *                                  jump counter, mechanical observer -> mc_estimate_t
  *   controller (control/)          fg_tracking: flatness references, super-twisting
  *                                  current and twisting position control
- *   start-up (startup/)            open-loop drive (68), standstill R/L measurement
+ *   start-up (startup/)            rotor alignment, open-loop drive (68), standstill
+ *                                  R/L measurement
  *   supervisor (supervisor/)       states, faults, bumpless switch, voltage limit
  *   model (model/)                 one motor model and one set of limits
  *
@@ -31,6 +32,7 @@
 #include "math/frame_fg.h"
 #include "math/mc_num.h"
 #include "model/motor_model.h"
+#include "startup/align.h"
 #include "startup/open_loop.h"
 #include "startup/rl_identification.h"
 #include "supervisor/supervisor.h"
@@ -53,6 +55,7 @@ typedef struct {
     fg_tracking_config_t ctrl;
     supervisor_config_t sup;
     open_loop_config_t open_loop;
+    align_config_t align;         /* rotor alignment before the start (disabled: none) */
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
     trajectory_config_t traj;
 } drive_config_t;
@@ -89,9 +92,11 @@ typedef struct {
     supervisor_t sup;
     fg_estimator_t est;
     fg_tracking_t ctrl;
+    align_t align;
     rl_id_t rl_id;
     trajectory_t traj;
     uint32_t tick;
+    uint32_t align_ticks;        /* the alignment's length: the trajectory's sample 0 follows it */
     bool v_ext_set;              /* drive_set_applied_voltage() for the next step */
     mc_ab_t v_ext_V;
     trajectory_point_t ref;      /* reference of this sample */
@@ -110,7 +115,9 @@ typedef struct {
 bool drive_init(drive_t *d, const drive_config_t *cfg);
 
 /* One sample: the HAL sample in (DRIVE_N_PHASES phase currents [A]), the
- * phase voltages [V] out. Always fills *out (0 V in FAULT). Returns false
+ * phase voltages [V] out. With the alignment enabled, the first
+ * align_ticks samples align the rotor (the reference holds at its start)
+ * and the trajectory's time 0 is the sample after them. Always fills *out (0 V in FAULT). Returns false
  * when in FAULT; a sample of another phase count is a BAD_INPUT fault. */
 bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out);
 

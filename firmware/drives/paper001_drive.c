@@ -80,7 +80,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
     ida_pbc_init(&d->ctrl);
     const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
-    supervisor_init(&d->sup, &cfg->sup, false);
+    supervisor_init(&d->sup, &cfg->sup, false, false);
     hal_command_t unused;
     p001_zero_output(d, &unused);
     d->ref.omega_rad_s = MC_ZERO;

@@ -1,7 +1,8 @@
 #include "supervisor/supervisor.h"
 
 /* The transition table (see supervisor.h). SUP_STATE_COUNT as the source
- * state means "any state". Scanned only when an event is raised, which the
+ * state means "any state", as the target "the start state" (IDENTIFY or
+ * OPEN_LOOP, fixed at supervisor_init). Scanned only when an event is raised, which the
  * recipes do on a change of condition, not every sample. */
 typedef struct {
     sup_state_t from;
@@ -10,6 +11,7 @@ typedef struct {
 } sup_transition_t;
 
 static const sup_transition_t k_transitions[] = {
+    {SUP_STATE_ALIGN, SUP_EV_ALIGNED, SUP_STATE_COUNT}, /* to start_state */
     {SUP_STATE_IDENTIFY, SUP_EV_IDENTIFIED, SUP_STATE_OPEN_LOOP},
     {SUP_STATE_IDENTIFY, SUP_EV_ESTIMATE_TRUSTED, SUP_STATE_CLOSED_LOOP},
     {SUP_STATE_OPEN_LOOP, SUP_EV_ESTIMATE_TRUSTED, SUP_STATE_CLOSED_LOOP},
@@ -17,10 +19,11 @@ static const sup_transition_t k_transitions[] = {
     {SUP_STATE_COUNT, SUP_EV_FAULT, SUP_STATE_FAULT},
 };
 
-void supervisor_init(supervisor_t *s, const supervisor_config_t *cfg, bool identify)
+void supervisor_init(supervisor_t *s, const supervisor_config_t *cfg, bool align, bool identify)
 {
     s->cfg = *cfg;
-    s->state = identify ? SUP_STATE_IDENTIFY : SUP_STATE_OPEN_LOOP;
+    s->start_state = identify ? SUP_STATE_IDENTIFY : SUP_STATE_OPEN_LOOP;
+    s->state = align ? SUP_STATE_ALIGN : s->start_state;
     s->fault = DRIVE_FAULT_NONE;
     s->blend_V[0] = MC_ZERO;
     s->blend_V[1] = MC_ZERO;
@@ -37,7 +40,7 @@ bool supervisor_dispatch(supervisor_t *s, sup_event_t ev)
     for (uint32_t k = 0; k < sizeof k_transitions / sizeof k_transitions[0]; ++k) {
         const sup_transition_t *t = &k_transitions[k];
         if (t->event == ev && (t->from == s->state || t->from == SUP_STATE_COUNT)) {
-            s->state = t->to;
+            s->state = (t->to == SUP_STATE_COUNT) ? s->start_state : t->to;
             return true;
         }
     }

@@ -9,6 +9,7 @@
  *
  * States and transitions (an event not listed for a state is ignored):
  *
+ *   ALIGN ------aligned------------> IDENTIFY, or OPEN_LOOP without identification
  *   IDENTIFY ---identified---------> OPEN_LOOP
  *   IDENTIFY ---estimate_trusted---> CLOSED_LOOP   (identification abandoned)
  *   OPEN_LOOP --estimate_trusted---> CLOSED_LOOP
@@ -37,14 +38,16 @@ typedef enum {
     SUP_STATE_OPEN_LOOP = 1,  /* open-loop drive below omega_lim (paper 000 eq. (68)) */
     SUP_STATE_CLOSED_LOOP = 2,/* control on the estimates */
     SUP_STATE_FAULT = 3,      /* safe state: 0 V until the drive is initialised again */
-    SUP_STATE_COUNT = 4
+    SUP_STATE_ALIGN = 4,      /* rotor alignment before the start (startup/align.h) */
+    SUP_STATE_COUNT = 5
 } sup_state_t;
 
 typedef enum {
     SUP_EV_IDENTIFIED = 0,       /* the identification finished (measured, rejected or off) */
     SUP_EV_ESTIMATE_TRUSTED = 1, /* the estimate is observable and the speed asks for closed loop */
     SUP_EV_ESTIMATE_LOST = 2,    /* no longer */
-    SUP_EV_FAULT = 3             /* supervisor_fault() raises it */
+    SUP_EV_FAULT = 3,            /* supervisor_fault() raises it */
+    SUP_EV_ALIGNED = 4           /* the alignment is over */
 } sup_event_t;
 
 /* Telemetry view of the state, stable across versions. */
@@ -74,14 +77,16 @@ typedef struct {
 typedef struct {
     supervisor_config_t cfg;
     sup_state_t state;
+    sup_state_t start_state;  /* where ALIGN goes: IDENTIFY or OPEN_LOOP */
     drive_fault_t fault;
     mc_t blend_V[2];   /* decaying offset that removes the voltage step of a switch (control frame) */
     mc_t v_prev_V[2];  /* the last command (control frame), after the limit */
     bool sat_prev;     /* the last command hit the voltage limit */
 } supervisor_t;
 
-/* Starts in IDENTIFY (identify) or OPEN_LOOP, no fault, no offset. */
-void supervisor_init(supervisor_t *s, const supervisor_config_t *cfg, bool identify);
+/* Starts in ALIGN (align), else in IDENTIFY (identify) or OPEN_LOOP; no
+ * fault, no offset. */
+void supervisor_init(supervisor_t *s, const supervisor_config_t *cfg, bool align, bool identify);
 
 /* Applies the transition of the table for ev in the current state.
  * Returns true if the state changed. */

@@ -393,6 +393,20 @@ int run(const Options& opt)
         sc.drive_model.K_Nm_per_A = commission.Phi_Wb * static_cast<double>(sc.drive_model.n_p);
     }
 
+    // The position drive is designed first: its rotor alignment runs before
+    // t = 0 (sc.pre_ticks), which the rig's start time and the run's length
+    // take from it.
+    std::unique_ptr<drive_t> drive;
+    if (!sc.speed_drive) {
+        drive = std::make_unique<drive_t>();
+        mcsim::design_and_init_drive(sc, drive.get());  // sets sc.pre_ticks
+        if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
+            throw std::invalid_argument(sc.path + ": run.duration_s: with the rotor alignment, " +
+                                        std::to_string(sc.n_ticks()) + " samples exceed the in-memory log limit of " +
+                                        std::to_string(kMaxLoggedSamples) +
+                                        "; run it without a CSV (--no-csv, or --metrics-out without --out)");
+        }
+    }
     mcsim::Rig rig(sc);
     mcsim::PmPlant& plant = rig.plant;
     mcsim::CurrentSensor& sensor = rig.sensor;
@@ -403,7 +417,6 @@ int run(const Options& opt)
     // The drive of the scenario: the speed drive of paper 001 ([speed]) or
     // the position drive of paper 000 ([trajectory]). Both are a few kB:
     // heap, not stack.
-    std::unique_ptr<drive_t> drive;
     std::unique_ptr<paper001_drive_t> speed_drive;
     std::unique_ptr<mcsim::Recorder> rec;
     std::unique_ptr<mcsim::SpeedRecorder> speed_rec;
@@ -418,8 +431,6 @@ int run(const Options& opt)
             throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
         }
     } else {
-        drive = std::make_unique<drive_t>();
-        mcsim::design_and_init_drive(sc, drive.get());
         rec = std::make_unique<mcsim::Recorder>(sc, plant, *drive, ref, /*record_rows=*/write_csv);
         hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, rec.get());
         if (!hal_start(&mcsim::drive_control_callback, drive.get())) {

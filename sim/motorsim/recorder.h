@@ -104,6 +104,10 @@ private:
     std::vector<Row> rows_;     // n_max_ rows, or none (metrics only)
 
     // metric accumulators
+    bool offset_known_ = false;
+    double offset_rad_ = 0.0;          // equilibrium found by the alignment (absolute plant angle)
+    double align_residual_rad_ = 0.0;  // rotor minus that equilibrium at t = 0
+    std::uint64_t n_pre_ = 0;          // samples before t = 0 (alignment)
     std::uint64_t n_ = 0, n_closed_ = 0, n_mode_closed_ = 0, n_peak_ = 0, n_vsat_ = 0;
     double theta_track_max_ = 0.0, theta_est_max_ = 0.0, current_obs_max_ = 0.0, omega_est_peak_max_ = 0.0;
     double omega_est_max_ = 0.0, theta_track_ss_ = 0.0, theta_est_ss_ = 0.0, omega_est_ss_ = 0.0;

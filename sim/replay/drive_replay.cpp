@@ -75,7 +75,7 @@ int main(int argc, char** argv)
         return 2;
     }
     try {
-        const mcsim::Scenario sc = mcsim::load_scenario(argv[1]);
+        mcsim::Scenario sc = mcsim::load_scenario(argv[1]);
         auto drive = std::make_unique<drive_t>();
         mcsim::design_and_init_drive(sc, drive.get());
         const auto currents = read_currents(argv[2]);
@@ -99,7 +99,7 @@ int main(int argc, char** argv)
             const mc_t va = out.v_V[0], vb = out.v_V[1];
             drive_telemetry_t t;
             drive_get_telemetry(drive.get(), &t);
-            std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", static_cast<double>(k) * sc.ts_s, static_cast<int>(t.mode),
+            std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", sc.t_start_s() + static_cast<double>(k) * sc.ts_s, static_cast<int>(t.mode),
                          mcsim::to_double(t.theta_est_rad), mcsim::to_double(t.omega_est_rad_s),
                          mcsim::to_double(va), mcsim::to_double(vb));
         }

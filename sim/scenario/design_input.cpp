@@ -105,6 +105,9 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     if (sc.identify_rl >= 0) {
         in->identify_rl = sc.identify_rl;
     }
+    if (sc.align_rotor >= 0) {
+        in->align_rotor = sc.align_rotor;
+    }
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
         in->segments[k].t_start_s = sc.segments[k].t_start_s;
@@ -127,7 +130,7 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     }
 }
 
-void design_and_init_drive(const Scenario& sc, drive_t* drive)
+void design_and_init_drive(Scenario& sc, drive_t* drive)
 {
     if (sc.motor.type != MotorType::kStepper2) {
         throw ScenarioError(sc.path + ": motor.file: the paper-000 position drive ([trajectory]) runs two-phase "
@@ -144,6 +147,7 @@ void design_and_init_drive(const Scenario& sc, drive_t* drive)
     if (!drive_init(drive, &cfg)) {
         throw ScenarioError(sc.path + ": design: drive_init rejected the derived configuration");
     }
+    sc.pre_ticks = drive->align_ticks;
 }
 
 void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)

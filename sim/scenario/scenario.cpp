@@ -588,7 +588,7 @@ MotorParams read_motor_file(const std::string& path)
 
 std::uint32_t Scenario::n_ticks() const
 {
-    return static_cast<std::uint32_t>(std::llround(duration_s / ts_s));
+    return static_cast<std::uint32_t>(std::llround(duration_s / ts_s)) + pre_ticks;
 }
 
 MotorParams load_motor_file(const std::string& path) { return read_motor_file(path); }
@@ -779,12 +779,15 @@ Scenario load_scenario(const std::string& path)
 
     // [design] (optional): design switches that are neither gains nor bounds
     if (const auto v = root.table("design")) {
-        v->only({"load_feedforward", "identify_rl"});
+        v->only({"load_feedforward", "identify_rl", "align_rotor"});
         if (const auto b = v->boolean("load_feedforward")) {
             sc.load_feedforward = *b ? 1 : 0;
         }
         if (const auto b = v->boolean("identify_rl")) {
             sc.identify_rl = *b ? 1 : 0;
+        }
+        if (const auto b = v->boolean("align_rotor")) {
+            sc.align_rotor = *b ? 1 : 0;
         }
     }
 

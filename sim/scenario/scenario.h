@@ -102,6 +102,13 @@ struct Scenario {
     // [design]: switches of drive_design_input_t; -1 = the design default.
     int load_feedforward = -1;
     int identify_rl = -1; // [design] identify_rl; -1: design default
+    int align_rotor = -1; // [design] align_rotor; -1: design default
+
+    // Samples the drive runs before t = 0 (the position drive's rotor
+    // alignment, drive_t.align_ticks): set by whoever designs the drive,
+    // before the Rig is built. The run starts at t = -pre_ticks * ts_s;
+    // duration_s counts from t = 0.
+    std::uint32_t pre_ticks = 0;
 
     // [speed] (the paper-001 speed drive instead of [trajectory])
     bool speed_drive = false;
@@ -125,7 +132,10 @@ struct Scenario {
     std::vector<std::pair<std::string, double>> gains;
     std::vector<std::pair<std::string, double>> bounds;
 
+    // Samples of the whole run: pre_ticks, then round(duration_s / ts_s).
     std::uint32_t n_ticks() const;
+    // Time of the run's first sample: -pre_ticks * ts_s.
+    double t_start_s() const { return -static_cast<double>(pre_ticks) * ts_s; }
 };
 
 // Throws ScenarioError on any problem.

@@ -10,6 +10,7 @@ extern "C" {
 #include "control/fg_tracking.h"
 #include "math/mc_convert.h"
 #include "model/motor_model.h"
+#include "startup/align.h"
 #include "supervisor/supervisor.h"
 }
 
@@ -135,7 +136,7 @@ supervisor_t sup(bool identify)
     supervisor_config_t c{};
     c.blend_decay = M(0.5);
     supervisor_t s;
-    supervisor_init(&s, &c, identify);
+    supervisor_init(&s, &c, /*align=*/false, identify);
     return s;
 }
 }  // namespace
@@ -143,17 +144,20 @@ supervisor_t sup(bool identify)
 // Every (state, event) pair against the table of supervisor.h.
 TEST(Supervisor, TransitionTable)
 {
-    const sup_state_t S[] = {SUP_STATE_IDENTIFY, SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_FAULT};
-    const sup_event_t E[] = {SUP_EV_IDENTIFIED, SUP_EV_ESTIMATE_TRUSTED, SUP_EV_ESTIMATE_LOST, SUP_EV_FAULT};
-    // expected[state][event]
-    const sup_state_t want[4][4] = {
-        {SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_IDENTIFY, SUP_STATE_FAULT},
-        {SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_OPEN_LOOP, SUP_STATE_FAULT},
-        {SUP_STATE_CLOSED_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_OPEN_LOOP, SUP_STATE_FAULT},
-        {SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT},
+    const sup_state_t S[] = {SUP_STATE_IDENTIFY, SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_FAULT,
+                             SUP_STATE_ALIGN};
+    const sup_event_t E[] = {SUP_EV_IDENTIFIED, SUP_EV_ESTIMATE_TRUSTED, SUP_EV_ESTIMATE_LOST, SUP_EV_FAULT,
+                             SUP_EV_ALIGNED};
+    // expected[state][event]; ALIGN goes to the start state (IDENTIFY here)
+    const sup_state_t want[5][5] = {
+        {SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_IDENTIFY, SUP_STATE_FAULT, SUP_STATE_IDENTIFY},
+        {SUP_STATE_OPEN_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_OPEN_LOOP, SUP_STATE_FAULT, SUP_STATE_OPEN_LOOP},
+        {SUP_STATE_CLOSED_LOOP, SUP_STATE_CLOSED_LOOP, SUP_STATE_OPEN_LOOP, SUP_STATE_FAULT, SUP_STATE_CLOSED_LOOP},
+        {SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT, SUP_STATE_FAULT},
+        {SUP_STATE_ALIGN, SUP_STATE_ALIGN, SUP_STATE_ALIGN, SUP_STATE_FAULT, SUP_STATE_IDENTIFY},
     };
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 5; ++i) {
+        for (int j = 0; j < 5; ++j) {
             supervisor_t s = sup(true);
             s.state = S[i];
             const bool changed = supervisor_dispatch(&s, E[j]);
@@ -163,6 +167,16 @@ TEST(Supervisor, TransitionTable)
     }
     EXPECT_EQ(sup(true).state, SUP_STATE_IDENTIFY);
     EXPECT_EQ(sup(false).state, SUP_STATE_OPEN_LOOP);
+    // with the alignment first: ALIGN, then the start state
+    for (bool identify : {true, false}) {
+        supervisor_config_t c{};
+        supervisor_t s;
+        supervisor_init(&s, &c, /*align=*/true, identify);
+        EXPECT_EQ(s.state, SUP_STATE_ALIGN);
+        EXPECT_TRUE(supervisor_dispatch(&s, SUP_EV_ALIGNED));
+        EXPECT_EQ(s.state, identify ? SUP_STATE_IDENTIFY : SUP_STATE_OPEN_LOOP);
+        EXPECT_EQ(supervisor_mode(&s), DRIVE_MODE_OPEN_LOOP);
+    }
 }
 
 TEST(Supervisor, FaultLatchesTheFirstCause)
@@ -297,4 +311,51 @@ TEST(FgTracking, ReferencesFollowEq38And39)
         EXPECT_NEAR(D(v_fr), R * 0.0 - np * L * w * igr, 5 * kTol) << load;
         EXPECT_NEAR(D(v_gr), Ldig + R * igr + np * L * w * 0.0 + K * w, 5 * kTol) << load;
     }
+}
+
+// ---- rotor alignment (startup/align.h) ----
+
+// The voltage of each stage, its length, no step larger than one ramp
+// increment, 0 V at the end and from then on.
+TEST(Align, ProfileStagesAndNoVoltageStep)
+{
+    align_config_t c{};
+    c.enabled = true;
+    c.ramp_ticks = 10;
+    c.hold_ticks = 20;
+    c.turn_ticks = 15;
+    c.settle_ticks = 20;
+    c.off_ticks = 5;
+    c.phi_turn_rad = M(1.5707963267948966);
+    ASSERT_EQ(align_total_ticks(&c), 2 * 10 + 20 + 2 * 15 + 20 + 5);
+    align_t a;
+    align_init(&a, &c);
+    const double V = 9.03;
+    double vf_prev = 0.0, vg_prev = 0.0, max_step = 0.0, max_phi = 0.0;
+    int n = 0;
+    mc_t vf, vg;
+    while (!align_step(&a, M(V), &vf, &vg)) {
+        const double f = D(vf), g = D(vg);
+        max_step = std::fmax(max_step, std::hypot(f - vf_prev, g - vg_prev));
+        max_phi = std::fmax(max_phi, std::atan2(g, f));
+        EXPECT_LE(std::hypot(f, g), V * (1 + 1e-5) + 1e-4) << n;
+        if (n >= 10 && n < 30) {
+            EXPECT_NEAR(f, V, 1e-4) << n;  // hold at angle 0
+        }
+        vf_prev = f;
+        vg_prev = g;
+        ++n;
+        ASSERT_LT(n, 1000);
+    }
+    EXPECT_EQ(n, align_total_ticks(&c));
+    EXPECT_NEAR(vf_prev, 0.0, 1e-6);  // off at the end
+    EXPECT_NEAR(vg_prev, 0.0, 1e-6);
+    // ramps of V/10 per sample; the turn moves the vector by at most
+    // V * (pi/2)/15 (a chord is shorter than its arc)
+    EXPECT_LE(max_step, V * std::fmax(0.1, 1.5707963267948966 / 15) * (1 + 1e-4) + 1e-4);
+    EXPECT_NEAR(max_phi, 1.5707963267948966, 1e-3);
+    EXPECT_TRUE(align_step(&a, M(V), &vf, &vg));
+    EXPECT_EQ(D(vf), 0.0);
+    c.enabled = false;
+    EXPECT_EQ(align_total_ticks(&c), 0);
 }

@@ -69,6 +69,7 @@ TEST(DriveOnPlant, ClosedLoopSaturationLimitsAndHoldsTheIntegral)
 {
     mcsim::Scenario sc = mcsim::load_scenario(std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_ideal.toml");
     sc.v_max_V = 12.0;
+    sc.align_rotor = 0;  // the ticks below count from the start of the move
     drive_t drive;
     mcsim::design_and_init_drive(sc, &drive);
     mcsim::Rig rig(sc);

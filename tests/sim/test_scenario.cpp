@@ -102,7 +102,7 @@ TEST(Scenario, PaperExperiment)
 TEST(Scenario, ShippedScenariosDesignADrive)
 {
     for (const char* name : {"paper000_ideal.toml", "paper000_experiment.toml"}) {
-        const mcsim::Scenario sc = mcsim::load_scenario(scenario_path(name));
+        mcsim::Scenario sc = mcsim::load_scenario(scenario_path(name));
         drive_t drive;
         EXPECT_NO_THROW(mcsim::design_and_init_drive(sc, &drive)) << name;
     }

@@ -130,8 +130,9 @@ std::uint32_t sample_limit(const mcsim::Scenario& sc, const char* arg)
     return n;
 }
 
-int record_paper000(const mcsim::Scenario& sc, const char* out_c, const char* max_arg)
+int record_paper000(const mcsim::Scenario& sc_in, const char* out_c, const char* max_arg)
 {
+    mcsim::Scenario sc = sc_in;  // the design sets its pre_ticks (alignment)
     auto drive = std::make_unique<drive_t>();
     mcsim::design_and_init_drive(sc, drive.get());
     const drive_config_t cfg = drive->cfg;  // what drive_init got
