@@ -13,6 +13,7 @@ cd "$ROOT"
 PRESETS=(
     host
     host-fixed
+    host-strict
     host-asan
     cortex-m4f
     cortex-m3-fixed

@@ -32,7 +32,7 @@ void fg_tracking_references(const fg_tracking_t *t, const motor_model_t *m, mc_t
     mc_t Ldi_gr = mc_dot2(m->LJ_over_KTs_V_s2, mc_sub(rn->accel_rad_s2, r->accel_rad_s2), m->Lfv_over_KTs_V_s,
                           mc_sub(rn->omega_rad_s, r->omega_rad_s));
     mc_t Ldi_fr = MC_ZERO;
-    if (t->i_f_off_A != MC_ZERO || t->i_g_off_A != MC_ZERO) {
+    if (mc_ne(t->i_f_off_A, MC_ZERO) || mc_ne(t->i_g_off_A, MC_ZERO)) {
         Ldi_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, t->i_f_off_A));
         Ldi_gr = mc_sub(Ldi_gr, mc_mul(c->ref_blend_L_over_tau_ohm, t->i_g_off_A));
     }

@@ -109,7 +109,7 @@ static inline void fg_tracking_step(fg_tracking_t *t, const motor_model_t *m, mc
 /* Decay of the switch offsets; every sample. */
 static inline void fg_tracking_relax(fg_tracking_t *t)
 {
-    if (t->i_f_off_A != MC_ZERO || t->i_g_off_A != MC_ZERO) {
+    if (mc_ne(t->i_f_off_A, MC_ZERO) || mc_ne(t->i_g_off_A, MC_ZERO)) {
         t->i_f_off_A = mc_decay(t->i_f_off_A, t->cfg.ref_blend_decay);
         t->i_g_off_A = mc_decay(t->i_g_off_A, t->cfg.ref_blend_decay);
     }

@@ -30,7 +30,7 @@ void twisting_init(twisting_t *tw, const twisting_config_t *cfg);
 /* The product S*dS is decided from the signs, so it cannot overflow. */
 static inline mc_t twisting_step(const twisting_t *tw, mc_t S, mc_t S_dot)
 {
-    const bool away = (S > MC_ZERO && S_dot > MC_ZERO) || (S < MC_ZERO && S_dot < MC_ZERO);
+    const bool away = (mc_gt(S, MC_ZERO) && mc_gt(S_dot, MC_ZERO)) || (mc_lt(S, MC_ZERO) && mc_lt(S_dot, MC_ZERO));
     const mc_t gain = away ? tw->cfg.lambda_M : tw->cfg.lambda_m;
     return mc_neg(mc_mul_sgn(gain, S));
 }

@@ -49,16 +49,16 @@ static bool drive_config_ok(const drive_config_t *c)
 {
     const motor_model_t *m = &c->model;
     const drive_limits_t *l = &c->limits;
-    return m->n_p >= 1 && m->fs_hz > 0 && m->R_ohm >= MC_ZERO && m->L_H > MC_ZERO && m->K_V_s > MC_ZERO &&
-           l->v_max_V > MC_ZERO && l->i_max_A > MC_ZERO && l->i_trip_A >= l->i_max_A &&
-           l->omega_lim_rad_s > MC_ZERO && c->sup.blend_decay >= MC_ZERO && c->sup.blend_decay < MC_ONE &&
-           c->ctrl.pos.lambda_M >= c->ctrl.pos.lambda_m && c->ctrl.pos.lambda_m >= MC_ZERO &&
-           c->ctrl.cur.lambda >= MC_ZERO && c->ctrl.cur.alpha_ts >= MC_ZERO && c->est.emf.alpha_V >= MC_ZERO &&
-           c->est.emf.lpf_coeff > MC_ZERO && c->est.emf.lpf_coeff <= MC_ONE &&
+    return m->n_p >= 1 && m->fs_hz > 0 && mc_ge(m->R_ohm, MC_ZERO) && mc_gt(m->L_H, MC_ZERO) && mc_gt(m->K_V_s, MC_ZERO) &&
+           mc_gt(l->v_max_V, MC_ZERO) && mc_gt(l->i_max_A, MC_ZERO) && mc_ge(l->i_trip_A, l->i_max_A) &&
+           mc_gt(l->omega_lim_rad_s, MC_ZERO) && mc_ge(c->sup.blend_decay, MC_ZERO) && mc_lt(c->sup.blend_decay, MC_ONE) &&
+           mc_ge(c->ctrl.pos.lambda_M, c->ctrl.pos.lambda_m) && mc_ge(c->ctrl.pos.lambda_m, MC_ZERO) &&
+           mc_ge(c->ctrl.cur.lambda, MC_ZERO) && mc_ge(c->ctrl.cur.alpha_ts, MC_ZERO) && mc_ge(c->est.emf.alpha_V, MC_ZERO) &&
+           mc_gt(c->est.emf.lpf_coeff, MC_ZERO) && mc_le(c->est.emf.lpf_coeff, MC_ONE) &&
            (!c->align.enabled ||
             (c->align.ramp_ticks >= 1 && c->align.hold_ticks >= 0 && c->align.turn_ticks >= 1 &&
-             c->align.settle_ticks >= 0 && c->align.off_ticks >= 0 && c->align.phi_turn_rad > MC_ZERO &&
-             c->align.phi_turn_rad < MC_PI));
+             c->align.settle_ticks >= 0 && c->align.off_ticks >= 0 && mc_gt(c->align.phi_turn_rad, MC_ZERO) &&
+             mc_lt(c->align.phi_turn_rad, MC_PI)));
 }
 
 bool drive_init(drive_t *d, const drive_config_t *cfg)
@@ -165,7 +165,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
 
     /* 3. supervisor event */
     const bool want_closed =
-        !(mc_abs(d->ref.omega_rad_s) < c->limits.omega_lim_rad_s) && fg_estimator_observable(&d->est);
+        !mc_lt(mc_abs(d->ref.omega_rad_s), c->limits.omega_lim_rad_s) && fg_estimator_observable(&d->est);
     if (want_closed) {
         fg_estimator_track(&d->est, d->ref.theta_rad, d->ref.omega_rad_s);
     }

@@ -39,16 +39,16 @@ static void p001_zero_output(paper001_drive_t *d, hal_command_t *out)
 static bool p001_config_ok(const paper001_config_t *c)
 {
     const motor_model_t *m = &c->model;
-    return (c->n_phases == 2u || c->n_phases == 3u) && m->n_p >= 1 && m->fs_hz > 0 && m->R_ohm >= MC_ZERO &&
-           m->L_H > MC_ZERO && m->K_V_s > MC_ZERO && c->limits.i_trip_A > MC_ZERO && c->ctrl.r_ohm > MC_ZERO &&
-           c->ctrl.i_max_A > MC_ZERO && c->flux.Phi_fs_V > MC_ZERO && c->flux.rho_gain > MC_ZERO &&
-           c->flux.gPhi3_V >= MC_ZERO && c->speed.k_omega >= MC_ZERO && c->speed.k_load_Nm_s >= MC_ZERO &&
-           c->sup.blend_decay >= MC_ZERO && c->sup.blend_decay < MC_ONE && c->fit.decim >= 1 &&
-           c->fit.det_min > MC_ZERO && c->v_bus_min_V > MC_ZERO && c->compute_delay >= MC_ZERO &&
-           c->compute_delay <= MC_ONE &&
+    return (c->n_phases == 2u || c->n_phases == 3u) && m->n_p >= 1 && m->fs_hz > 0 && mc_ge(m->R_ohm, MC_ZERO) &&
+           mc_gt(m->L_H, MC_ZERO) && mc_gt(m->K_V_s, MC_ZERO) && mc_gt(c->limits.i_trip_A, MC_ZERO) && mc_gt(c->ctrl.r_ohm, MC_ZERO) &&
+           mc_gt(c->ctrl.i_max_A, MC_ZERO) && mc_gt(c->flux.Phi_fs_V, MC_ZERO) && mc_gt(c->flux.rho_gain, MC_ZERO) &&
+           mc_ge(c->flux.gPhi3_V, MC_ZERO) && mc_ge(c->speed.k_omega, MC_ZERO) && mc_ge(c->speed.k_load_Nm_s, MC_ZERO) &&
+           mc_ge(c->sup.blend_decay, MC_ZERO) && mc_lt(c->sup.blend_decay, MC_ONE) && c->fit.decim >= 1 &&
+           mc_gt(c->fit.det_min, MC_ZERO) && mc_gt(c->v_bus_min_V, MC_ZERO) && mc_ge(c->compute_delay, MC_ZERO) &&
+           mc_le(c->compute_delay, MC_ONE) &&
            (c->estimator == P001_ESTIMATOR_FLUX ||
-            (c->estimator == P001_ESTIMATOR_BACK_EMF && c->omega_lim_rad_s > MC_ZERO &&
-             c->emf_torque_model.K_V_s > MC_ZERO && c->emf.pos.n_p == m->n_p));
+            (c->estimator == P001_ESTIMATOR_BACK_EMF && mc_gt(c->omega_lim_rad_s, MC_ZERO) &&
+             mc_gt(c->emf_torque_model.K_V_s, MC_ZERO) && c->emf.pos.n_p == m->n_p));
 }
 
 bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
@@ -106,7 +106,7 @@ static void p001_probe(paper001_drive_t *d)
     const mc_t da = mc_sub(p.alpha, d->probe_last.alpha);
     const mc_t db = mc_sub(p.beta, d->probe_last.beta);
     bool found = false;
-    if (!(mc_dot2(da, da, db, db) < c->probe_step2)) {
+    if (!mc_lt(mc_dot2(da, da, db, db), c->probe_step2)) {
         flux_circle_fit_add(&d->probe, p);
         d->probe_last = p;
         mc_ab_t centre;
@@ -119,11 +119,11 @@ static void p001_probe(paper001_drive_t *d)
         }
     }
     const mc_t p2 = mc_dot2(p.alpha, p.alpha, p.beta, p.beta);
-    if (!d->probe_turned && (!(p2 < c->probe_turn2) || d->tick + 1u >= c->probe_turn_ticks)) {
+    if (!d->probe_turned && (!mc_lt(p2, c->probe_turn2) || d->tick + 1u >= c->probe_turn_ticks)) {
         /* along the chord: ahead of the rotor in its direction of motion,
          * for either of the mirror-image angles (paper001_drive.h) */
         d->probe_turned = true;
-        if (p2 > MC_ZERO && !(p2 < mc_div_i(c->probe_turn2, 16))) {
+        if (mc_gt(p2, MC_ZERO) && !mc_lt(p2, mc_div_i(c->probe_turn2, 16))) {
             const mc_t k = mc_rsqrt(p2);
             d->probe_dir.c = mc_mul(p.alpha, k);
             d->probe_dir.s = mc_mul(p.beta, k);
@@ -165,7 +165,7 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, &i_f, &i_g); /* paper 000 (6) */
     fg_estimator_correct(&d->emf, i_f, i_g);
     const bool want_closed =
-        !(mc_abs(d->ref.omega_rad_s) < c->omega_lim_rad_s) && fg_estimator_observable(&d->emf);
+        !mc_lt(mc_abs(d->ref.omega_rad_s), c->omega_lim_rad_s) && fg_estimator_observable(&d->emf);
     if (want_closed) {
         fg_estimator_track(&d->emf, theta_r, d->ref.omega_rad_s);
     }
@@ -196,7 +196,7 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
     (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g);
     mc_t v_f_obs = v_f, v_g_obs = v_g;
-    if (c->compute_delay != MC_ZERO) {
+    if (mc_ne(c->compute_delay, MC_ZERO)) {
         const mc_ab_t v_mean = paper001_applied_mean(c, v_ab, d->last.v_ab_V);
         mc_rot_fwd(rot_mid, v_mean.alpha, v_mean.beta, &v_f_obs, &v_g_obs);
     }
@@ -216,7 +216,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         p001_zero_output(d, out);
         return false;
     }
-    if (!phase_adapter_accepts(in, c->n_phases) || !(in->v_bus_V > c->v_bus_min_V)) {
+    if (!phase_adapter_accepts(in, c->n_phases) || !mc_gt(in->v_bus_V, c->v_bus_min_V)) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
         p001_zero_output(d, out);
         return false;
@@ -249,7 +249,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         flux_circle_fit_add(&d->fit, d->flux.rho);
         const mc_t swept = mc_mul_i(mc_abs(mc_sub(d->ref.theta_rad, d->ol_theta0_rad)), c->model.n_p);
         mc_ab_t centre;
-        if (!(swept < c->handover_sweep_rad) && flux_circle_fit_center(&d->fit, &centre)) {
+        if (!mc_lt(swept, c->handover_sweep_rad) && flux_circle_fit_center(&d->fit, &centre)) {
             flux_observer_shift(&d->flux, centre);
             flux_observer_set_gradient(&d->flux, true);
             speed_load_observer_init(&d->speed, &c->speed, d->flux.unit, d->ref.omega_rad_s, MC_ZERO);

@@ -117,7 +117,7 @@ typedef struct {
  * (1 - d) v + d v_prev is what the observers integrate. d = 0: v itself. */
 static inline mc_ab_t paper001_applied_mean(const paper001_config_t *c, mc_ab_t v, mc_ab_t v_prev)
 {
-    if (c->compute_delay == MC_ZERO) {
+    if (mc_eq(c->compute_delay, MC_ZERO)) {
         return v;
     }
     mc_ab_t m;
@@ -139,7 +139,7 @@ static inline mc_ab_t paper001_applied_mean(const paper001_config_t *c, mc_ab_t 
 static inline mc_rot_t paper001_output_rot(const paper001_config_t *c, mc_rot_t rho, mc_t omega_hat_rad_s)
 {
     const mc_t adv = mc_div_i(mc_mul(omega_hat_rad_s, c->advance_np), c->model.fs_hz);
-    if (mc_abs(adv) < P001_ADVANCE_MIN_RAD) {
+    if (mc_lt(mc_abs(adv), P001_ADVANCE_MIN_RAD)) {
         return rho;
     }
     return mc_rot_compose(rho, mc_rot_from_angle(adv));

@@ -44,10 +44,10 @@ static inline void angle_unwrap_step(angle_unwrap_t *u, mc_t y, mc_t x)
 {
     const mc_t e = mc_atan2(y, x);
     mc_t d = mc_sub(e, u->e_rad);
-    if (d < mc_neg(MC_PI)) {
+    if (mc_lt(d, mc_neg(MC_PI))) {
         u->n_turns += 1;
         d = mc_add(d, MC_TWO_PI);
-    } else if (d > MC_PI) {
+    } else if (mc_gt(d, MC_PI)) {
         u->n_turns -= 1;
         d = mc_sub(d, MC_TWO_PI);
     }

@@ -88,7 +88,7 @@ static inline void fg_estimator_mechanics(fg_estimator_t *e, const motor_model_t
      * back-EMF is observable: the reference frame. */
     if (e->pos.valid) {
         const mc_t inv_e = mc_rsqrt(e->pos.e2_V2);
-        const bool neg = omega_r_rad_s < MC_ZERO;
+        const bool neg = mc_lt(omega_r_rad_s, MC_ZERO);
         e->u_est.s = mc_mul(neg ? mc_neg(e->emf.e_f_hat_V) : e->emf.e_f_hat_V, inv_e);
         e->u_est.c = mc_mul(neg ? e->emf.e_g_hat_V : mc_neg(e->emf.e_g_hat_V), inv_e);
         mc_rot_fwd(e->u_est, i_f_A, i_g_A, &e->i_d_A, &e->i_q_A); /* (44) */

@@ -13,7 +13,7 @@ static void flux_observer_eval(flux_observer_t *o, mc_ab_t i_A)
     o->rho.beta = flux_observer_rho(c, o->w_V.beta, i_A.beta);
     o->rho2 = mc_dot2(o->rho.alpha, o->rho.alpha, o->rho.beta, o->rho.beta);
     /* unit vector; rho = 0 (never reached: |rho| is pulled to 1) keeps the last */
-    if (o->rho2 > MC_ZERO) {
+    if (mc_gt(o->rho2, MC_ZERO)) {
         const mc_t k = mc_rsqrt(o->rho2);
         o->unit.c = mc_mul(o->rho.alpha, k);
         o->unit.s = mc_mul(o->rho.beta, k);

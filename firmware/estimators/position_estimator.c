@@ -17,7 +17,7 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
 mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t omega_r_rad_s)
 {
     /* eq. (29) (errata form): the sign of the speed is taken from the reference */
-    const bool neg = omega_r_rad_s < MC_ZERO;
+    const bool neg = mc_lt(omega_r_rad_s, MC_ZERO);
     const mc_t y = neg ? mc_neg(e_f_V) : e_f_V;
     const mc_t x = neg ? e_g_V : mc_neg(e_g_V);
     return mc_mul(mc_atan2(y, x), p->cfg.inv_n_p);
@@ -31,9 +31,9 @@ void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc
 
     /* eq. (71): a step of more than half a pitch is a wrap of the arctan */
     const mc_t step = mc_sub(dth, p->dtheta_prev_rad);
-    if (step < mc_neg(c->half_pitch_rad)) {
+    if (mc_lt(step, mc_neg(c->half_pitch_rad))) {
         p->k += 1;
-    } else if (step > c->half_pitch_rad) {
+    } else if (mc_gt(step, c->half_pitch_rad)) {
         p->k -= 1;
     }
     p->dtheta_prev_rad = dth;

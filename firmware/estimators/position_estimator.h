@@ -49,7 +49,7 @@ void position_estimator_init(position_estimator_t *p, const position_estimator_c
 static inline void position_estimator_observe(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V)
 {
     p->e2_V2 = mc_dot2(e_f_V, e_f_V, e_g_V, e_g_V);
-    p->valid = !(p->e2_V2 < p->cfg.e2_min_V2);
+    p->valid = !mc_lt(p->e2_V2, p->cfg.e2_min_V2);
 }
 
 /* dtheta_est of (29) from e and the sign of omega_r, in (-pi/n_p, pi/n_p]. */

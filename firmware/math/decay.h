@@ -18,7 +18,7 @@
 static inline mc_t mc_decay(mc_t x, mc_t factor)
 {
     const mc_t y = mc_mul(factor, x);
-    return (mc_abs(y) < MC_DECAY_SNAP) ? MC_ZERO : y;
+    return (mc_lt(mc_abs(y), MC_DECAY_SNAP)) ? MC_ZERO : y;
 }
 
 #endif /* MATH_DECAY_H */

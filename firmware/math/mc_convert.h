@@ -28,14 +28,14 @@ static inline mc_t mc_from_double(double x)
         return MC_MAX;
     }
     if (s <= -(double)INT32_MAX) {
-        return -MC_MAX;
+        return mc_neg(MC_MAX);
     }
     if (!(s == s)) {
-        return 0;
+        return MC_ZERO;
     }
-    return (mc_t)((s >= 0.0) ? (s + 0.5) : (s - 0.5));
+    return mc_from_raw((int32_t)((s >= 0.0) ? (s + 0.5) : (s - 0.5)));
 }
-static inline double mc_to_double(mc_t x) { return (double)x / (double)MC_ONE_RAW; }
+static inline double mc_to_double(mc_t x) { return (double)mc_raw(x) / (double)MC_ONE_RAW; }
 static inline double mc_lsb(void) { return 1.0 / (double)MC_ONE_RAW; }
 static inline double mc_max_double(void) { return (double)INT32_MAX / (double)MC_ONE_RAW; }
 #else

@@ -8,8 +8,11 @@
  * fixed-point build documents its Q format, range and resolution there.
  *
  * Rules for block authors (they are what makes the fixed build possible):
- *  - no C arithmetic operators on mc_t values: use mc_add/mc_sub/mc_mul/...
- *    (comparisons <, >, == on two mc_t are allowed: both builds order alike);
+ *  - no C operators on mc_t values: use mc_add/mc_sub/mc_mul/... and the
+ *    comparisons mc_lt/mc_le/mc_gt/mc_ge/mc_eq/mc_ne (a raw `a * b` is
+ *    silently wrong in Q14.17); the strict check build (preset host-strict,
+ *    mc_t a struct, see mc_num_fixed.h) does not compile code that breaks
+ *    this rule;
  *  - literals through MC_C(x), which folds at compile time in both builds;
  *  - no coefficient smaller than about 1e-3 or larger than about 1e4 at run
  *    time: fold sample time and physical constants into per-sample gains
@@ -27,6 +30,7 @@
 #endif
 
 /* Operations every backend provides (static inline):
+ *   bool mc_lt(mc_t a, mc_t b), mc_le, mc_gt, mc_ge, mc_eq, mc_ne   a < b, ...
  *   mc_t mc_add(mc_t a, mc_t b), mc_sub, mc_mul, mc_div (b == 0 saturates)
  *   mc_t mc_dot2(a,b,c,d) = a b + c d, mc_cross2(a,b,c,d) = a b - c d,
  *   mc_t mc_mac(acc,a,b) = acc + a b   (fixed: one rounding, cheaper than
@@ -47,7 +51,10 @@
  *   mc_t mc_wrap_pi(mc_t x)          x wrapped into [-pi, pi)
  *   mc_t mc_elec_angle(mc_t theta_mech_rad, int32_t n_p)
  *                                    wrap(n_p * theta) without loss for large theta
- *   MC_C(x), MC_PI, MC_TWO_PI, MC_ZERO, MC_ONE
+ *   MC_C(x), MC_PI, MC_TWO_PI, MC_ZERO, MC_ONE   (constant expressions, also
+ *                                    in static initializers)
+ * Fixed point only (host-side conversions, bit-exact dumps; never arithmetic):
+ *   int32_t mc_raw(mc_t x), mc_t mc_from_raw(int32_t r)   the Q14.17 bits
  * Error bounds of the approximated functions are stated in the backend
  * header and checked by tests/firmware/test_mc_math.
  */

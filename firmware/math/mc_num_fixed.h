@@ -5,7 +5,8 @@
  * build links no soft-float helper (checked by tests/firmware/nofloat).
  *
  * ======================================================================
- * FORMAT: Q14.17 -- mc_t is int32_t, value = raw / 2^17, for every signal.
+ * FORMAT: Q14.17 -- mc_t is int32_t, value = raw / 2^17, for every signal
+ *   (in the strict check build, MC_STRICT_TYPES, a struct holding the int32_t).
  *   MC_FRAC_BITS = 17, LSB = 2^-17 = 7.63e-6, range [-16384, +16384)
  *   (saturated values are +-MC_MAX = +-(2^31-1)/2^17 = +-16383.99999; the
  *   raw value INT32_MIN = -16384 exactly can still come out of a product).
@@ -91,31 +92,56 @@
 #ifndef MC_NUM_FIXED_H
 #define MC_NUM_FIXED_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
+#if defined(MC_STRICT_TYPES) && MC_STRICT_TYPES
+#ifdef __cplusplus
+#error "MC_STRICT_TYPES is a C-only check build (compound literals): the C++ simulator and tests use the plain int32_t mc_t"
+#endif
+/* Strict check build (CMake MC_STRICT_TYPES, preset host-strict): mc_t is a
+ * one-member struct, so a C operator (*, +, <, ==, !, unary -) on mc_t, an
+ * implicit conversion between mc_t and an integer, or a literal not written
+ * through MC_C does not compile. It is a compile check only: nothing built
+ * with it ships or runs (the values and the operations are the same). */
+typedef struct {
+    int32_t raw;
+} mc_t;
+/* the mc_t of raw value r: a compound literal, so MC_C and the constants
+ * below stay constant expressions (GCC and Clang accept a compound literal
+ * with constant members as a static initializer) */
+#define MC__MK(r) ((mc_t){.raw = (int32_t)(r)})
+#define MC__RAW(x) ((x).raw)
+#else
 typedef int32_t mc_t;
+#define MC__MK(r) ((mc_t)(r))
+#define MC__RAW(x) (x)
+#endif
 
 #define MC_FIXED 1
 #define MC_FRAC_BITS 17
 #define MC_ONE_RAW ((int32_t)1 << MC_FRAC_BITS)
-#define MC_MAX ((mc_t)INT32_MAX)
+#define MC_MAX MC__MK(INT32_MAX)
 #define MC_LSB_F 7.62939453125e-06 /* 2^-17, for host-side documentation and tests */
 
 /* Compile-time conversion of a literal (double arithmetic folds away; do
  * not use MC_C on run-time values: that would bring in soft-float code,
  * which the no-float test rejects). Saturates outside +-16384. */
 #define MC_C(x)                                                                          \
-    ((mc_t)(((double)(x)) >= 16383.99999237060546875                                     \
-                ? (double)INT32_MAX                                                      \
-                : (((double)(x)) <= -16383.99999237060546875                             \
-                       ? -(double)INT32_MAX                                              \
-                       : ((double)(x)) * 131072.0 + ((((double)(x)) >= 0.0) ? 0.5 : -0.5))))
+    MC__MK(((double)(x)) >= 16383.99999237060546875                                      \
+               ? (double)INT32_MAX                                                       \
+               : (((double)(x)) <= -16383.99999237060546875                              \
+                      ? -(double)INT32_MAX                                               \
+                      : ((double)(x)) * 131072.0 + ((((double)(x)) >= 0.0) ? 0.5 : -0.5)))
 
-#define MC_ZERO ((mc_t)0)
-#define MC_ONE ((mc_t)MC_ONE_RAW)
-#define MC_PI ((mc_t)411775)      /* round(pi 2^17) */
-#define MC_TWO_PI ((mc_t)823550)  /* round(2 pi 2^17) */
-#define MC_HALF_PI ((mc_t)205887) /* round(pi/2 2^17) */
+#define MC__PI_RAW ((int32_t)411775)      /* round(pi 2^17) */
+#define MC__TWO_PI_RAW ((int32_t)823550)  /* round(2 pi 2^17) */
+#define MC__HALF_PI_RAW ((int32_t)205887) /* round(pi/2 2^17) */
+#define MC_ZERO MC__MK(0)
+#define MC_ONE MC__MK(MC_ONE_RAW)
+#define MC_PI MC__MK(MC__PI_RAW)
+#define MC_TWO_PI MC__MK(MC__TWO_PI_RAW)
+#define MC_HALF_PI MC__MK(MC__HALF_PI_RAW)
 
 #ifdef __cplusplus
 extern "C" {
@@ -170,7 +196,7 @@ static inline int64_t mc__smlal64(int64_t acc, int32_t a, int32_t b)
 #endif
 }
 
-static inline mc_t mc__sat64(int64_t v)
+static inline int32_t mc__sat64(int64_t v)
 {
     if (v > (int64_t)INT32_MAX) {
         return INT32_MAX;
@@ -178,7 +204,7 @@ static inline mc_t mc__sat64(int64_t v)
     if (v < -(int64_t)INT32_MAX) {
         return -INT32_MAX;
     }
-    return (mc_t)v;
+    return (int32_t)v;
 }
 
 static inline uint32_t mc__uabs(int32_t a) { return (a < 0) ? (0u - (uint32_t)a) : (uint32_t)a; }
@@ -293,12 +319,12 @@ static inline uint32_t mc__bam_of_q17_64(int64_t x_raw)
 }
 
 /* binary angle -> rad Q17 in [-MC_PI, MC_PI) */
-static inline mc_t mc__rad_of_bam(uint32_t u)
+static inline int32_t mc__rad_of_bam(uint32_t u)
 {
     const int64_t p = mc__smul64((int32_t)u, 1686629713); /* round(2 pi 2^28) */
     int32_t r = (int32_t)((p + ((int64_t)1 << 42)) >> 43);
-    if (r >= MC_PI) {
-        r -= MC_TWO_PI;
+    if (r >= MC__PI_RAW) {
+        r -= MC__TWO_PI_RAW;
     }
     return r;
 }
@@ -330,32 +356,45 @@ static inline void mc__sincos_bam_q30(uint32_t u, int32_t *s30, int32_t *c30)
     }
 }
 
-static inline mc_t mc__q30_to_q17(int32_t v) { return (v + (1 << 12)) >> 13; }
+static inline int32_t mc__q30_to_q17(int32_t v) { return (v + (1 << 12)) >> 13; }
 
 /* ---- API of mc_num.h ------------------------------------------------------ */
+
+/* The raw Q14.17 bits, for code that truly works on them (conversions,
+ * bit-exact dumps); never for arithmetic, which the mc_* operations do. */
+static inline int32_t mc_raw(mc_t x) { return MC__RAW(x); }
+static inline mc_t mc_from_raw(int32_t r) { return MC__MK(r); }
+
+/* comparisons (raw order is value order) */
+static inline bool mc_lt(mc_t a, mc_t b) { return MC__RAW(a) < MC__RAW(b); }
+static inline bool mc_le(mc_t a, mc_t b) { return MC__RAW(a) <= MC__RAW(b); }
+static inline bool mc_gt(mc_t a, mc_t b) { return MC__RAW(a) > MC__RAW(b); }
+static inline bool mc_ge(mc_t a, mc_t b) { return MC__RAW(a) >= MC__RAW(b); }
+static inline bool mc_eq(mc_t a, mc_t b) { return MC__RAW(a) == MC__RAW(b); }
+static inline bool mc_ne(mc_t a, mc_t b) { return MC__RAW(a) != MC__RAW(b); }
 
 static inline mc_t mc_add(mc_t a, mc_t b)
 {
     int32_t r;
-    if (__builtin_add_overflow(a, b, &r)) {
-        r = (a < 0) ? -INT32_MAX : INT32_MAX;
+    if (__builtin_add_overflow(MC__RAW(a), MC__RAW(b), &r)) {
+        r = (MC__RAW(a) < 0) ? -INT32_MAX : INT32_MAX;
     }
-    return r;
+    return MC__MK(r);
 }
 
 static inline mc_t mc_sub(mc_t a, mc_t b)
 {
     int32_t r;
-    if (__builtin_sub_overflow(a, b, &r)) {
-        r = (a < 0) ? -INT32_MAX : INT32_MAX;
+    if (__builtin_sub_overflow(MC__RAW(a), MC__RAW(b), &r)) {
+        r = (MC__RAW(a) < 0) ? -INT32_MAX : INT32_MAX;
     }
-    return r;
+    return MC__MK(r);
 }
 
 /* Round (half up) and saturate a Q34 64-bit product sum to Q17: the result
  * fits iff the high word of p + 2^16 is in [-2^16, 2^16). Written so that
  * it compiles to smull/adds/adc/lsrs/orr + one compare on Cortex-M3. */
-static inline mc_t mc__round_sat_q34(int64_t p)
+static inline int32_t mc__round_sat_q34(int64_t p)
 {
     p += (int64_t)1 << (MC_FRAC_BITS - 1);
     const uint32_t hi = (uint32_t)((uint64_t)p >> 32);
@@ -364,10 +403,10 @@ static inline mc_t mc__round_sat_q34(int64_t p)
          * signed 64-bit sum, >= 2^31 (negative as int32_t) whenever p < 0 */
         return ((int32_t)hi < 0) ? -INT32_MAX : INT32_MAX;
     }
-    return (mc_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
+    return (int32_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
 }
 
-static inline mc_t mc_mul(mc_t a, mc_t b) { return mc__round_sat_q34(mc__smul64(a, b)); }
+static inline mc_t mc_mul(mc_t a, mc_t b) { return MC__MK(mc__round_sat_q34(mc__smul64(MC__RAW(a), MC__RAW(b)))); }
 
 /* round(ua 2^17 / ub) (ties up) for ub > 0, saturated to INT32_MAX: the
  * Newton reciprocal gives the quotient within a few units, one 64-bit
@@ -428,107 +467,129 @@ static inline int32_t mc__udiv_q17(uint32_t ua, uint32_t ub)
  * sign of a; results beyond the range saturate. */
 static inline mc_t mc_div(mc_t a, mc_t b)
 {
-    if (b == 0) {
-        return (a >= 0) ? MC_MAX : -MC_MAX;
+    const int32_t ra = MC__RAW(a);
+    const int32_t rb = MC__RAW(b);
+    if (rb == 0) {
+        return MC__MK((ra >= 0) ? INT32_MAX : -INT32_MAX);
     }
-    const int32_t q = mc__udiv_q17(mc__uabs(a), mc__uabs(b));
-    return ((a < 0) != (b < 0)) ? -q : q;
+    const int32_t q = mc__udiv_q17(mc__uabs(ra), mc__uabs(rb));
+    return MC__MK(((ra < 0) != (rb < 0)) ? -q : q);
 }
 
 /* num / den as a value (not raw), exactly rounded; 0 if den == 0. */
 static inline mc_t mc_ratio_i(int32_t num, int32_t den)
 {
     if (den == 0) {
-        return 0;
+        return MC_ZERO;
     }
     const int32_t q = mc__udiv_q17(mc__uabs(num), mc__uabs(den));
-    return ((num < 0) != (den < 0)) ? -q : q;
+    return MC__MK(((num < 0) != (den < 0)) ? -q : q);
 }
 
-static inline mc_t mc_neg(mc_t a) { return (a == INT32_MIN) ? INT32_MAX : -a; }
-static inline mc_t mc_abs(mc_t a) { return (a < 0) ? mc_neg(a) : a; }
-static inline mc_t mc_min(mc_t a, mc_t b) { return (a < b) ? a : b; }
-static inline mc_t mc_max(mc_t a, mc_t b) { return (a > b) ? a : b; }
-static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi) { return (x < lo) ? lo : ((x > hi) ? hi : x); }
-static inline mc_t mc_mul_i(mc_t a, int32_t n) { return mc__sat64(mc__smul64(a, n)); }
+static inline mc_t mc_neg(mc_t a) { return MC__MK((MC__RAW(a) == INT32_MIN) ? INT32_MAX : -MC__RAW(a)); }
+static inline mc_t mc_abs(mc_t a) { return (MC__RAW(a) < 0) ? mc_neg(a) : a; }
+static inline mc_t mc_min(mc_t a, mc_t b) { return (MC__RAW(a) < MC__RAW(b)) ? a : b; }
+static inline mc_t mc_max(mc_t a, mc_t b) { return (MC__RAW(a) > MC__RAW(b)) ? a : b; }
+static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi)
+{
+    return (MC__RAW(x) < MC__RAW(lo)) ? lo : ((MC__RAW(x) > MC__RAW(hi)) ? hi : x);
+}
+static inline mc_t mc_mul_i(mc_t a, int32_t n) { return MC__MK(mc__sat64(mc__smul64(MC__RAW(a), n))); }
 
 /* a b + c d, a b - c d and acc + a b with ONE rounding and saturation of the
  * exact 64-bit sum (cheaper and more accurate than mc_mul + mc_add). */
-static inline mc_t mc_dot2(mc_t a, mc_t b, mc_t c, mc_t d) { return mc__round_sat_q34(mc__smlal64(mc__smul64(a, b), c, d)); }
+static inline mc_t mc_dot2(mc_t a, mc_t b, mc_t c, mc_t d)
+{
+    return MC__MK(mc__round_sat_q34(mc__smlal64(mc__smul64(MC__RAW(a), MC__RAW(b)), MC__RAW(c), MC__RAW(d))));
+}
 static inline mc_t mc_cross2(mc_t a, mc_t b, mc_t c, mc_t d)
 {
-    return mc__round_sat_q34(mc__smul64(a, b) - mc__smul64(c, d));
+    return MC__MK(mc__round_sat_q34(mc__smul64(MC__RAW(a), MC__RAW(b)) - mc__smul64(MC__RAW(c), MC__RAW(d))));
 }
 static inline mc_t mc_mac(mc_t acc, mc_t a, mc_t b)
 {
-    return mc__round_sat_q34(mc__smlal64((int64_t)acc * MC_ONE_RAW, a, b));
+    return MC__MK(mc__round_sat_q34(mc__smlal64((int64_t)MC__RAW(acc) * MC_ONE_RAW, MC__RAW(a), MC__RAW(b))));
 }
 
 /* a / n rounded to nearest (ties away from zero); n == 0 saturates. */
 static inline mc_t mc_div_i(mc_t a, int32_t n)
 {
+    const int32_t ra = MC__RAW(a);
     if (n == 0) {
-        return (a >= 0) ? MC_MAX : -MC_MAX;
+        return MC__MK((ra >= 0) ? INT32_MAX : -INT32_MAX);
     }
     const uint32_t un = mc__uabs(n);
-    uint32_t q = (mc__uabs(a) + (un >> 1)) / un; /* <= 2^31 + 2^30: no wrap */
+    uint32_t q = (mc__uabs(ra) + (un >> 1)) / un; /* <= 2^31 + 2^30: no wrap */
     if (q > (uint32_t)INT32_MAX) {
         q = (uint32_t)INT32_MAX;
     }
-    return ((a < 0) != (n < 0)) ? -(int32_t)q : (int32_t)q;
+    return MC__MK(((ra < 0) != (n < 0)) ? -(int32_t)q : (int32_t)q);
 }
 
-static inline mc_t mc_from_i(int32_t n) { return mc__sat64((int64_t)n * MC_ONE_RAW); }
+static inline mc_t mc_from_i(int32_t n) { return MC__MK(mc__sat64((int64_t)n * MC_ONE_RAW)); }
 
 /* nearest integer, ties upward (x.5 -> x+1) */
-static inline int32_t mc_round_i(mc_t x) { return (x >> MC_FRAC_BITS) + ((x >> (MC_FRAC_BITS - 1)) & 1); }
+static inline int32_t mc_round_i(mc_t x)
+{
+    return (MC__RAW(x) >> MC_FRAC_BITS) + ((MC__RAW(x) >> (MC_FRAC_BITS - 1)) & 1);
+}
 
-static inline mc_t mc_sgn(mc_t x) { return (x > 0) ? MC_ONE : ((x < 0) ? -MC_ONE : 0); }
+static inline mc_t mc_sgn(mc_t x)
+{
+    return MC__MK((MC__RAW(x) > 0) ? MC_ONE_RAW : ((MC__RAW(x) < 0) ? -MC_ONE_RAW : 0));
+}
 /* m sgn(x) for m >= 0, exact (a select, no multiply) */
-static inline mc_t mc_mul_sgn(mc_t m, mc_t x) { return (x > 0) ? m : ((x < 0) ? -m : 0); }
+static inline mc_t mc_mul_sgn(mc_t m, mc_t x)
+{
+    return MC__MK((MC__RAW(x) > 0) ? MC__RAW(m) : ((MC__RAW(x) < 0) ? -MC__RAW(m) : 0));
+}
 
 static inline mc_t mc_sqrt(mc_t x)
 {
-    return (x > 0) ? (mc_t)mc__sqrt_q17((uint32_t)x) : 0;
+    return MC__MK((MC__RAW(x) > 0) ? (int32_t)mc__sqrt_q17((uint32_t)MC__RAW(x)) : 0);
 }
 
-static inline mc_t mc_rsqrt(mc_t x) { return (x > 0) ? (mc_t)mc__rsqrt_q17((uint32_t)x) : INT32_MAX; }
+static inline mc_t mc_rsqrt(mc_t x)
+{
+    return MC__MK((MC__RAW(x) > 0) ? (int32_t)mc__rsqrt_q17((uint32_t)MC__RAW(x)) : INT32_MAX);
+}
 
 static inline mc_t mc_sqrt_abs_sgn(mc_t x)
 {
-    if (x == 0) {
-        return 0;
+    const int32_t rx = MC__RAW(x);
+    if (rx == 0) {
+        return MC_ZERO;
     }
-    const mc_t r = (mc_t)mc__sqrt_q17_n((x == INT32_MIN) ? (uint32_t)INT32_MAX : mc__uabs(x), 1);
-    return (x < 0) ? -r : r;
+    const int32_t r = (int32_t)mc__sqrt_q17_n((rx == INT32_MIN) ? (uint32_t)INT32_MAX : mc__uabs(rx), 1);
+    return MC__MK((rx < 0) ? -r : r);
 }
 
 static inline mc_t mc_hypot(mc_t a, mc_t b)
 {
-    const uint64_t ua = mc__uabs(a);
-    const uint64_t ub = mc__uabs(b);
+    const uint64_t ua = mc__uabs(MC__RAW(a));
+    const uint64_t ub = mc__uabs(MC__RAW(b));
     const uint32_t r = mc__isqrt64(ua * ua + ub * ub); /* < 2^63 */
-    return (r > (uint32_t)INT32_MAX) ? INT32_MAX : (mc_t)r;
+    return MC__MK((r > (uint32_t)INT32_MAX) ? INT32_MAX : (int32_t)r);
 }
 
 static inline void mc_sincos(mc_t x, mc_t *s, mc_t *c)
 {
     int32_t s30;
     int32_t c30;
-    mc__sincos_bam_q30(mc__bam_of_q17_64(x), &s30, &c30);
-    *s = mc__q30_to_q17(s30);
-    *c = mc__q30_to_q17(c30);
+    mc__sincos_bam_q30(mc__bam_of_q17_64(MC__RAW(x)), &s30, &c30);
+    *s = MC__MK(mc__q30_to_q17(s30));
+    *c = MC__MK(mc__q30_to_q17(c30));
 }
 
 /* atan2 in (-pi, pi] (0 for (0, 0)), any int32 scale of (y, x). */
 static inline mc_t mc_atan2(mc_t y, mc_t x)
 {
-    const uint32_t ax = mc__uabs(x);
-    const uint32_t ay = mc__uabs(y);
+    const uint32_t ax = mc__uabs(MC__RAW(x));
+    const uint32_t ay = mc__uabs(MC__RAW(y));
     const uint32_t mx = (ax > ay) ? ax : ay;
     uint32_t mn = (ax > ay) ? ay : ax;
     if (mx == 0u) {
-        return 0;
+        return MC_ZERO;
     }
     const int sh = __builtin_clz(mx);
     const uint32_t R = mc__recip(mx << sh);
@@ -551,36 +612,36 @@ static inline mc_t mc_atan2(mc_t y, mc_t x)
     if (ay > ax) {
         a = 843314857 - a; /* pi/2 in Q29 */
     }
-    if (x < 0) {
+    if (MC__RAW(x) < 0) {
         a = 1686629713 - a; /* pi in Q29 */
     }
-    if (y < 0) {
+    if (MC__RAW(y) < 0) {
         a = -a;
     }
     int32_t r = (a + (1 << 11)) >> 12;
-    if (r < -(MC_PI - 1)) {
-        r = -(MC_PI - 1); /* keep (-pi, pi]: -411775 would be below -pi */
+    if (r < -(MC__PI_RAW - 1)) {
+        r = -(MC__PI_RAW - 1); /* keep (-pi, pi]: -411775 would be below -pi */
     }
-    return r;
+    return MC__MK(r);
 }
 
 /* x wrapped into [-MC_PI, MC_PI); exact (unchanged) when already there. */
 static inline mc_t mc_wrap_pi(mc_t x)
 {
-    if (x >= -MC_PI && x < MC_PI) {
+    if (MC__RAW(x) >= -MC__PI_RAW && MC__RAW(x) < MC__PI_RAW) {
         return x;
     }
-    return mc__rad_of_bam(mc__bam_of_q17_64(x));
+    return MC__MK(mc__rad_of_bam(mc__bam_of_q17_64(MC__RAW(x))));
 }
 
 /* wrap(n_p theta): exact 64-bit product, then the binary-angle wrap. */
 static inline mc_t mc_elec_angle(mc_t theta_mech_rad, int32_t n_p)
 {
-    const int64_t m = (int64_t)theta_mech_rad * n_p;
-    if (m >= -(int64_t)MC_PI && m < (int64_t)MC_PI) {
-        return (mc_t)m;
+    const int64_t m = (int64_t)MC__RAW(theta_mech_rad) * n_p;
+    if (m >= -(int64_t)MC__PI_RAW && m < (int64_t)MC__PI_RAW) {
+        return MC__MK(m);
     }
-    return mc__rad_of_bam(mc__bam_of_q17_64(m));
+    return MC__MK(mc__rad_of_bam(mc__bam_of_q17_64(m)));
 }
 
 #ifdef __cplusplus

@@ -33,6 +33,7 @@
 #define MC_NUM_FLOAT_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -87,6 +88,15 @@ static inline float mc__wrap_range(float r)
 }
 
 /* ---- API of mc_num.h ------------------------------------------------------ */
+
+/* comparisons: the same names as the fixed backend, where mc_t may be a
+ * struct (strict check build) that has no C comparison operators */
+static inline bool mc_lt(mc_t a, mc_t b) { return a < b; }
+static inline bool mc_le(mc_t a, mc_t b) { return a <= b; }
+static inline bool mc_gt(mc_t a, mc_t b) { return a > b; }
+static inline bool mc_ge(mc_t a, mc_t b) { return a >= b; }
+static inline bool mc_eq(mc_t a, mc_t b) { return a == b; }
+static inline bool mc_ne(mc_t a, mc_t b) { return a != b; }
 
 static inline mc_t mc_add(mc_t a, mc_t b) { return a + b; }
 static inline mc_t mc_sub(mc_t a, mc_t b) { return a - b; }

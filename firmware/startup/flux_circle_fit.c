@@ -43,7 +43,7 @@ bool flux_circle_fit_center(const flux_circle_fit_t *f, mc_ab_t *c)
     const mc_t ux = mc_sub(f->m2x, mc_mul(f->m2, f->mx));
     const mc_t uy = mc_sub(f->m2y, mc_mul(f->m2, f->my));
     const mc_t det = mc_cross2(cxx, cyy, cxy, cxy);
-    if (det < f->cfg.det_min) {
+    if (mc_lt(det, f->cfg.det_min)) {
         return false;
     }
     /* c = (1/2) Cov(q)^-1 u */
@@ -59,7 +59,7 @@ bool flux_circle_fit_center_origin(const flux_circle_fit_t *f, mc_ab_t *c)
         return false;
     }
     const mc_t det = mc_cross2(f->mxx, f->myy, f->mxy, f->mxy);
-    if (det < f->cfg.det_min) {
+    if (mc_lt(det, f->cfg.det_min)) {
         return false;
     }
     /* c = (1/2) M^-1 E(|p|^2 p) */

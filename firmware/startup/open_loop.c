@@ -4,7 +4,7 @@ mc_t open_loop_voltage(const open_loop_config_t *c, const motor_model_t *m, mc_t
 {
     /* sqrt((R^2 + (n_p w L)^2) I^2 + (K w)^2) as nested hypot: no squares
      * of large values, so it cannot overflow in fixed point */
-    if (omega_ref_rad_s == MC_ZERO) {
+    if (mc_eq(omega_ref_rad_s, MC_ZERO)) {
         return mc_min(mc_mul(m->R_ohm, c->i_max_A), c->v_max_V); /* at rest: R I_max */
     }
     const mc_t z = mc_hypot(m->R_ohm, mc_mul(m->npL_ohm_s, omega_ref_rad_s));

@@ -13,7 +13,7 @@ static bool pmsm_id_reject(pmsm_id_t *id, const char *why)
     return false;
 }
 
-static bool within_factor_two(mc_t x, mc_t ref) { return !(x < mc_div_i(ref, 2)) && !(x > mc_mul_i(ref, 2)); }
+static bool within_factor_two(mc_t x, mc_t ref) { return !mc_lt(x, mc_div_i(ref, 2)) && !mc_gt(x, mc_mul_i(ref, 2)); }
 
 bool pmsm_id_init(pmsm_id_t *id, const pmsm_id_config_t *cfg)
 {
@@ -31,12 +31,12 @@ bool pmsm_id_init(pmsm_id_t *id, const pmsm_id_config_t *cfg)
     id->why = "";
     (void)pmsm_id_reject(id, ""); /* results start at the model's values */
     id->phase = PMSM_ID_ALIGN_BETA;
-    const bool ok = cfg->model.fs_hz > 0 && cfg->model.n_p >= 1 && cfg->i_trip_A > MC_ZERO &&
-                    cfg->v_align_V > MC_ZERO && cfg->v_rl_V > MC_ZERO && cfg->i_spin_A > MC_ZERO &&
-                    cfg->omega_spin_e_rad_s > MC_ZERO && cfg->theta_step_rad > MC_ZERO && cfg->omega_step_e_rad_s > MC_ZERO &&
+    const bool ok = cfg->model.fs_hz > 0 && cfg->model.n_p >= 1 && mc_gt(cfg->i_trip_A, MC_ZERO) &&
+                    mc_gt(cfg->v_align_V, MC_ZERO) && mc_gt(cfg->v_rl_V, MC_ZERO) && mc_gt(cfg->i_spin_A, MC_ZERO) &&
+                    mc_gt(cfg->omega_spin_e_rad_s, MC_ZERO) && mc_gt(cfg->theta_step_rad, MC_ZERO) && mc_gt(cfg->omega_step_e_rad_s, MC_ZERO) &&
                     cfg->align_beta_ticks >= 0 && cfg->align_alpha_ticks > 0 && cfg->rest_ticks >= 0 &&
                     cfg->meas_ticks > 0 && cfg->hold_ticks >= cfg->meas_ticks && id->rl.state == RL_ID_RUNNING &&
-                    cfg->Phi_model_Wb > MC_ZERO;
+                    mc_gt(cfg->Phi_model_Wb, MC_ZERO);
     return ok ? true : pmsm_id_reject(id, "configuration");
 }
 
@@ -55,7 +55,7 @@ static bool pmsm_id_spin(pmsm_id_t *id, mc_ab_t i_ab, mc_ab_t *v)
 {
     const pmsm_id_config_t *c = &id->cfg;
     if (!id->ramping_down) {
-        if (id->omega_e_rad_s < c->omega_spin_e_rad_s) {
+        if (mc_lt(id->omega_e_rad_s, c->omega_spin_e_rad_s)) {
             id->omega_e_rad_s = mc_min(mc_add(id->omega_e_rad_s, c->omega_step_e_rad_s), c->omega_spin_e_rad_s);
             id->k = 0;
         } else {
@@ -77,7 +77,7 @@ static bool pmsm_id_spin(pmsm_id_t *id, mc_ab_t i_ab, mc_ab_t *v)
         }
     } else {
         id->omega_e_rad_s = mc_max(mc_sub(id->omega_e_rad_s, c->omega_step_e_rad_s), MC_ZERO);
-        if (!(id->omega_e_rad_s > MC_ZERO)) {
+        if (!mc_gt(id->omega_e_rad_s, MC_ZERO)) {
             v->alpha = v->beta = MC_ZERO;
             return true;
         }
@@ -86,10 +86,10 @@ static bool pmsm_id_spin(pmsm_id_t *id, mc_ab_t i_ab, mc_ab_t *v)
      * step itself, whose speed theta_step fs is what Phi is divided by
      * (w_e/fs rounds by up to half an LSB of 7.6e-6 rad in Q14.17: 0.24 %
      * of the step at 50 rpm, n_p = 3, 10 kHz, which would bias Phi as much) */
-    const bool held = !id->ramping_down && !(id->omega_e_rad_s < c->omega_spin_e_rad_s);
+    const bool held = !id->ramping_down && !mc_lt(id->omega_e_rad_s, c->omega_spin_e_rad_s);
     const mc_t step = held ? c->theta_step_rad : mc_div_i(id->omega_e_rad_s, c->model.fs_hz);
     id->theta_e_rad = mc_add(id->theta_e_rad, step);
-    if (id->theta_e_rad > MC_PI) {
+    if (mc_gt(id->theta_e_rad, MC_PI)) {
         id->theta_e_rad = mc_sub(id->theta_e_rad, MC_TWO_PI);
     }
     open_loop_config_t ol;
@@ -110,7 +110,7 @@ bool pmsm_id_step(pmsm_id_t *id, mc_ab_t i_ab_A, const mc_t *i_phase_A, uint32_t
         return false;
     }
     for (uint32_t j = 0; j < n; ++j) {
-        if (mc_abs(i_phase_A[j]) > c->i_trip_A) {
+        if (mc_gt(mc_abs(i_phase_A[j]), c->i_trip_A)) {
             return pmsm_id_reject(id, "over-current");
         }
     }
@@ -159,7 +159,7 @@ bool pmsm_id_step(pmsm_id_t *id, mc_ab_t i_ab_A, const mc_t *i_phase_A, uint32_t
     }
     /* limited by the bus, direction kept */
     const mc_t mag = mc_hypot(v_ab_V->alpha, v_ab_V->beta);
-    if (mag > v_max_V) {
+    if (mc_gt(mag, v_max_V)) {
         const mc_t k = mc_div(v_max_V, mag);
         v_ab_V->alpha = mc_mul(v_ab_V->alpha, k);
         v_ab_V->beta = mc_mul(v_ab_V->beta, k);

@@ -23,7 +23,7 @@ void rl_id_init(rl_id_t *id, const rl_id_config_t *cfg)
 
 static bool within_factor_two(mc_t x, mc_t ref)
 {
-    return !(x < mc_div_i(ref, 2)) && !(x > mc_mul_i(ref, 2));
+    return !mc_lt(x, mc_div_i(ref, 2)) && !mc_gt(x, mc_mul_i(ref, 2));
 }
 
 bool rl_id_step(rl_id_t *id, mc_t i_f_A, mc_t v_f_V, mc_t omega_ref_rad_s)
@@ -32,7 +32,7 @@ bool rl_id_step(rl_id_t *id, mc_t i_f_A, mc_t v_f_V, mc_t omega_ref_rad_s)
         return false;
     }
     const rl_id_config_t *c = &id->cfg;
-    if (mc_abs(omega_ref_rad_s) > c->omega_still_rad_s) {
+    if (mc_gt(mc_abs(omega_ref_rad_s), c->omega_still_rad_s)) {
         id->state = RL_ID_REJECTED;
         return true;
     }
@@ -54,7 +54,7 @@ bool rl_id_step(rl_id_t *id, mc_t i_f_A, mc_t v_f_V, mc_t omega_ref_rad_s)
      * L (i_N - i_0) = Ts * sum(v - R i) - Ts R (i_N - i_0)/2 (trapezoid), so
      * L/Ts = N (mean v - R mean i) / (i_N - i_0) - R/2 */
     const mc_t di = mc_sub(id->ss_i_A, id->i0_A);
-    if (!(mc_abs(id->ss_i_A) > MC_ZERO) || !(mc_abs(di) > MC_ZERO)) {
+    if (!mc_gt(mc_abs(id->ss_i_A), MC_ZERO) || !mc_gt(mc_abs(di), MC_ZERO)) {
         id->state = RL_ID_REJECTED;
         return true;
     }

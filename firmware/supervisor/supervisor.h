@@ -101,7 +101,7 @@ static inline bool supervisor_overcurrent(const hal_sample_t *in, uint8_t n_phas
 {
     const mc_t trip_neg = mc_neg(i_trip_A);
     for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
-        if (in->i_A[k] > i_trip_A || in->i_A[k] < trip_neg) {
+        if (mc_gt(in->i_A[k], i_trip_A) || mc_lt(in->i_A[k], trip_neg)) {
             return true;
         }
     }
@@ -120,7 +120,7 @@ static inline void supervisor_blend(supervisor_t *s, bool switched, mc_t *v1_V, 
         s->blend_V[0] = mc_add(s->blend_V[0], mc_sub(s->v_prev_V[0], *v1_V));
         s->blend_V[1] = mc_add(s->blend_V[1], mc_sub(s->v_prev_V[1], *v2_V));
     }
-    if (s->blend_V[0] != MC_ZERO || s->blend_V[1] != MC_ZERO) {
+    if (mc_ne(s->blend_V[0], MC_ZERO) || mc_ne(s->blend_V[1], MC_ZERO)) {
         *v1_V = mc_add(*v1_V, s->blend_V[0]);
         *v2_V = mc_add(*v2_V, s->blend_V[1]);
         s->blend_V[0] = mc_decay(s->blend_V[0], s->cfg.blend_decay);
@@ -135,7 +135,7 @@ static inline void supervisor_blend(supervisor_t *s, bool switched, mc_t *v1_V, 
 static inline bool supervisor_limit(supervisor_t *s, uint8_t n_phases, mc_t v_max_V, mc_ab_t *v_ab, mc_t *v1_V, mc_t *v2_V)
 {
     const mc_t v_peak = phase_adapter_peak(n_phases, *v_ab);
-    const bool sat = v_peak > v_max_V;
+    const bool sat = mc_gt(v_peak, v_max_V);
     if (sat) {
         const mc_t scale = mc_div(v_max_V, v_peak);
         v_ab->alpha = mc_mul(v_ab->alpha, scale);

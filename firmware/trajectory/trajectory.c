@@ -36,14 +36,14 @@ bool trajectory_init(trajectory_t *t, const trajectory_config_t *cfg)
         }
         t->theta_from_rad[i] = from;
         const mc_t delta = mc_sub(s->theta_to_rad, from);
-        if (s->v_scale == MC_ZERO && s->a_scale == MC_ZERO && s->j_scale == MC_ZERO) {
+        if (mc_eq(s->v_scale, MC_ZERO) && mc_eq(s->a_scale, MC_ZERO) && mc_eq(s->j_scale, MC_ZERO)) {
             /* (theta_f - theta_i)/T^n; T = duration_ticks / fs_hz */
             const mc_t T_s = mc_ratio_i((int32_t)s->duration_ticks, cfg->fs_hz);
             s->v_scale = mc_div(delta, T_s);
             s->a_scale = mc_div(s->v_scale, T_s);
             s->j_scale = mc_div(s->a_scale, T_s);
         }
-        if (s->c0 == MC_ZERO && s->c1 == MC_ZERO && s->c2 == MC_ZERO && s->c3 == MC_ZERO) {
+        if (mc_eq(s->c0, MC_ZERO) && mc_eq(s->c1, MC_ZERO) && mc_eq(s->c2, MC_ZERO) && mc_eq(s->c3, MC_ZERO)) {
             s->c0 = mc_mul(delta, MC_C(2.1875));
             s->c1 = mc_mul(delta, MC_C(8.75));
             s->c2 = mc_mul_i(delta, 21);

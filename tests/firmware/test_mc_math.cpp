@@ -63,6 +63,23 @@ double ang_diff(long double a, long double b)
 
 [[maybe_unused]] double D(mc_t x) { return mc_to_double(x); }
 
+// mc_lt ... mc_ne (the firmware's only comparisons on mc_t) agree with the
+// C operators on every pair of a few values around 0 and at the ends
+[[maybe_unused]] void expect_comparisons_match_operators()
+{
+    const mc_t v[] = {mc_neg(MC_MAX), MC_C(-2.0), MC_C(-1e-4), MC_ZERO, MC_C(1e-4), MC_ONE, MC_PI, MC_MAX};
+    for (mc_t a : v) {
+        for (mc_t b : v) {
+            EXPECT_EQ(mc_lt(a, b), a < b);
+            EXPECT_EQ(mc_le(a, b), a <= b);
+            EXPECT_EQ(mc_gt(a, b), a > b);
+            EXPECT_EQ(mc_ge(a, b), a >= b);
+            EXPECT_EQ(mc_eq(a, b), a == b);
+            EXPECT_EQ(mc_ne(a, b), a != b);
+        }
+    }
+}
+
 #if MC_FIXED
 // ----------------------------------------------------------------------------
 // fixed point: inputs are every int32 raw value (strided), dense near 0, random
@@ -93,6 +110,15 @@ TEST(McMathFixed, FormatConstants)
     EXPECT_EQ(mc_from_double(-1e9), -INT32_MAX);
     EXPECT_EQ(mc_from_double(NAN), 0);
     EXPECT_EQ(mc_to_double(MC_C(-2.5)), -2.5);
+}
+
+TEST(McMathFixed, ComparisonsAndRawAccess)
+{
+    expect_comparisons_match_operators();
+    EXPECT_EQ(mc_raw(MC_C(-1.0)), -131072);
+    EXPECT_EQ(mc_raw(MC_PI), 411775);
+    EXPECT_EQ(mc_from_raw(1), MC_C(7.62939453125e-06));
+    EXPECT_EQ(mc_from_raw(INT32_MIN), INT32_MIN);
 }
 
 TEST(McMathFixed, SaturatingAddSubNegAbs)
@@ -414,6 +440,14 @@ TEST(McMathFloat, Basics)
         const float x = rand_float(rng, -20, 21);
         ASSERT_EQ(mc_round_i(x), (int32_t)std::lrint(x)) << x;
     }
+}
+
+TEST(McMathFloat, Comparisons)
+{
+    expect_comparisons_match_operators();
+    EXPECT_FALSE(mc_lt(NAN, 0.0f));  // as the operators: NaN is unordered
+    EXPECT_FALSE(mc_ge(NAN, 0.0f));
+    EXPECT_TRUE(mc_ne(NAN, NAN));
 }
 
 TEST(McMathFloat, Dot2IsMulAdd)

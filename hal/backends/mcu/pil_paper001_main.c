@@ -257,7 +257,7 @@ int main(void)
              * closed-loop period) */
             mc_t v_d = ida_args.v_d;
             mc_t v_q = ida_args.v_q;
-            if (blend_d != MC_ZERO || blend_q != MC_ZERO) {
+            if (mc_ne(blend_d, MC_ZERO) || mc_ne(blend_q, MC_ZERO)) {
                 v_d = mc_add(v_d, blend_d);
                 v_q = mc_add(v_q, blend_q);
             }
