@@ -102,6 +102,51 @@
 #define ALIGN_OFF_TAUS 7.0
 #define ALIGN_PHI_TURN_RAD 1.5707963267948966 /* pi/2: the unstable point (pi) is then pulled sideways */
 
+/* Fault criteria (docs/faults.md), each threshold named and justified:
+ * I^2 t: the drive limits its references to i_max, so i_max is the
+ * continuous current; a current just below the instantaneous trip
+ * (i_trip) may last FAULT_I2T_OVERLOAD_S: the limit is (i_trip^2 -
+ * i_max^2) x 1 s, so 1.2 i_max trips after (1.5^2 - 1)/(1.2^2 - 1) = 2.8 s. */
+#define FAULT_I2T_OVERLOAD_S 1.0
+/* The voltage limit may be active for 100 ms in a row: the paper-000 moves
+ * touch it for a few ms at the peak speed (docs/faults.md gives the
+ * measured longest run); a motor that needs more than the supply for a
+ * tenth of a second cannot follow its reference. */
+#define FAULT_SAT_MAX_S 0.1
+/* A stuck current sample: bit-identical for 5 ms while the voltage across
+ * the phase spanned 2 V. Over one sample alone 2 V moves the current by
+ * 2 V Ts / L = 22 mA on the rig, 70 ADC codes of the DS1104's 16 bits. */
+#define FAULT_STUCK_S 5e-3
+#define FAULT_STUCK_DV_V 2.0
+/* Two consecutive samples at the ADC rail: one can be a spike. */
+#define FAULT_RAIL_TICKS 2
+/* Overruns: each adds 1000 to a level that leaks 1 per sample; 3000 trips,
+ * i.e. three overruns within about 0.1 s, or a steady one in ten samples. */
+#define FAULT_OVERRUN_WEIGHT 1000
+#define FAULT_OVERRUN_LIMIT 3000
+/* Loss of synchronism (paper000_drive.h): half a tooth pitch of tracking
+ * error is where the torque K I sin(n_p dtheta) has turned against the
+ * motion (a pole slip); the back-EMF magnitude may differ from K |w_est| by
+ * half of it plus the observability floor (the same floor
+ * EMF_OBSERVABLE_OVER_EMF_AT_LIMIT sets); the estimate may not jump a
+ * quarter of a pitch against the reference in one sample (nominal steps
+ * are below 2e-3 rad); the current observer's error may not exceed 0.5 A,
+ * ten times its worst value with the bench's noise (0.046 A); each
+ * persisting for 5 ms (50 samples, longer than a noise spike, shorter than
+ * the 17.6 ms swing period). */
+#define LOS_EMF_TOL 0.5
+#define LOS_JUMP_OVER_PITCH 0.25
+#define LOS_OBS_ERR_A 0.5
+#define LOS_PERSIST_S 5e-3
+/* RELOCK: 50 ms of open loop (three swing periods) before the loop may
+ * close again, at most 3 times before the safe state. */
+#define RELOCK_HOLD_S 0.05
+#define RELOCK_MAX 3
+/* A re-lock counts as done after 50 ms of closed loop with no new loss:
+ * longer than the 5 ms persistence of every criterion and the 20 ms
+ * sliding time constant (SURFACE_POLE_PER_S). */
+#define RELOCK_CONFIRM_S 0.05
+
 void drive_design_defaults(drive_design_input_t *in)
 {
     memset(in, 0, sizeof(*in));
@@ -311,6 +356,33 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         return fail(err, err_len, "limits.i_open_loop_A", "must be <= i_max_A", in->i_open_loop_A);
     cfg->open_loop.i_max_A = mc_from_double(in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A);
     cfg->open_loop.v_max_V = cfg->limits.v_max_V;
+    /* faults: generic criteria (supervisor/fault_monitor.h) */
+    fault_monitor_config_t *fc = &cfg->faults;
+    fc->i_trip_A = cfg->limits.i_trip_A;
+    fc->i2t_cont_A2 = mc_from_double(in->i_max_A * in->i_max_A);
+    fc->i2t_gain = mc_from_double(FAULT_I2T_DECIMATION * Ts / FAULT_I2T_OVERLOAD_S);
+    fc->i2t_limit_A2 = mc_from_double(in->i_trip_A * in->i_trip_A - in->i_max_A * in->i_max_A);
+    fc->sat_max_ticks = ticks_of(FAULT_SAT_MAX_S, fs);
+    fc->stuck_ticks = ticks_of(FAULT_STUCK_S, fs);
+    fc->stuck_dv_V = mc_from_double(FAULT_STUCK_DV_V);
+    fc->i_rail_A = mc_from_double(in->i_rail_A > 0.0 ? in->i_rail_A : 0.0);
+    fc->rail_ticks = FAULT_RAIL_TICKS;
+    fc->overrun_weight = FAULT_OVERRUN_WEIGHT;
+    fc->overrun_limit = FAULT_OVERRUN_LIMIT;
+    drive_protection_config_t *pc = &cfg->prot;
+    for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
+        pc->reaction[f] = (uint8_t)FAULT_REACT_SAFE;
+    }
+    pc->reaction[DRIVE_FAULT_LOSS_OF_SYNC] = (uint8_t)FAULT_REACT_RELOCK;
+    pc->relock_max = RELOCK_MAX;
+    pc->relock_hold_ticks = ticks_of(RELOCK_HOLD_S, fs);
+    pc->relock_confirm_ticks = ticks_of(RELOCK_CONFIRM_S, fs);
+    pc->los_track_rad = mc_from_double(3.14159265358979323846 / np);
+    pc->los_emf_tol = mc_from_double(LOS_EMF_TOL);
+    pc->los_emf_floor_V = mc_from_double(EMF_OBSERVABLE_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s);
+    pc->los_jump_rad = mc_from_double(LOS_JUMP_OVER_PITCH * 2.0 * 3.14159265358979323846 / np);
+    pc->los_obs_err_A = mc_from_double(LOS_OBS_ERR_A);
+    pc->los_ticks = ticks_of(LOS_PERSIST_S, fs);
     if (in->align_rotor) {
         const double i_ol = in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A;
         const double T_m = 2.0 * 3.14159265358979323846 * sqrt(J / (np * K * i_ol));

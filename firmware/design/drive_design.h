@@ -68,6 +68,9 @@ typedef struct {
     /* 1 (default): align the rotor before the start (startup/align.h), so
      * the drive starts from any rotor angle; 0: assume it rests at 0. */
     int align_rotor;
+    /* current at which a sample is at the ADC's rail [A]; 0: unknown (the
+     * rail check is off). The board's, or the scenario's ADC full scale. */
+    double i_rail_A;
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;

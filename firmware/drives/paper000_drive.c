@@ -38,6 +38,94 @@ static void drive_zero_output(drive_t *d, hal_command_t *out)
     d->last.v_b_V = MC_ZERO;
 }
 
+/* A fault was detected this sample: record it, then react as configured
+ * (drive_protection_config_t). Returns true when the drive is now in FAULT
+ * (the caller outputs 0 V), false when it goes on (RELOCK, REPORT). */
+static bool drive_react(drive_t *d, drive_fault_t f)
+{
+    flight_recorder_fault(&d->rec, f, d->tick);
+    const drive_protection_config_t *p = &d->cfg.prot;
+    const uint8_t react = p->reaction[(uint32_t)f < DRIVE_FAULT_COUNT ? (uint32_t)f : 0u];
+    if (react == (uint8_t)FAULT_REACT_REPORT) {
+        return false;
+    }
+    if (react == (uint8_t)FAULT_REACT_RELOCK && d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN) {
+        /* open loop from this sample on (the switch below is bumpless),
+         * closed again after the hold if the estimate is trusted then */
+        d->relocks += 1;
+        d->relock_hold = p->relock_hold_ticks;
+        d->recovering = p->relock_hold_ticks + p->relock_confirm_ticks;
+        d->branch_kept = d->sup.state == SUP_STATE_CLOSED_LOOP;
+        return false;
+    }
+    supervisor_fault(&d->sup, f);
+    return true;
+}
+
+/* A fault that no reaction but the safe state can answer. */
+static bool drive_react_final(drive_t *d, drive_fault_t f)
+{
+    flight_recorder_fault(&d->rec, f, d->tick);
+    supervisor_fault(&d->sup, f);
+    return true;
+}
+
+/* The end of every sample that outputs a voltage: to the phases, the
+ * command's checks, the flight recorder. Returns false if the command's
+ * checks put the drive in FAULT (out is then 0 V). */
+static bool drive_output(drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
+{
+    phase_adapter_voltages((uint8_t)DRIVE_N_PHASES, v_ab, out);
+    d->last.i_f_A = i_f;
+    d->last.i_g_A = i_g;
+    d->last.v_a_V = v_ab.alpha;
+    d->last.v_b_V = v_ab.beta;
+    flight_record_t r;
+    r.tick = d->tick;
+    r.state = (uint8_t)d->sup.state;
+    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
+        r.i_A[k] = in->i_A[k];
+        r.v_V[k] = out->v_V[k];
+    }
+    r.ref = d->ref.theta_rad;
+    r.est = d->est.pos.theta_est_rad;
+    r.speed = d->est.mech.omega_est_rad_s;
+    flight_recorder_push(&d->rec, &r);
+    drive_fault_t f = fault_monitor_command(&d->mon, out, d->sup.sat_prev);
+    if (f == DRIVE_FAULT_NONE &&
+        (!mc_is_finite(d->est.pos.theta_est_rad) || !mc_is_finite(d->est.mech.omega_est_rad_s))) {
+        f = DRIVE_FAULT_NON_FINITE;
+    }
+    d->tick += 1;
+    if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
+        drive_zero_output(d, out);
+        return false;
+    }
+    return true;
+}
+
+/* Loss of synchronism (drive_protection_config_t), in closed loop. */
+static bool drive_lost_sync(drive_t *d, bool observable, mc_t dtheta_r_rad)
+{
+    const drive_protection_config_t *p = &d->cfg.prot;
+    if (!observable) {
+        return true; /* the back-EMF vanished while the reference is fast */
+    }
+    const fg_estimator_t *e = &d->est;
+    const mc_t theta_est = e->pos.theta_est_rad;
+    if (mc_gt(mc_abs(mc_sub(theta_est, d->ref.theta_rad)), p->los_track_rad)) {
+        return true;
+    }
+    /* | |e| - K|w| | > tol K|w| + floor, on squares (no square root) */
+    const mc_t kw = mc_mul(d->model.K_V_s, mc_abs(e->mech.omega_est_rad_s));
+    const mc_t hi = mc_add(mc_mac(kw, kw, p->los_emf_tol), p->los_emf_floor_V);
+    const mc_t lo = mc_max(MC_ZERO, mc_sub(mc_sub(kw, mc_mul(kw, p->los_emf_tol)), p->los_emf_floor_V));
+    const bool emf_bad = mc_gt(e->pos.e2_V2, mc_mul(hi, hi)) || mc_lt(e->pos.e2_V2, mc_mul(lo, lo));
+    const bool jump =
+        mc_gt(mc_abs(mc_sub(mc_sub(theta_est, d->theta_est_prev_rad), dtheta_r_rad)), p->los_jump_rad);
+    return fault_persist_step(&d->los_persist, emf_bad || jump, p->los_ticks);
+}
+
 /* The trajectory's sample for drive sample n: the alignment's samples all
  * map to 0 (the reference holds at its start). */
 static uint32_t drive_traj_tick(const drive_t *d, uint32_t n)
@@ -73,6 +161,14 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     fg_tracking_init(&d->ctrl, &cfg->ctrl);
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
     rl_id_init(&d->rl_id, &cfg->rl_id);
+    fault_monitor_init(&d->mon, &cfg->faults);
+    flight_recorder_init(&d->rec);
+    d->relocks = 0;
+    d->relock_hold = 0;
+    d->recovering = 0;
+    d->branch_kept = false;
+    d->los_persist.run = 0;
+    d->theta_est_prev_rad = MC_ZERO;
     align_init(&d->align, &cfg->align);
     const int32_t n_align = align_total_ticks(&cfg->align);
     d->align_ticks = n_align > 0 ? (uint32_t)n_align : 0u;
@@ -107,10 +203,12 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         drive_zero_output(d, out);
         return false;
     }
-    if (supervisor_overcurrent(in, (uint8_t)DRIVE_N_PHASES, c->limits.i_trip_A)) {
-        supervisor_fault(&d->sup, DRIVE_FAULT_OVERCURRENT);
-        drive_zero_output(d, out);
-        return false;
+    {
+        const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)DRIVE_N_PHASES);
+        if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
+            drive_zero_output(d, out);
+            return false;
+        }
     }
     mc_t i_zero_A;
     const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
@@ -146,13 +244,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
             mc_ab_t v_ab;
             mc_rot_inv(rot_k, v_f, v_g, &v_ab.alpha, &v_ab.beta);
             (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
-            phase_adapter_voltages((uint8_t)DRIVE_N_PHASES, v_ab, out);
-            d->last.i_f_A = i_f;
-            d->last.i_g_A = i_g;
-            d->last.v_a_V = v_ab.alpha;
-            d->last.v_b_V = v_ab.beta;
-            d->tick += 1;
-            return true;
+            return drive_output(d, in, v_ab, i_f, i_g, out);
         }
         /* aligned, current decayed: the start begins from rest as without
          * an alignment, with the estimator in its initial state */
@@ -163,17 +255,61 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     /* 2. estimator correction */
     fg_estimator_correct(&d->est, i_f, i_g);
 
-    /* 3. supervisor event */
-    const bool want_closed =
-        !mc_lt(mc_abs(d->ref.omega_rad_s), c->limits.omega_lim_rad_s) && fg_estimator_observable(&d->est);
-    if (want_closed) {
+    /* 3. supervisor event: closed loop when the reference is fast, the
+     * back-EMF observable and no loss of synchronism is being recovered
+     * from; a loss detected in closed loop is a fault (drive_lost_sync) */
+    const bool fast = !mc_lt(mc_abs(d->ref.omega_rad_s), c->limits.omega_lim_rad_s);
+    const bool observable = fg_estimator_observable(&d->est);
+    if (fast && observable) {
         fg_estimator_track(&d->est, d->ref.theta_rad, d->ref.omega_rad_s);
+    }
+    {
+        const drive_protection_config_t *p = &c->prot;
+        const bool obs_bad = fault_persist_step(
+            &d->obs_persist,
+            mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)), p->los_obs_err_A), p->los_ticks);
+        const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast &&
+                          drive_lost_sync(d, observable, mc_div_i(dphi, d->model.n_p));
+        if ((lost || obs_bad) && drive_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
+            drive_zero_output(d, out);
+            return false;
+        }
+        if (lost || obs_bad) {
+            d->los_persist.run = 0;
+            d->obs_persist.run = 0;
+        }
+        d->theta_est_prev_rad = d->est.pos.theta_est_rad;
+    }
+    if (d->relock_hold > 0) {
+        /* while recovering, (29) and (71) went on counting the rotor's
+         * turns as long as the back-EMF stayed observable: the branch is
+         * then kept at the re-lock (the rotor need not be on the
+         * reference, and slipped pitches are made good), else it is
+         * chosen again next to the reference */
+        d->relock_hold -= 1;
+        d->branch_kept = d->branch_kept && fast && observable;
+    }
+    const bool want_closed = fast && observable && d->relock_hold == 0;
+    /* a recovery ends when the loop has stayed closed for
+     * relock_confirm_ticks after the hold; if the reference slows below
+     * omega_lim first, the rotor's position can no longer be checked: the
+     * loss stands, and the drive goes to the safe state */
+    if (d->recovering > 0) {
+        if (!fast) {
+            (void)drive_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
+            drive_zero_output(d, out);
+            return false;
+        }
+        d->recovering -= (d->relock_hold == 0 && d->sup.state == SUP_STATE_CLOSED_LOOP) ? 1 : 0;
     }
     bool switched = false;
     if (want_closed != (d->sup.state == SUP_STATE_CLOSED_LOOP)) {
         switched = supervisor_dispatch(&d->sup, want_closed ? SUP_EV_ESTIMATE_TRUSTED : SUP_EV_ESTIMATE_LOST);
         if (switched && want_closed) {
-            fg_estimator_lock_branch(&d->est, d->ref.theta_rad);
+            if (!d->branch_kept) {
+                fg_estimator_lock_branch(&d->est, d->ref.theta_rad);
+            }
+            d->branch_kept = false;
         }
     }
     const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
@@ -222,13 +358,13 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
     }
 
-    phase_adapter_voltages((uint8_t)DRIVE_N_PHASES, v_ab, out);
-    d->last.i_f_A = i_f;
-    d->last.i_g_A = i_g;
-    d->last.v_a_V = v_ab.alpha;
-    d->last.v_b_V = v_ab.beta;
-    d->tick += 1;
-    return true;
+    return drive_output(d, in, v_ab, i_f, i_g, out);
+}
+
+bool drive_clear_fault(drive_t *d)
+{
+    /* an exact self-copy (d->cfg = *cfg with cfg == &d->cfg) is allowed (C11 6.5.16.1) */
+    return drive_init(d, &d->cfg);
 }
 
 void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
@@ -274,6 +410,9 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     t->v_b_V = d->last.v_b_V;
     t->v_saturated = !fault && d->sup.sat_prev;
     t->rl_id_state = d->rl_id.state;
+    t->fault_events = d->rec.events;
+    t->relocks = d->relocks;
+    t->overruns = d->mon.overruns;
     t->R_model_ohm = d->model.R_ohm;
     t->L_model_H = d->model.L_H;
 }

@@ -35,6 +35,8 @@
 #include "startup/align.h"
 #include "startup/open_loop.h"
 #include "startup/rl_identification.h"
+#include "supervisor/fault_monitor.h"
+#include "supervisor/flight_recorder.h"
 #include "supervisor/supervisor.h"
 #include "trajectory/trajectory.h"
 
@@ -45,6 +47,34 @@ extern "C" {
 /* A two-phase stepper: windings a and b in quadrature. */
 #define DRIVE_N_PHASES 2u
 
+/* Loss of synchronism and the reactions to faults (docs/faults.md). The
+ * criteria, checked in closed loop (the estimate is only used there):
+ *   tracking: |theta_est - theta_r| > los_track_rad (at once);
+ *   persisting for los_ticks samples, any of:
+ *     back-EMF magnitude inconsistent with the estimated speed,
+ *       | |e_hat| - K |w_est| | > los_emf_tol K |w_est| + los_emf_floor_V;
+ *     estimate jump: |d theta_est - d theta_r| over one sample > los_jump_rad;
+ *     current observer error max(|i_f - i_f_hat|, |i_g - i_g_hat|) > los_obs_err_A
+ *       (also in open loop after the alignment: an open phase shows here);
+ *   the back-EMF unobservable while the reference is above omega_lim (the
+ *   switch to open loop that was silent before).
+ * RELOCK: open loop for relock_hold_ticks, then closed again; confirmed
+ * after relock_confirm_ticks of closed loop; if the reference slows below
+ * omega_lim before that, the loss stands (safe state).
+ * Derived in design/drive_design.c. */
+typedef struct {
+    uint8_t reaction[DRIVE_FAULT_COUNT]; /* fault_reaction_t per fault code */
+    int32_t relock_max;                  /* RELOCK retries before SAFE */
+    int32_t relock_hold_ticks;           /* open loop after a loss before the loop may close again */
+    int32_t relock_confirm_ticks;        /* closed loop without a new loss that confirms a re-lock */
+    mc_t los_track_rad;
+    mc_t los_emf_tol;                    /* relative */
+    mc_t los_emf_floor_V;
+    mc_t los_jump_rad;
+    mc_t los_obs_err_A;
+    int32_t los_ticks;
+} drive_protection_config_t;
+
 /* Everything drive_init needs, in the firmware numeric type. Per-sample
  * coefficients already contain Ts (see firmware/design/drive_design.c).
  * Pointer-free, so it can be stored, copied and sent as bytes. */
@@ -54,6 +84,8 @@ typedef struct {
     fg_estimator_config_t est;
     fg_tracking_config_t ctrl;
     supervisor_config_t sup;
+    fault_monitor_config_t faults;
+    drive_protection_config_t prot;
     open_loop_config_t open_loop;
     align_config_t align;         /* rotor alignment before the start (disabled: none) */
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
@@ -84,12 +116,24 @@ typedef struct {
     rl_id_state_t rl_id_state;
     mc_t R_model_ohm, L_model_H;
     uint32_t fw_version;           /* MC_VERSION_U32: major << 16 | minor << 8 | patch */
+    uint32_t fault_events;         /* faults seen since init, recovered ones included */
+    int32_t relocks;               /* RELOCK reactions taken */
+    uint32_t overruns;             /* HAL-reported overruns */
 } drive_telemetry_t;
 
 typedef struct {
     drive_config_t cfg;          /* as designed; constant after drive_init */
     motor_model_t model;         /* in use: cfg.model, with R and L once measured */
     supervisor_t sup;
+    fault_monitor_t mon;
+    flight_recorder_t rec;
+    int32_t relocks;             /* RELOCK reactions taken */
+    int32_t relock_hold;         /* samples left before the loop may close again */
+    bool branch_kept;            /* the jump count stayed valid through the recovery */
+    int32_t recovering;          /* samples of closed loop still needed to confirm a re-lock */
+    fault_persist_t los_persist;
+    fault_persist_t obs_persist; /* current observer error */
+    mc_t theta_est_prev_rad;     /* for the jump criterion */
     fg_estimator_t est;
     fg_tracking_t ctrl;
     align_t align;
@@ -127,6 +171,15 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out);
  * power stage whose output is known better than the command. One-shot:
  * applies to the next drive_step only. */
 void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V);
+
+/* Clears a latched fault by command: the drive starts again from its
+ * initial state (alignment first). Returns what drive_init returns. The
+ * flight recorder's snapshot is discarded with it. */
+bool drive_clear_fault(drive_t *d);
+
+/* The flight recorder: the first fault's code, tick and the samples before
+ * it (flight_recorder_get). Valid until drive_clear_fault. */
+static inline const flight_recorder_t *drive_flight_recorder(const drive_t *d) { return &d->rec; }
 
 /* Telemetry of the last step, assembled from the state on request (the
  * step itself stores only what no block keeps). */

@@ -37,6 +37,7 @@
  *                                    mul + add; float: same as mul + add)
  *   mc_t mc_neg(mc_t a), mc_abs(a), mc_min(a,b), mc_max(a,b)
  *   mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi)
+ *   bool mc_is_finite(mc_t x)        false for NaN, +-inf (fixed point: always true)
  *   mc_t mc_mul_i(mc_t a, int32_t n), mc_div_i(mc_t a, int32_t n)
  *   mc_t mc_from_i(int32_t n), int32_t mc_round_i(mc_t x)
  *   mc_t mc_ratio_i(int32_t num, int32_t den)   num/den exactly rounded, 0 if den == 0

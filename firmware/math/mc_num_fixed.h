@@ -494,6 +494,8 @@ static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi)
 {
     return (MC__RAW(x) < MC__RAW(lo)) ? lo : ((MC__RAW(x) > MC__RAW(hi)) ? hi : x);
 }
+/* every fixed-point value is finite (saturating arithmetic, no NaN) */
+static inline bool mc_is_finite(mc_t x) { (void)x; return true; }
 static inline mc_t mc_mul_i(mc_t a, int32_t n) { return MC__MK(mc__sat64(mc__smul64(MC__RAW(a), n))); }
 
 /* a b + c d, a b - c d and acc + a b with ONE rounding and saturation of the

@@ -113,6 +113,8 @@ static inline mc_t mc_abs(mc_t a) { return fabsf(a); }
 static inline mc_t mc_min(mc_t a, mc_t b) { return (a < b) ? a : b; }
 static inline mc_t mc_max(mc_t a, mc_t b) { return (a > b) ? a : b; }
 static inline mc_t mc_clamp(mc_t x, mc_t lo, mc_t hi) { return (x < lo) ? lo : ((x > hi) ? hi : x); }
+/* false for NaN and +-inf (a bit test of the exponent, no libm call) */
+static inline bool mc_is_finite(mc_t x) { return isfinite(x) != 0; }
 static inline mc_t mc_mul_i(mc_t a, int32_t n) { return a * (float)n; }
 /* a b + c d, a b - c d, acc + a b: two roundings each (no fused multiply-add,
  * so bit-identical to mc_add(mc_mul(a, b), mc_mul(c, d)) etc.) */

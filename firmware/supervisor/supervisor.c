@@ -73,6 +73,15 @@ const char *drive_fault_name(drive_fault_t f)
     case DRIVE_FAULT_NONE: return "none";
     case DRIVE_FAULT_OVERCURRENT: return "over-current";
     case DRIVE_FAULT_BAD_INPUT: return "bad-input";
+    case DRIVE_FAULT_I2T: return "i2t";
+    case DRIVE_FAULT_VOLTAGE_SATURATION: return "voltage-saturation";
+    case DRIVE_FAULT_LOSS_OF_SYNC: return "loss-of-sync";
+    case DRIVE_FAULT_NON_FINITE: return "non-finite";
+    case DRIVE_FAULT_SENSOR_STUCK: return "sensor-stuck";
+    case DRIVE_FAULT_SENSOR_RAIL: return "sensor-rail";
+    case DRIVE_FAULT_ADC: return "adc";
+    case DRIVE_FAULT_HW_TRIP: return "hw-trip";
+    case DRIVE_FAULT_OVERRUN: return "overrun";
     default: return "unknown";
     }
 }

@@ -57,13 +57,33 @@ typedef enum {
     DRIVE_MODE_FAULT = 2
 } drive_mode_t;
 
-/* Why the drive is in FAULT (the first cause is kept). */
+/* Fault codes: why the drive is in FAULT, or what it recovered from (the
+ * first cause is kept). The criteria are in fault_monitor.h (generic) and
+ * in each drive's recipe (loss of synchronism); docs/faults.md lists each
+ * criterion, threshold, detection time and default reaction. The numbers
+ * are stable (telemetry, logs, CAN). */
 typedef enum {
     DRIVE_FAULT_NONE = 0,
-    DRIVE_FAULT_OVERCURRENT = 1, /* a measured phase current beyond i_trip_A */
-    DRIVE_FAULT_BAD_INPUT = 2,   /* inconsistent configuration or a sample of the wrong phase count */
-    DRIVE_FAULT_COUNT = 3        /* number of codes, NONE included */
+    DRIVE_FAULT_OVERCURRENT = 1,   /* a measured phase current beyond i_trip_A */
+    DRIVE_FAULT_BAD_INPUT = 2,     /* inconsistent configuration or a sample of the wrong phase count */
+    DRIVE_FAULT_I2T = 3,           /* the I^2 t integral beyond its limit (thermal overload) */
+    DRIVE_FAULT_VOLTAGE_SATURATION = 4, /* the voltage limit active for too long */
+    DRIVE_FAULT_LOSS_OF_SYNC = 5,  /* the estimate is inconsistent or the rotor lost the reference */
+    DRIVE_FAULT_NON_FINITE = 6,    /* NaN or inf in a sample, a state or a command (float build) */
+    DRIVE_FAULT_SENSOR_STUCK = 7,  /* a current sample that does not change while its voltage does */
+    DRIVE_FAULT_SENSOR_RAIL = 8,   /* a current sample at the ADC's full scale */
+    DRIVE_FAULT_ADC = 9,           /* the backend reported a converter error (HAL_STATUS_ADC_FAULT) */
+    DRIVE_FAULT_HW_TRIP = 10,      /* the power stage's own trip fired (HAL_STATUS_PWM_TRIP) */
+    DRIVE_FAULT_OVERRUN = 11,      /* control steps overran their period too often (HAL_STATUS_OVERRUN) */
+    DRIVE_FAULT_COUNT = 12         /* number of codes, NONE included */
 } drive_fault_t;
+
+/* What a fault does (per fault, in the drive's configuration). */
+typedef enum {
+    FAULT_REACT_SAFE = 0,   /* FAULT: 0 V (the bridge shorts the windings) until cleared */
+    FAULT_REACT_RELOCK = 1, /* fall back to open loop, close again after a hold; bounded retries, then SAFE */
+    FAULT_REACT_REPORT = 2  /* record it and go on (commissioning, tests) */
+} fault_reaction_t;
 
 /* One-word name of a fault code ("none", "over-current", "bad-input";
  * "unknown" outside the enum): the one place the names live, for logs,

@@ -110,6 +110,22 @@ void PmPlant::reset(const State& x0, double t0_s)
 
 void PmPlant::small_sincos(double x, double* s, double* c) { small_sincos_inline(x, s, c); }
 
+void PmPlant::set_locked(bool locked)
+{
+    locked_ = locked;
+    if (locked) {
+        x_[kOmega] = 0.0;
+    }
+}
+
+void PmPlant::set_open_winding(int k)
+{
+    open_winding_ = (k >= 0 && k < 2 && m_.n_phases() == 2) ? k : -1;
+    if (open_winding_ >= 0) {
+        x_[open_winding_] = 0.0;  // the winding's current is interrupted
+    }
+}
+
 double PmPlant::load_torque_Nm(double omega_rad_s, double t_s) const
 {
     return m_.coulomb_Nm * tanh_fast(omega_rad_s * inv_ws_) + load_.torque_Nm(t_s);
@@ -183,6 +199,7 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
     const double fv_J = m_.fv_Nms_per_rad * inv_J_;
     const bool has_load = !load_.empty();
     const bool has_coulomb = m_.coulomb_Nm != 0.0;
+    const bool faulted = locked_ || open_winding_ >= 0;
 
     auto f = [&](const State& x, double t) -> State {
         double sd;
@@ -201,12 +218,25 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
             salient_rates(x, s, c, v_a_V, v_b_V, &dx);
             dx[kOmega] -= fv_J * w + inv_J_ * T_ext;
             dx[kTheta] = w;
+            if (locked_) {
+                dx[kOmega] = 0.0;
+                dx[kTheta] = 0.0;
+            }
             return dx;
         }
         dx[kIa] = va_L - R_L * x[kIa] + K_over_L_ * w * s;
         dx[kIb] = vb_L - R_L * x[kIb] - K_over_L_ * w * c;
         dx[kOmega] = K_over_J_ * (x[kIb] * c - x[kIa] * s) - fv_J * w - inv_J_ * T_ext;
         dx[kTheta] = w;
+        if (faulted) {
+            if (locked_) {
+                dx[kOmega] = 0.0;
+                dx[kTheta] = 0.0;
+            }
+            if (open_winding_ >= 0) {
+                dx[open_winding_] = 0.0;
+            }
+        }
         return dx;
     };
 

@@ -101,6 +101,12 @@ public:
     double sin_elec() const { return sin_e_; }
     double cos_elec() const { return cos_e_; }
 
+    // Injected faults (model/fault_injection.h): the rotor held where it is
+    // (speed 0, angle frozen); a winding opened (stepper2: its current is 0
+    // and stays 0; -1 closes them all again).
+    void set_locked(bool locked);
+    void set_open_winding(int k);
+
     const MotorParams& motor() const { return m_; }
     int substeps() const { return substeps_; }
     void set_substeps(int n) { substeps_ = (n < 1) ? 1 : n; }
@@ -121,6 +127,8 @@ private:
     // Folded constants: 1/L, 1/J, K/L, k_m K/J, 1/w_s.
     double inv_L_, inv_J_, K_over_L_, K_over_J_, inv_ws_;
     bool salient_;
+    bool locked_ = false;
+    int open_winding_ = -1;
     // alpha-beta current rates and the electromagnetic part of dw/dt of a
     // salient motor at state x with sin/cos s, c of the electrical angle
     void salient_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const;

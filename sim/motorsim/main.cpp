@@ -279,6 +279,21 @@ int verdict(const mcsim::Scenario& sc, const mcsim::MetricList& metrics, const m
                          w.fault_i_meas_A(), sc.i_trip_A);
         }
         std::fprintf(stderr, "; the drive held 0 V from then on\n");
+        double first_t = -1.0, events = 0.0, relocks = 0.0, first = 0.0;
+        for (const auto& kv : metrics) {
+            const double x = std::holds_alternative<double>(kv.second) ? std::get<double>(kv.second)
+                                                                       : static_cast<double>(std::get<std::int64_t>(kv.second));
+            if (kv.first == "fault_first_t_s") first_t = x;
+            if (kv.first == "fault_events") events = x;
+            if (kv.first == "relocks") relocks = x;
+            if (kv.first == "fault_first") first = x;
+        }
+        if (events > 1.0 || relocks > 0.0) {
+            std::fprintf(stderr,
+                         "motorsim: the first fault was %s at t = %.4f s; %.0f fault events, %.0f re-locks before the "
+                         "safe state\n",
+                         drive_fault_name(static_cast<drive_fault_t>(static_cast<int>(first))), first_t, events, relocks);
+        }
         set(kExitFault);
     }
     for (const mcsim::Expectation& e : sc.expect) {
@@ -413,6 +428,10 @@ int run(const Options& opt)
     const mcsim::Amplifier& amp = rig.amp;
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
     (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
+    mcsim::FaultInjector injector(sc.faults, sc.seed);
+    if (sc.faults.any()) {
+        hal_sw_plant_set_faults(&injector);
+    }
 
     // The drive of the scenario: the speed drive of paper 001 ([speed]) or
     // the position drive of paper 000 ([trajectory]). Both are a few kB:

@@ -216,6 +216,14 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("max_abs_voltage_V", max_abs_voltage_);
     m.emplace_back("voltage_saturated_fraction", n_run > 0 ? static_cast<double>(n_vsat_) / n_run : 0.0);
     m.emplace_back("fault", fault_);
+    // the flight recorder's first fault (a recovered one included) and the
+    // count of faults and re-locks (firmware/supervisor/flight_recorder.h)
+    const flight_recorder_t* fr = drive_flight_recorder(&drive_);
+    m.emplace_back("fault_first", static_cast<std::int64_t>(fr->fault));
+    m.emplace_back("fault_first_t_s",
+                   fr->frozen ? sc_.t_start_s() + static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);
+    m.emplace_back("fault_events", static_cast<std::int64_t>(fr->events));
+    m.emplace_back("relocks", static_cast<std::int64_t>(drive_.relocks));
     m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
     m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));
     m.emplace_back("substeps", static_cast<std::int64_t>(plant_.substeps()));

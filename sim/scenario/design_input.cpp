@@ -1,5 +1,6 @@
 #include "scenario/design_input.h"
 
+#include <cmath>
 #include <cstring>
 
 namespace mcsim {
@@ -107,6 +108,12 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     }
     if (sc.align_rotor >= 0) {
         in->align_rotor = sc.align_rotor;
+    }
+    // The ADC's rail: its largest code is full scale minus one LSB; 1.5 LSB
+    // below full scale catches it without catching the code below.
+    if (sc.sensor.adc_bits > 0) {
+        const double lsb = 2.0 * sc.sensor.adc_full_scale_A / std::ldexp(1.0, sc.sensor.adc_bits);
+        in->i_rail_A = sc.sensor.adc_full_scale_A - 1.5 * lsb;
     }
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {

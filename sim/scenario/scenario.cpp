@@ -72,6 +72,7 @@ public:
     }
 
     bool has(const std::string& k) const { return t_.contains(k); }
+    const toml::table& raw() const { return t_; }
 
     std::vector<std::string> keys() const
     {
@@ -606,7 +607,7 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed", "expect"});
+               "trajectory", "gains", "bounds", "speed", "expect", "faults"});
     // [speed] makes it the speed drive (paper 001); else the position drive
     // of paper 000 with its [trajectory].
     sc.speed_drive = root.has("speed");
@@ -827,6 +828,97 @@ Scenario load_scenario(const std::string& path)
     }
 
     // [load] (optional: no external load)
+    // [faults] (optional): injected faults (model/fault_injection.h)
+    if (const auto v = root.table("faults")) {
+        v->only({"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples",
+                 "nan_sample_t_s", "supply_sag", "overruns"});
+        FaultInjection& f = sc.faults;
+        const int n_ph = sc.motor.n_phases();
+        auto time_of = [](const View& t, const char* k) {
+            const double x = t.number_req(k);
+            ge(t, k, x, 0.0);
+            return x;
+        };
+        auto phase_of = [&](const View& t) {
+            const std::string ph = t.string("phase").value_or("");
+            const int k = ph == "a" ? 0 : ph == "b" ? 1 : ph == "c" ? 2 : -1;
+            if (k < 0 || k >= n_ph) {
+                t.fail("phase", "must be one of the motor's phases " + std::string(n_ph == 3 ? "\"a\", \"b\", \"c\"" : "\"a\", \"b\"") +
+                                    " (got \"" + ph + "\")");
+            }
+            return k;
+        };
+        // an array of one number per phase
+        auto per_phase = [&](const View& t, const char* k, double* out) {
+            const toml::node* n = t.raw().get(k);
+            const toml::array* a = n != nullptr ? n->as_array() : nullptr;
+            if (a == nullptr || static_cast<int>(a->size()) != n_ph) {
+                t.fail(k, "expected an array of " + std::to_string(n_ph) + " numbers, one per phase");
+            }
+            for (int i = 0; i < n_ph; ++i) {
+                const toml::node& e = (*a)[static_cast<std::size_t>(i)];
+                if (!e.is_number()) t.fail(k, "expected numbers");
+                out[i] = e.is_floating_point() ? e.as_floating_point()->get() : static_cast<double>(e.as_integer()->get());
+                if (!std::isfinite(out[i])) t.fail(k, "must be finite");
+            }
+        };
+        if (v->has("locked_rotor_t_s")) {
+            f.locked_rotor_t_s = time_of(*v, "locked_rotor_t_s");
+        }
+        if (const auto t = v->table("open_phase")) {
+            t->only({"t_s", "phase"});
+            if (n_ph != 2) {
+                v->fail("open_phase", "only for two-phase motors (type = \"stepper2\"): an open phase of a star-connected motor is not modelled");
+            }
+            f.open_phase_t_s = time_of(*t, "t_s");
+            f.open_phase = phase_of(*t);
+        }
+        if (const auto t = v->table("sensor_offset")) {
+            t->only({"t_s", "offset_A"});
+            f.offset_t_s = time_of(*t, "t_s");
+            per_phase(*t, "offset_A", f.offset_A);
+        }
+        if (const auto t = v->table("sensor_gain")) {
+            t->only({"t_s", "gain"});
+            f.gain_t_s = time_of(*t, "t_s");
+            per_phase(*t, "gain", f.gain);
+        }
+        if (const auto t = v->table("noise_burst")) {
+            t->only({"t_s", "duration_s", "noise_A"});
+            f.burst_t_s = time_of(*t, "t_s");
+            f.burst_duration_s = t->number_req("duration_s");
+            gt(*t, "duration_s", f.burst_duration_s, 0.0);
+            f.burst_noise_A = t->number_req("noise_A");
+            gt(*t, "noise_A", f.burst_noise_A, 0.0);
+        }
+        if (const auto t = v->table("stuck_samples")) {
+            t->only({"t_s", "phase"});
+            f.stuck_t_s = time_of(*t, "t_s");
+            f.stuck_phase = phase_of(*t);
+        }
+        if (v->has("nan_sample_t_s")) {
+            f.nan_t_s = time_of(*v, "nan_sample_t_s");
+        }
+        if (const auto t = v->table("supply_sag")) {
+            t->only({"t_s", "duration_s", "v_max_V"});
+            f.sag_t_s = time_of(*t, "t_s");
+            f.sag_duration_s = t->number_req("duration_s");
+            gt(*t, "duration_s", f.sag_duration_s, 0.0);
+            f.sag_v_max_V = t->number_req("v_max_V");
+            ge(*t, "v_max_V", f.sag_v_max_V, 0.0);
+            le(*t, "v_max_V", f.sag_v_max_V, sc.v_max_V);
+        }
+        if (const auto t = v->table("overruns")) {
+            t->only({"t_s", "count"});
+            f.overrun_t_s = time_of(*t, "t_s");
+            const auto c = t->integer("count");
+            if (!c || *c < 1 || *c > 1000000) {
+                t->fail("count", "must be an integer in [1, 1000000]");
+            }
+            f.overrun_count = static_cast<int>(*c);
+        }
+    }
+
     if (const auto v = root.table("load")) {
         v->only({"steps"});
         if (const auto steps = v->tables("steps")) {

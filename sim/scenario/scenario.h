@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "model/current_sensor.h"
+#include "model/fault_injection.h"
 #include "model/load_profile.h"
 #include "model/motor_params.h"
 #include "model/reference.h"
@@ -125,6 +126,7 @@ struct Scenario {
 
     SensorParams sensor;
     std::vector<LoadStep> load;
+    FaultInjection faults;  // [faults]: none unless given
     std::vector<Segment> segments;
 
     // [gains] and [bounds]: (field name, value) in file order; names are

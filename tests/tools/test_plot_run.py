@@ -301,7 +301,7 @@ def test_fault_text():
     assert text.startswith("FAULT 1 OVERCURRENT at t = 0.2436 s")
     assert "i_trip_A" in text
     assert "FAULT 2 BAD_INPUT" in mod.fault_text(2, 0.0)
-    assert "FAULT 9" in mod.fault_text(9, 1.5) and "unknown" in mod.fault_text(9, 1.5)
+    assert "FAULT 99" in mod.fault_text(99, 1.5) and "unknown" in mod.fault_text(99, 1.5)
 
 
 def test_find_fault():

@@ -150,8 +150,8 @@ MUTANTS = [
       ("m->npL_ohm_s = mc_div_i(mc_mul_i(L_fs_ohm, m->n_p), m->fs_hz);", "(void)0;")),
     # ---- the paper-000 recipe (drives/paper000_drive)
     m("drive_never_closes_loop", "drives/paper000_drive.c", "the drive stays in open loop for the whole move",
-      ("!mc_lt(mc_abs(d->ref.omega_rad_s), c->limits.omega_lim_rad_s) && fg_estimator_observable(&d->est);",
-       "mc_lt(mc_abs(d->ref.omega_rad_s), MC_ZERO) && fg_estimator_observable(&d->est);")),
+      ("const bool want_closed = fast && observable && d->relock_hold == 0;",
+       "const bool want_closed = false && fast && observable && d->relock_hold == 0;")),
     m("drive_voltage_start_of_sample", "drives/paper000_drive.c", "phase voltage at the start-of-sample angle",
       ("mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);", "mc_rot_inv(rot_k, v_f, v_g, &v_ab.alpha, &v_ab.beta);")),
     m("drive_frame_resync_phase", "drives/paper000_drive.c", "frame rotation recomputed one sample later in each cycle",

@@ -61,6 +61,15 @@ MODE_OPEN, MODE_CLOSED, MODE_FAULT = 0, 1, 2  # drive_mode_t
 FAULT_NAMES = {
     1: ("OVERCURRENT", "a measured phase current beyond i_trip_A"),
     2: ("BAD_INPUT", "inconsistent configuration or a sample of the wrong phase count"),
+    3: ("I2T", "the I^2 t integral beyond its limit (thermal overload)"),
+    4: ("VOLTAGE_SATURATION", "the voltage limit active for too long"),
+    5: ("LOSS_OF_SYNC", "the estimate is inconsistent or the rotor lost the reference"),
+    6: ("NON_FINITE", "NaN or inf in a sample, a state or a command"),
+    7: ("SENSOR_STUCK", "a current sample that does not change while its voltage does"),
+    8: ("SENSOR_RAIL", "a current sample at the ADC's full scale"),
+    9: ("ADC", "the backend reported a converter error"),
+    10: ("HW_TRIP", "the power stage's own trip fired"),
+    11: ("OVERRUN", "control steps overran their period too often"),
 }
 FIG_WIDTH_IN, DPI = 12, 90
 PANEL_IN = 2.35  # figure height per panel (axes + gap)

@@ -22,6 +22,7 @@ struct Backend {
     double t_start_s = 0.0;  // plant time at hal_start
     double delay = 0.0;      // computation delay, fraction of a sample
     double v_prev[3] = {0.0, 0.0, 0.0};  // voltage applied over the last sample
+    mcsim::FaultInjector* faults = nullptr;  // injected faults, or none
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -53,6 +54,8 @@ bool hal_sw_plant_set_compute_delay(double fraction)
     return true;
 }
 
+void hal_sw_plant_set_faults(mcsim::FaultInjector* faults) { g_hal.faults = faults; }
+
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
     g_hal.monitor = fn;
@@ -78,8 +81,17 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         const int n_ph = plant.n_phases();
         double i_true[3] = {0.0, 0.0, 0.0};
         double i_meas[3] = {0.0, 0.0, 0.0};
+        mcsim::FaultInjector* const fi = g_hal.faults;
+        if (fi != nullptr) {
+            plant.set_locked(fi->rotor_locked(p.t_s, g_hal.ts_s));
+            plant.set_open_winding(fi->open_phase(p.t_s, g_hal.ts_s));
+        }
         plant.phase_currents(i_true);
         g_hal.sensor->measure_phases(n_ph, i_true, i_meas);
+        if (fi != nullptr) {
+            fi->measure(p.t_s, g_hal.ts_s, n_ph, i_meas);
+        }
+        const double v_supply = fi != nullptr ? fi->v_max_V(p.t_s, g_hal.amp.v_max_V) : g_hal.amp.v_max_V;
         p.n_phases = n_ph;
         p.i_a_meas_A = i_meas[0];
         p.i_b_meas_A = i_meas[1];
@@ -93,13 +105,15 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
             in.tick = g_hal.tick;
             in.n_phases = static_cast<std::uint8_t>(n_ph);
             for (int k = 0; k < n_ph; ++k) {
-                in.i_A[k] = mcsim::to_mc(i_meas[k]);
+                // not to_mc: a NaN sample (an injected fault) reaches the
+                // float drive as NaN, whose fault monitor must catch it
+                in.i_A[k] = mc_from_double(i_meas[k]);
             }
             // The simulated supply is stiff: an H-bridge swings +-v_bus, a
             // leg +-v_bus/2 about the midpoint.
-            in.v_bus_V = mcsim::to_mc(n_ph == 3 ? 2.0 * g_hal.amp.v_max_V : g_hal.amp.v_max_V);
+            in.v_bus_V = mcsim::to_mc(n_ph == 3 ? 2.0 * v_supply : v_supply);
             in.has_angle = false;
-            in.status = 0u;
+            in.status = (fi != nullptr && fi->overrun(p.t_s, g_hal.ts_s)) ? HAL_STATUS_OVERRUN : 0u;
             hal_command_t out{};
             out.n_phases = static_cast<std::uint8_t>(n_ph);
             g_hal.control(g_hal.control_ctx, &in, &out);
@@ -112,8 +126,10 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
             }
         }
         double v_app[3] = {0.0, 0.0, 0.0};
+        mcsim::Amplifier amp = g_hal.amp;
+        amp.v_max_V = v_supply;
         for (int k = 0; k < n_ph; ++k) {
-            v_app[k] = g_hal.amp.apply(v_cmd[k]);
+            v_app[k] = amp.apply(v_cmd[k]);
         }
         p.v_a_cmd_V = v_cmd[0];
         p.v_b_cmd_V = v_cmd[1];

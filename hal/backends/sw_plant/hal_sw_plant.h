@@ -18,6 +18,7 @@
 #include "hal/hal.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
+#include "model/fault_injection.h"
 #include "model/pm_plant.h"
 
 // What happened in one period, in double precision (for logs and tests).
@@ -56,6 +57,10 @@ void hal_sw_plant_detach(void);
 bool hal_sw_plant_set_compute_delay(double fraction);
 
 // Optional observer of every period; pass nullptr to remove.
+// Injected faults (sim/model/fault_injection.h) applied each period from
+// now on; nullptr: none. The injector must outlive the run.
+void hal_sw_plant_set_faults(mcsim::FaultInjector* faults);
+
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx);
 
 // Runs n periods synchronously and returns how many ran (0 if no plant is
