@@ -127,17 +127,25 @@
 /* Loss of synchronism (paper000_drive.h): half a tooth pitch of tracking
  * error is where the torque K I sin(n_p dtheta) has turned against the
  * motion (a pole slip); the back-EMF magnitude may differ from K |w_est| by
- * half of it plus the observability floor (the same floor
- * EMF_OBSERVABLE_OVER_EMF_AT_LIMIT sets); the estimate may not jump a
+ * half of it plus the back-EMF at omega_lim (0.81 V for the rig: right
+ * after the switch the mechanical observer's speed is off by up to
+ * 1.2 rad/s, and a quarter of it, the observability floor, let the
+ * criterion fire on the nominal run for a few samples at a time); the estimate may not jump a
  * quarter of a pitch against the reference in one sample (nominal steps
  * are below 2e-3 rad); the current observer's error may not exceed 0.5 A,
  * ten times its worst value with the bench's noise (0.046 A); each
  * persisting for 5 ms (50 samples, longer than a noise spike, shorter than
  * the 17.6 ms swing period). */
 #define LOS_EMF_TOL 0.5
+#define LOS_EMF_FLOOR_OVER_EMF_AT_LIMIT 1.0
 #define LOS_JUMP_OVER_PITCH 0.25
 #define LOS_OBS_ERR_A 0.5
 #define LOS_PERSIST_S 5e-3
+/* The rotor may lag the reference by more than half a pitch (with a
+ * consistent estimate) for 0.2 s, ten sliding time constants
+ * (SURFACE_POLE_PER_S): time for the controller at I_max to pull it back
+ * after an overload; longer, the reference is lost. */
+#define LOS_TRACK_S 0.2
 /* RELOCK: 50 ms of open loop (three swing periods) before the loop may
  * close again, at most 3 times before the safe state. */
 #define RELOCK_HOLD_S 0.05
@@ -378,8 +386,9 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     pc->relock_hold_ticks = ticks_of(RELOCK_HOLD_S, fs);
     pc->relock_confirm_ticks = ticks_of(RELOCK_CONFIRM_S, fs);
     pc->los_track_rad = mc_from_double(3.14159265358979323846 / np);
+    pc->los_track_ticks = ticks_of(LOS_TRACK_S, fs);
     pc->los_emf_tol = mc_from_double(LOS_EMF_TOL);
-    pc->los_emf_floor_V = mc_from_double(EMF_OBSERVABLE_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s);
+    pc->los_emf_floor_V = mc_from_double(LOS_EMF_FLOOR_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s);
     pc->los_jump_rad = mc_from_double(LOS_JUMP_OVER_PITCH * 2.0 * 3.14159265358979323846 / np);
     pc->los_obs_err_A = mc_from_double(LOS_OBS_ERR_A);
     pc->los_ticks = ticks_of(LOS_PERSIST_S, fs);

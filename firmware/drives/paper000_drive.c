@@ -113,7 +113,11 @@ static bool drive_lost_sync(drive_t *d, bool observable, mc_t dtheta_r_rad)
     }
     const fg_estimator_t *e = &d->est;
     const mc_t theta_est = e->pos.theta_est_rad;
-    if (mc_gt(mc_abs(mc_sub(theta_est, d->ref.theta_rad)), p->los_track_rad)) {
+    /* a consistent estimate far from the reference: the rotor lags (an
+     * overload) and the controller, at its limit, pulls it back; only if
+     * that lasts los_track_ticks is the reference lost */
+    if (fault_persist_step(&d->track_persist, mc_gt(mc_abs(mc_sub(theta_est, d->ref.theta_rad)), p->los_track_rad),
+                           p->los_track_ticks)) {
         return true;
     }
     /* | |e| - K|w| | > tol K|w| + floor, on squares (no square root) */
@@ -168,6 +172,8 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->recovering = 0;
     d->branch_kept = false;
     d->los_persist.run = 0;
+    d->obs_persist.run = 0;
+    d->track_persist.run = 0;
     d->theta_est_prev_rad = MC_ZERO;
     align_init(&d->align, &cfg->align);
     const int32_t n_align = align_total_ticks(&cfg->align);
@@ -290,6 +296,16 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         d->branch_kept = d->branch_kept && fast && observable;
     }
     const bool want_closed = fast && observable && d->relock_hold == 0;
+    /* the hand-over to open loop as the reference slows: the open loop
+     * (68) pulls the rotor to the nearest equilibrium of the reference's
+     * field, so a rotor that the estimate puts more than half a pitch away
+     * would be pulled onto another tooth, silently: a loss of synchronism */
+    if (!fast && d->sup.state == SUP_STATE_CLOSED_LOOP &&
+        mc_gt(mc_abs(mc_sub(d->est.pos.theta_est_rad, d->ref.theta_rad)), c->prot.los_track_rad)) {
+        (void)drive_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
+        drive_zero_output(d, out);
+        return false;
+    }
     /* a recovery ends when the loop has stayed closed for
      * relock_confirm_ticks after the hold; if the reference slows below
      * omega_lim first, the rotor's position can no longer be checked: the

@@ -49,7 +49,9 @@ extern "C" {
 
 /* Loss of synchronism and the reactions to faults (docs/faults.md). The
  * criteria, checked in closed loop (the estimate is only used there):
- *   tracking: |theta_est - theta_r| > los_track_rad (at once);
+ *   tracking: |theta_est - theta_r| > los_track_rad for los_track_ticks
+ *     (the estimate is consistent, the rotor lags: the controller at its
+ *     limit gets that long to pull it back);
  *   persisting for los_ticks samples, any of:
  *     back-EMF magnitude inconsistent with the estimated speed,
  *       | |e_hat| - K |w_est| | > los_emf_tol K |w_est| + los_emf_floor_V;
@@ -57,7 +59,10 @@ extern "C" {
  *     current observer error max(|i_f - i_f_hat|, |i_g - i_g_hat|) > los_obs_err_A
  *       (also in open loop after the alignment: an open phase shows here);
  *   the back-EMF unobservable while the reference is above omega_lim (the
- *   switch to open loop that was silent before).
+ *   switch to open loop that was silent before);
+ *   at the hand-over to open loop as the reference slows, the estimate more
+ *   than los_track_rad from the reference (the open loop would pull the
+ *   rotor onto another tooth): the safe state at once.
  * RELOCK: open loop for relock_hold_ticks, then closed again; confirmed
  * after relock_confirm_ticks of closed loop; if the reference slows below
  * omega_lim before that, the loss stands (safe state).
@@ -68,6 +73,7 @@ typedef struct {
     int32_t relock_hold_ticks;           /* open loop after a loss before the loop may close again */
     int32_t relock_confirm_ticks;        /* closed loop without a new loss that confirms a re-lock */
     mc_t los_track_rad;
+    int32_t los_track_ticks;
     mc_t los_emf_tol;                    /* relative */
     mc_t los_emf_floor_V;
     mc_t los_jump_rad;
@@ -133,6 +139,7 @@ typedef struct {
     int32_t recovering;          /* samples of closed loop still needed to confirm a re-lock */
     fault_persist_t los_persist;
     fault_persist_t obs_persist; /* current observer error */
+    fault_persist_t track_persist; /* estimate far from the reference */
     mc_t theta_est_prev_rad;     /* for the jump criterion */
     fg_estimator_t est;
     fg_tracking_t ctrl;

@@ -137,8 +137,11 @@ drive_mode_t supervisor_mode(const supervisor_t *s);
 static inline void supervisor_blend(supervisor_t *s, bool switched, mc_t *v1_V, mc_t *v2_V)
 {
     if (switched) {
-        s->blend_V[0] = mc_add(s->blend_V[0], mc_sub(s->v_prev_V[0], *v1_V));
-        s->blend_V[1] = mc_add(s->blend_V[1], mc_sub(s->v_prev_V[1], *v2_V));
+        /* v_prev already holds what the last offset added: the new offset
+         * replaces it (adding to it stepped by the old offset's remainder
+         * when two switches came within a few decay times: a re-lock) */
+        s->blend_V[0] = mc_sub(s->v_prev_V[0], *v1_V);
+        s->blend_V[1] = mc_sub(s->v_prev_V[1], *v2_V);
     }
     if (mc_ne(s->blend_V[0], MC_ZERO) || mc_ne(s->blend_V[1], MC_ZERO)) {
         *v1_V = mc_add(*v1_V, s->blend_V[0]);

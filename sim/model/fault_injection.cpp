@@ -17,7 +17,7 @@ bool within(double t_s, double from_s, double dur_s, double ts_s)
 }
 }  // namespace
 
-void FaultInjector::measure(double t_s, double ts_s, int n, double* i)
+void FaultInjector::analog(double t_s, double ts_s, int n, double* i)
 {
     if (at_or_after(t_s, f_.gain_t_s, ts_s)) {
         for (int k = 0; k < n; ++k) i[k] *= f_.gain[k];
@@ -32,6 +32,10 @@ void FaultInjector::measure(double t_s, double ts_s, int n, double* i)
             i[k] += f_.burst_noise_A * std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
         }
     }
+}
+
+void FaultInjector::digital(double t_s, double ts_s, int n, double* i)
+{
     if (f_.stuck_phase >= 0 && f_.stuck_phase < n && at_or_after(t_s, f_.stuck_t_s, ts_s)) {
         if (!stuck_held_) {
             stuck_held_ = true;

@@ -48,8 +48,12 @@ public:
     FaultInjector(const FaultInjection& f, std::uint64_t seed) : f_(f), rng_(seed ^ 0x5eed0fa17ULL) {}
     const FaultInjection& spec() const { return f_; }
 
-    // The measured currents of the sample at t (n phases), modified in place.
-    void measure(double t_s, double ts_s, int n, double* i_meas_A);
+    // The sensor's input at t (n phases; gain, offset and noise burst act
+    // on the analog signal, before the sensor's own noise and the ADC),
+    // modified in place.
+    void analog(double t_s, double ts_s, int n, double* i_A);
+    // The converted samples at t (a frozen sample, a NaN), in place.
+    void digital(double t_s, double ts_s, int n, double* i_meas_A);
     // The supply clamp at t, from the nominal one.
     double v_max_V(double t_s, double nominal_V) const;
     // The backend flags an overrun at t.

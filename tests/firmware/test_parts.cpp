@@ -11,6 +11,7 @@ extern "C" {
 #include "math/mc_convert.h"
 #include "model/motor_model.h"
 #include "startup/align.h"
+#include "supervisor/fault_monitor.h"
 #include "supervisor/supervisor.h"
 }
 
@@ -358,4 +359,107 @@ TEST(Align, ProfileStagesAndNoVoltageStep)
     EXPECT_EQ(D(vf), 0.0);
     c.enabled = false;
     EXPECT_EQ(align_total_ticks(&c), 0);
+}
+
+// ---- fault monitor (supervisor/fault_monitor.h) ----
+
+namespace {
+fault_monitor_config_t rig_faults()
+{
+    fault_monitor_config_t c{};
+    c.i_trip_A = M(4.5);
+    c.i2t_cont_A2 = M(9.0);                           // I_max = 3 A
+    c.i2t_gain = M(FAULT_I2T_DECIMATION * 1e-4 / 1.0);  // t_overload 1 s at 10 kHz
+    c.i2t_limit_A2 = M(4.5 * 4.5 - 9.0);
+    c.sat_max_ticks = 1000;
+    c.stuck_ticks = 50;
+    c.stuck_dv_V = M(2.0);
+    c.i_rail_A = M(0.0);
+    c.rail_ticks = 2;
+    c.overrun_weight = 1000;
+    c.overrun_limit = 3000;
+    return c;
+}
+hal_sample_t two(double a, double b)
+{
+    hal_sample_t s{};
+    s.n_phases = 2;
+    s.i_A[0] = M(a);
+    s.i_A[1] = M(b);
+    s.v_bus_V = M(30.0);
+    return s;
+}
+}  // namespace
+
+// I^2 t: a current vector of 4.2 A (just below the 4.5 A trip) trips after
+// (4.5^2 - 9)/(4.2^2 - 9) = 1.31 s; 3 A never; the integral cools below I_max.
+TEST(FaultMonitor, I2tTripsAfterTheOverloadTime)
+{
+    fault_monitor_t m;
+    const fault_monitor_config_t c = rig_faults();
+    fault_monitor_init(&m, &c);
+    // a rotating 4.2 A vector: |i|^2 = 17.64 A^2 in every sample
+    int k = 0;
+    drive_fault_t f = DRIVE_FAULT_NONE;
+    for (; k < 30000 && f == DRIVE_FAULT_NONE; ++k) {
+        const double a = 0.01 * k;
+        f = fault_monitor_sample(&m, &(const hal_sample_t &)two(4.2 * std::cos(a), 4.2 * std::sin(a)), 2);
+    }
+    EXPECT_EQ(f, DRIVE_FAULT_I2T);
+    const double t = k * 1e-4, want = (4.5 * 4.5 - 9.0) / (4.2 * 4.2 - 9.0);
+    EXPECT_NEAR(t, want, 0.01) << "tripped after " << t << " s";
+    // at I_max for 10 s: nothing
+    fault_monitor_init(&m, &c);
+    for (k = 0; k < 100000; ++k) {
+        const double a = 0.01 * k;
+        ASSERT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(3.0 * std::cos(a), 3.0 * std::sin(a)), 2),
+                  DRIVE_FAULT_NONE) << k;
+    }
+    // half the overload, a rest at 1 A cools it, the other half: no trip
+    fault_monitor_init(&m, &c);
+    for (k = 0; k < 6000; ++k) ASSERT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(4.2, 0.0), 2), DRIVE_FAULT_NONE);
+    for (k = 0; k < 20000; ++k) ASSERT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(1.0, 0.0), 2), DRIVE_FAULT_NONE);
+    EXPECT_EQ(mc_to_double(m.i2t_A2), 0.0);
+    for (k = 0; k < 6000; ++k) ASSERT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(4.2, 0.0), 2), DRIVE_FAULT_NONE);
+}
+
+// Voltage saturation: 1000 saturated samples in a row are allowed, the
+// 1001st trips; a single unsaturated sample restarts the count.
+TEST(FaultMonitor, SaturationTooLong)
+{
+    fault_monitor_t m;
+    const fault_monitor_config_t c = rig_faults();
+    fault_monitor_init(&m, &c);
+    hal_command_t out{};
+    out.n_phases = 2;
+    for (int k = 0; k < 999; ++k) ASSERT_EQ(fault_monitor_command(&m, &out, true), DRIVE_FAULT_NONE);
+    ASSERT_EQ(fault_monitor_command(&m, &out, false), DRIVE_FAULT_NONE);
+    for (int k = 0; k < 1000; ++k) ASSERT_EQ(fault_monitor_command(&m, &out, true), DRIVE_FAULT_NONE) << k;
+    EXPECT_EQ(fault_monitor_command(&m, &out, true), DRIVE_FAULT_VOLTAGE_SATURATION);
+}
+
+// Stuck: identical samples while the command is constant are fine (a
+// settled current); while it swings by 2 V, 50 of them trip.
+TEST(FaultMonitor, StuckOnlyWhileTheVoltageMoves)
+{
+    fault_monitor_t m;
+    const fault_monitor_config_t c = rig_faults();
+    fault_monitor_init(&m, &c);
+    hal_command_t out{};
+    out.n_phases = 2;
+    out.v_V[0] = M(9.0);
+    ASSERT_EQ(fault_monitor_command(&m, &out, false), DRIVE_FAULT_NONE);  // 9 V already before
+    for (int k = 0; k < 500; ++k) {
+        ASSERT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(3.0, 0.0), 2), DRIVE_FAULT_NONE);
+        ASSERT_EQ(fault_monitor_command(&m, &out, false), DRIVE_FAULT_NONE);
+    }
+    drive_fault_t f = DRIVE_FAULT_NONE;
+    int k = 0;
+    for (; k < 500 && f == DRIVE_FAULT_NONE; ++k) {
+        f = fault_monitor_sample(&m, &(const hal_sample_t &)two(3.0, 0.1 * (k % 2)), 2);
+        out.v_V[0] = M((k % 2) ? 6.0 : 9.0);
+        (void)fault_monitor_command(&m, &out, false);
+    }
+    EXPECT_EQ(f, DRIVE_FAULT_SENSOR_STUCK);
+    EXPECT_LE(k, 52);
 }

@@ -87,9 +87,13 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
             plant.set_open_winding(fi->open_phase(p.t_s, g_hal.ts_s));
         }
         plant.phase_currents(i_true);
-        g_hal.sensor->measure_phases(n_ph, i_true, i_meas);
         if (fi != nullptr) {
-            fi->measure(p.t_s, g_hal.ts_s, n_ph, i_meas);
+            double i_sensed[3] = {i_true[0], i_true[1], i_true[2]};
+            fi->analog(p.t_s, g_hal.ts_s, n_ph, i_sensed);
+            g_hal.sensor->measure_phases(n_ph, i_sensed, i_meas);
+            fi->digital(p.t_s, g_hal.ts_s, n_ph, i_meas);
+        } else {
+            g_hal.sensor->measure_phases(n_ph, i_true, i_meas);
         }
         const double v_supply = fi != nullptr ? fi->v_max_V(p.t_s, g_hal.amp.v_max_V) : g_hal.amp.v_max_V;
         p.n_phases = n_ph;
