@@ -173,6 +173,26 @@ void drive_design_defaults(drive_design_input_t *in)
 
 static int32_t ticks_of(double t_s, double fs) { return (int32_t)ceil(t_s * fs - 1e-9); }
 
+void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A, double i_rail_A,
+                          double ts_s)
+{
+    const double fs = 1.0 / ts_s;
+    /* the monitor's I^2 t sums the squares of the phase currents: |i_ab|^2
+     * for two phases, 3/2 |i_ab|^2 for three (amplitude-invariant Clarke) */
+    const double k_sum = n_phases == 3 ? 1.5 : 1.0;
+    fc->i_trip_A = mc_from_double(i_trip_A);
+    fc->i2t_cont_A2 = mc_from_double(k_sum * i_max_A * i_max_A);
+    fc->i2t_gain = mc_from_double(FAULT_I2T_DECIMATION * ts_s / FAULT_I2T_OVERLOAD_S);
+    fc->i2t_limit_A2 = mc_from_double(k_sum * (i_trip_A * i_trip_A - i_max_A * i_max_A));
+    fc->sat_max_ticks = ticks_of(FAULT_SAT_MAX_S, fs);
+    fc->stuck_ticks = ticks_of(FAULT_STUCK_S, fs);
+    fc->stuck_dv_V = mc_from_double(FAULT_STUCK_DV_V);
+    fc->i_rail_A = mc_from_double(i_rail_A > 0.0 ? i_rail_A : 0.0);
+    fc->rail_ticks = FAULT_RAIL_TICKS;
+    fc->overrun_weight = FAULT_OVERRUN_WEIGHT;
+    fc->overrun_limit = FAULT_OVERRUN_LIMIT;
+}
+
 static bool fail(char *err, size_t n, const char *field, const char *why, double got)
 {
     if (err && n > 0) {
@@ -365,18 +385,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->open_loop.i_max_A = mc_from_double(in->i_open_loop_A > 0.0 ? in->i_open_loop_A : in->i_max_A);
     cfg->open_loop.v_max_V = cfg->limits.v_max_V;
     /* faults: generic criteria (supervisor/fault_monitor.h) */
-    fault_monitor_config_t *fc = &cfg->faults;
-    fc->i_trip_A = cfg->limits.i_trip_A;
-    fc->i2t_cont_A2 = mc_from_double(in->i_max_A * in->i_max_A);
-    fc->i2t_gain = mc_from_double(FAULT_I2T_DECIMATION * Ts / FAULT_I2T_OVERLOAD_S);
-    fc->i2t_limit_A2 = mc_from_double(in->i_trip_A * in->i_trip_A - in->i_max_A * in->i_max_A);
-    fc->sat_max_ticks = ticks_of(FAULT_SAT_MAX_S, fs);
-    fc->stuck_ticks = ticks_of(FAULT_STUCK_S, fs);
-    fc->stuck_dv_V = mc_from_double(FAULT_STUCK_DV_V);
-    fc->i_rail_A = mc_from_double(in->i_rail_A > 0.0 ? in->i_rail_A : 0.0);
-    fc->rail_ticks = FAULT_RAIL_TICKS;
-    fc->overrun_weight = FAULT_OVERRUN_WEIGHT;
-    fc->overrun_limit = FAULT_OVERRUN_LIMIT;
+    fault_monitor_design(&cfg->faults, 2, in->i_max_A, in->i_trip_A, in->i_rail_A, Ts);
     drive_protection_config_t *pc = &cfg->prot;
     for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
         pc->reaction[f] = (uint8_t)FAULT_REACT_SAFE;

@@ -99,6 +99,14 @@ typedef struct {
     drive_gain_override_t override;
 } fg_estimator_design_t;
 
+/* The generic fault criteria (supervisor/fault_monitor.h) for a drive of
+ * n_phases phases with current limit i_max_A, trip i_trip_A and ADC rail
+ * i_rail_A (0: unknown), sampled every ts_s; every threshold is a named,
+ * justified constant of drive_design.c (docs/faults.md). Shared by every
+ * drive's design. */
+void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A, double i_rail_A,
+                          double ts_s);
+
 /* *Pi_d_out (if not NULL): the back-EMF rate bound Pi_d of section 3.1.1. */
 void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t *ec, double *Pi_d_out);
 

@@ -96,6 +96,22 @@
 #define P001_COEFF_MIN 1e-3
 #define P001_COEFF_MAX 1e4
 
+
+/* Loss of the estimate (paper001_drive.h, docs/faults.md). |rho_hat| is 1
+ * when the observer's flux agrees with Phi (13); a rotor flux off by half
+ * (|rho| outside [0.5, 1.5], 0.87-1.15 with the 15 % Phi error of
+ * paper001_Phi115) for 5 ms means the observer has lost the rotor. The
+ * estimated speed may differ from the reference by half of it plus
+ * 10 rad/s (95 rpm: the benchmark's load steps dip the speed by less) for
+ * 0.2 s, about twice the speed loop's settling time: longer, the rotor has
+ * stalled or the estimate is lost (ODrive users ask for exactly this). */
+#define P001_LOS_RHO_LO 0.5
+#define P001_LOS_RHO_HI 1.5
+#define P001_LOS_PERSIST_S 5e-3
+#define P001_LOS_SPEED_TOL 0.5
+#define P001_LOS_SPEED_FLOOR_RAD_S 10.0
+#define P001_LOS_SPEED_S 0.2
+
 static bool p001_fail(char *err, size_t n, const char *field, const char *why, double got)
 {
     if (err != NULL && n > 0) {
@@ -188,6 +204,18 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     mm->ts_over_J = mc_from_double(ts / m->J_kgm2);
     cfg->limits.i_max_A = mc_from_double(in->i_max_A);
     cfg->limits.i_trip_A = mc_from_double(in->i_trip_A);
+    /* faults (docs/faults.md): the generic set, and the loss of the
+     * estimate (paper001_drive.h) */
+    fault_monitor_design(&cfg->faults, (int)m->n_phases, in->i_max_A, in->i_trip_A, in->i_rail_A, ts);
+    for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
+        cfg->reaction[f] = (uint8_t)FAULT_REACT_SAFE;
+    }
+    cfg->los_rho2_lo = mc_from_double(P001_LOS_RHO_LO * P001_LOS_RHO_LO);
+    cfg->los_rho2_hi = mc_from_double(P001_LOS_RHO_HI * P001_LOS_RHO_HI);
+    cfg->los_ticks = (int32_t)ceil(P001_LOS_PERSIST_S * fsr - 1e-9);
+    cfg->los_speed_tol = mc_from_double(P001_LOS_SPEED_TOL);
+    cfg->los_speed_floor_rad_s = mc_from_double(P001_LOS_SPEED_FLOOR_RAD_S);
+    cfg->los_speed_ticks = (int32_t)ceil(P001_LOS_SPEED_S * fsr - 1e-9);
 
     /* flux observer (12)-(14) in w = lambda/Ts units (flux_observer.h) */
     const double phi_fs = m->Phi_Wb / ts;

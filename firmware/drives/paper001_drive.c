@@ -36,6 +36,60 @@ static void p001_zero_output(paper001_drive_t *d, hal_command_t *out)
     d->last.v_ab_V.beta = MC_ZERO;
 }
 
+/* A fault: recorded, then the configured reaction (the speed drive has no
+ * re-lock: SAFE, or REPORT). Returns true when the drive is now in FAULT. */
+static bool p001_react(paper001_drive_t *d, drive_fault_t f)
+{
+    flight_recorder_fault(&d->rec, f, d->tick);
+    if (d->cfg.reaction[(uint32_t)f < DRIVE_FAULT_COUNT ? (uint32_t)f : 0u] == (uint8_t)FAULT_REACT_REPORT) {
+        return false;
+    }
+    supervisor_fault(&d->sup, f);
+    return true;
+}
+
+/* The end of a sample that output a voltage: the loss-of-estimate
+ * criteria (closed loop), the command's checks, the flight recorder.
+ * Returns false if the drive went to FAULT (out is then 0 V). */
+static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
+{
+    const paper001_config_t *c = &d->cfg;
+    drive_fault_t f = fault_monitor_command(&d->mon, out, d->sup.sat_prev);
+    mc_estimate_t e;
+    paper001_drive_estimate(d, &e);
+    if (f == DRIVE_FAULT_NONE && (!mc_is_finite(e.theta_rad) || !mc_is_finite(e.omega_rad_s))) {
+        f = DRIVE_FAULT_NON_FINITE;
+    }
+    if (f == DRIVE_FAULT_NONE && d->sup.state == SUP_STATE_CLOSED_LOOP) {
+        const bool rho_bad = c->estimator == P001_ESTIMATOR_FLUX &&
+                             (mc_lt(d->flux.rho2, c->los_rho2_lo) || mc_gt(d->flux.rho2, c->los_rho2_hi));
+        const mc_t w_ref = d->ref.omega_rad_s;
+        const mc_t w_tol = mc_mac(c->los_speed_floor_rad_s, c->los_speed_tol, mc_abs(w_ref));
+        const bool speed_bad = mc_gt(mc_abs(mc_sub(e.omega_rad_s, w_ref)), w_tol);
+        if (fault_persist_step(&d->rho_persist, rho_bad, c->los_ticks) ||
+            fault_persist_step(&d->speed_persist, speed_bad, c->los_speed_ticks)) {
+            f = DRIVE_FAULT_LOSS_OF_SYNC;
+        }
+    }
+    flight_record_t r;
+    r.tick = d->tick;
+    r.state = (uint8_t)d->sup.state;
+    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
+        r.i_A[k] = in->i_A[k];
+        r.v_V[k] = out->v_V[k];
+    }
+    r.ref = d->ref.omega_rad_s;
+    r.est = mc_elec_angle(e.theta_rad, c->model.n_p);
+    r.speed = e.omega_rad_s;
+    flight_recorder_push(&d->rec, &r);
+    d->tick += 1u;
+    if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
+        p001_zero_output(d, out);
+        return false;
+    }
+    return true;
+}
+
 static bool p001_config_ok(const paper001_config_t *c)
 {
     const motor_model_t *m = &c->model;
@@ -81,6 +135,10 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     ida_pbc_init(&d->ctrl);
     const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
     supervisor_init(&d->sup, &cfg->sup, false, false);
+    fault_monitor_init(&d->mon, &cfg->faults);
+    flight_recorder_init(&d->rec);
+    d->rho_persist.run = 0;
+    d->speed_persist.run = 0;
     hal_command_t unused;
     p001_zero_output(d, &unused);
     d->ref.omega_rad_s = MC_ZERO;
@@ -221,10 +279,12 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         p001_zero_output(d, out);
         return false;
     }
-    if (supervisor_overcurrent(in, c->n_phases, c->limits.i_trip_A)) {
-        supervisor_fault(&d->sup, DRIVE_FAULT_OVERCURRENT);
-        p001_zero_output(d, out);
-        return false;
+    {
+        const drive_fault_t f = fault_monitor_sample(&d->mon, in, c->n_phases);
+        if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
+            p001_zero_output(d, out);
+            return false;
+        }
     }
     /* 1. currents and reference */
     mc_t i_zero_A;
@@ -233,8 +293,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     speed_profile_eval(&d->profile, d->tick, &d->ref);
     if (c->estimator == P001_ESTIMATOR_BACK_EMF && !d->probing) {
         p001_step_back_emf(d, i_ab, (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V, out);
-        d->tick += 1u;
-        return true;
+        return p001_finish(d, in, out);
     }
 
     /* 2. flux observer */
@@ -301,8 +360,13 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.i_d_A = i_d;
     d->last.i_q_A = i_q;
     d->last.v_ab_V = v_ab;
-    d->tick += 1u;
-    return true;
+    return p001_finish(d, in, out);
+}
+
+bool paper001_drive_clear_fault(paper001_drive_t *d)
+{
+    /* an exact self-copy (d->cfg = *cfg with cfg == &d->cfg) is allowed (C11 6.5.16.1) */
+    return paper001_drive_init(d, &d->cfg);
 }
 
 void paper001_drive_estimate(const paper001_drive_t *d, mc_estimate_t *e)
@@ -365,4 +429,6 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
     t->v_alpha_V = d->last.v_ab_V.alpha;
     t->v_beta_V = d->last.v_ab_V.beta;
     t->v_saturated = !fault && d->sup.sat_prev;
+    t->fault_events = d->rec.events;
+    t->overruns = d->mon.overruns;
 }

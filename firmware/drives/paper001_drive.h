@@ -65,6 +65,8 @@
 #include "model/motor_model.h"
 #include "startup/flux_circle_fit.h"
 #include "startup/open_loop.h"
+#include "supervisor/fault_monitor.h"
+#include "supervisor/flight_recorder.h"
 #include "supervisor/supervisor.h"
 #include "trajectory/speed_profile.h"
 
@@ -110,6 +112,20 @@ typedef struct {
     fg_estimator_config_t emf;     /* paper 000's estimator gains (design/drive_design.h) */
     motor_model_t emf_torque_model;/* the model with K = K_t: the torque of (33)-(37) */
     mc_t omega_lim_rad_s;          /* |w*| from which the back-EMF angle is trusted (paper 000 4.2) */
+    /* faults (docs/faults.md): the generic set, and the loss of the
+     * estimate in closed loop: the flux observer's |rho_hat|^2 outside
+     * [los_rho2_lo, los_rho2_hi] (1 when it agrees with Phi; estimator FLUX)
+     * for los_ticks samples, or the estimated speed off the reference by
+     * more than los_speed_tol |w*| + los_speed_floor_rad_s for
+     * los_speed_ticks (a stalled rotor or a lost estimate; any estimator).
+     * The speed drive has no re-lock: every fault goes to the safe state
+     * unless reaction[] says REPORT. */
+    fault_monitor_config_t faults;
+    uint8_t reaction[DRIVE_FAULT_COUNT];
+    mc_t los_rho2_lo, los_rho2_hi;
+    int32_t los_ticks;
+    mc_t los_speed_tol, los_speed_floor_rad_s;
+    int32_t los_speed_ticks;
 } paper001_config_t;
 
 /* The voltage the plant really sees over the coming sample with a
@@ -162,11 +178,16 @@ typedef struct {
     mc_t v_d_V, v_q_V, v_alpha_V, v_beta_V;
     bool v_saturated;
     uint32_t fw_version;           /* MC_VERSION_U32: major << 16 | minor << 8 | patch */
+    uint32_t fault_events;         /* faults seen since init */
+    uint32_t overruns;             /* HAL-reported overruns */
 } paper001_telemetry_t;
 
 typedef struct {
     paper001_config_t cfg;
     supervisor_t sup;
+    fault_monitor_t mon;
+    flight_recorder_t rec;
+    fault_persist_t rho_persist, speed_persist;
     flux_observer_t flux;
     flux_circle_fit_t fit;
     flux_circle_fit_t probe;       /* points P001_PROBE_SCALE (rho - probe_anchor) */
@@ -203,6 +224,14 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
 void paper001_drive_estimate(const paper001_drive_t *d, mc_estimate_t *e);
 
 void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_t *t);
+
+/* Clears a latched fault by command: the drive starts again from its
+ * initial state (the probe first). Returns what paper001_drive_init returns. */
+bool paper001_drive_clear_fault(paper001_drive_t *d);
+
+/* The flight recorder (supervisor/flight_recorder.h): ref = w*, est = the
+ * electrical angle estimate, speed = w_hat. */
+static inline const flight_recorder_t *paper001_flight_recorder(const paper001_drive_t *d) { return &d->rec; }
 
 #ifdef __cplusplus
 }

@@ -198,6 +198,11 @@ MetricList SpeedRecorder::metrics(double wall_loop_s) const
     m.emplace_back("i_max_A", sc_.i_max_A);
     m.emplace_back("final_omega_rad_s", plant_.omega_rad_s());
     m.emplace_back("fault", fault_);
+    const flight_recorder_t* fr = paper001_flight_recorder(&drive_);
+    m.emplace_back("fault_first", static_cast<std::int64_t>(fr->fault));
+    m.emplace_back("fault_first_t_s", fr->frozen ? static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);
+    m.emplace_back("fault_events", static_cast<std::int64_t>(fr->events));
+    m.emplace_back("relocks", static_cast<std::int64_t>(0));  // the speed drive has no re-lock
     m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
     m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));
     m.emplace_back("sim_time_s", sim_s);

@@ -87,6 +87,20 @@ const std::vector<std::string>& design_bound_keys()
     return k;
 }
 
+namespace {
+// The ADC's rail for the fault monitor: its largest code is full scale
+// minus one LSB; 1.5 LSB below full scale catches it without catching the
+// code below. 0 (no check) without an ADC.
+double adc_rail_A(const SensorParams& p)
+{
+    if (p.adc_bits <= 0) {
+        return 0.0;
+    }
+    const double lsb = 2.0 * p.adc_full_scale_A / std::ldexp(1.0, p.adc_bits);
+    return p.adc_full_scale_A - 1.5 * lsb;
+}
+}  // namespace
+
 void make_design_input(const Scenario& sc, drive_design_input_t* in)
 {
     *in = drive_design_input_t{};
@@ -109,12 +123,7 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     if (sc.align_rotor >= 0) {
         in->align_rotor = sc.align_rotor;
     }
-    // The ADC's rail: its largest code is full scale minus one LSB; 1.5 LSB
-    // below full scale catches it without catching the code below.
-    if (sc.sensor.adc_bits > 0) {
-        const double lsb = 2.0 * sc.sensor.adc_full_scale_A / std::ldexp(1.0, sc.sensor.adc_bits);
-        in->i_rail_A = sc.sensor.adc_full_scale_A - 1.5 * lsb;
-    }
+    in->i_rail_A = adc_rail_A(sc.sensor);
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
         in->segments[k].t_start_s = sc.segments[k].t_start_s;
@@ -181,6 +190,7 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
     in->fit_det_min = sc.speed_gains.fit_det_min;
     in->estimator = sc.speed_gains.estimator;
     in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
+    in->i_rail_A = adc_rail_A(sc.sensor);
     in->omega_lim_rad_s = sc.omega_lim_rad_s;
     if (sc.speed_gains.probe_s >= 0.0) {
         in->probe_s = sc.speed_gains.probe_s;
