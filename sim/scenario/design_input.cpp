@@ -105,6 +105,7 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     if (sc.identify_rl >= 0) {
         in->identify_rl = sc.identify_rl;
     }
+    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
         in->segments[k].t_start_s = sc.segments[k].t_start_s;
