@@ -257,6 +257,8 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     if (!(in->i_max_A > 0.0)) return fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
     if (!(in->omega_lim_rad_s > 0.0)) return fail(err, err_len, "limits.omega_lim_rad_s", "must be > 0", in->omega_lim_rad_s);
+    if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
+        return fail(err, err_len, "run.compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
     if (in->n_segments < 0 || in->n_segments > DRIVE_DESIGN_MAX_SEGMENTS)
         return fail(err, err_len, "trajectory.segments", "too many segments", (double)in->n_segments);
 
@@ -416,6 +418,18 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         ac->off_ticks = ticks_of(ALIGN_OFF_TAUS * tau, fs);
         ac->phi_turn_rad = mc_from_double(ALIGN_PHI_TURN_RAD);
     }
+    /* Computation delay (drive_delay_config_t): the output frame at
+     * t_k + (1/2 + d) Ts is the mid-sample one turned by 2d half samples of
+     * the reference's rotation (d < 1/2), or the next sample's turned by
+     * 2d - 1 (d >= 1/2): x stays in [0, 1], where the drive's sincos-free
+     * fraction of the half-sample rotation is exact at both ends (d = 1/2
+     * and d = 1 are exact). */
+    const double dly = in->compute_delay_samples;
+    const double x = dly >= 0.5 ? 2.0 * dly - 1.0 : 2.0 * dly;
+    cfg->delay.d = mc_from_double(dly);
+    cfg->delay.from_next = dly >= 0.5;
+    cfg->delay.x = mc_from_double(x);
+    cfg->delay.x2 = mc_from_double(x * x);
     if (err && err_len > 0) err[0] = '\0';
     return true;
 }

@@ -71,6 +71,11 @@ typedef struct {
     /* current at which a sample is at the ADC's rail [A]; 0: unknown (the
      * rail check is off). The board's, or the scenario's ADC full scale. */
     double i_rail_A;
+    /* The board's computation delay d in [0, 1] samples (0, the default:
+     * none, the paper's sampled model): the voltage computed from the
+     * currents of t_k acts from t_k + d Ts (drives/paper000_drive.h,
+     * drive_delay_config_t, says what the drive does with it). */
+    double compute_delay_samples;
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;

@@ -15,6 +15,10 @@
  *   5. voltage back to the phases at the mid-sample angle, limited;
  *   6. estimator prediction to k+1 with the voltage actually applied, and
  *      the standstill R/L measurement while identifying.
+ * With a computation delay d (drive_delay_config_t) the voltage acts over
+ * [t_k + d Ts, t_k+1 + d Ts): the law of 4 acts on the currents predicted to
+ * t_k + d Ts, 5 turns the output at the middle of that interval, 6 uses the
+ * mean of the last and this command; d = 0 skips these paths.
  */
 #include "drives/paper000_drive.h"
 
@@ -27,6 +31,75 @@
  * 2.4e-4 rad electrical, 5e-6 rad of rotor angle at n_p = 50, before the
  * exact angle resets it; a power of two makes the test a mask. */
 #define DRIVE_FRAME_RESYNC 32u
+
+/* Computation delay (drive_delay_config_t): functions called only for
+ * d != 0, and kept out of line, so that the step without a delay stays as
+ * it was (its instruction budget on a Cortex-M3 is nearly spent, and
+ * inlined they cost it 17 instructions a sample in registers, measured
+ * with tools/bench/pil.py). */
+#if defined(__GNUC__)
+#define DRIVE_OUT_OF_LINE __attribute__((noinline))
+#else
+#define DRIVE_OUT_OF_LINE
+#endif
+
+/* R(x phi) for x in [0, 1] from r = R(phi), phi half a sample of the
+ * reference's rotation, without a sincos: sin(x phi) ~ x sin(phi),
+ * cos(x phi) ~ 1 - x^2 (1 - cos(phi)). Exact at x = 0 and x = 1; in between
+ * the angle is off by at most x (1 - x^2) phi^3 / 6 <= 0.064 phi^3 and the
+ * norm by x^2 (1 - x^2) phi^4 / 24: 8e-6 rad electrical (one Q14.17 LSB) at
+ * phi = 0.05 rad, the paper's 20 rad/s at n_p = 50 and 10 kHz. */
+static mc_rot_t drive_rot_fraction(mc_rot_t r, mc_t x, mc_t x2)
+{
+    mc_rot_t f;
+    f.s = mc_mul(x, r.s);
+    f.c = mc_sub(MC_ONE, mc_mul(x2, mc_sub(MC_ONE, r.c)));
+    return f;
+}
+
+/* The measured (f-g) currents i_f, i_g of this sample predicted to
+ * t_k + d Ts, where its command starts to act, in the (f-g) frame of that
+ * instant, then into the estimated frame (44) for the laws (46)-(54): they
+ * replace the measured i_d, i_q of the estimator. Eq. (23) (errata (9a))
+ * over d Ts, L di/dt = v - R i + e, with the voltage that holds until then
+ * (the last command, in its own control frame, a fraction of a sample off
+ * the interval's: second order) and the observed back-EMF e = L d-hat
+ * (28a)-(28b); the frame's own turn over d Ts, the A_fg term of (23), as a
+ * rotation by 2d half samples of the reference's rotation. */
+static DRIVE_OUT_OF_LINE void drive_delay_currents(drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
+{
+    const drive_delay_config_t *c = &d->cfg.delay;
+    const mc_rot_t turn_x = drive_rot_fraction(rot_half, c->x, c->x2);
+    const mc_rot_t turn = c->from_next ? mc_rot_compose(rot_half, turn_x) : turn_x;
+    const mc_t a = mc_mul(c->d, d->model.ts_over_L_A_per_V);
+    const mc_t uf = mc_cross2(MC_ONE, mc_add(d->sup.v_prev_V[0], d->est.emf.e_f_hat_V), d->model.R_ohm, i_f);
+    const mc_t ug = mc_cross2(MC_ONE, mc_add(d->sup.v_prev_V[1], d->est.emf.e_g_hat_V), d->model.R_ohm, i_g);
+    mc_t p_f, p_g;
+    mc_rot_fwd(turn, mc_mac(i_f, a, uf), mc_mac(i_g, a, ug), &p_f, &p_g);
+    mc_rot_fwd(d->est.u_est, p_f, p_g, &d->est.i_d_A, &d->est.i_q_A); /* (44) */
+}
+
+/* Step 5 with a delay: the (f-g) command to the phases with the frame of
+ * the reference at t_k + (1/2 + d) Ts, the middle of the interval where it
+ * acts (eq. (7) inverse: the mid-sample frame for d < 1/2, the next
+ * sample's for d >= 1/2, turned by x half samples), limited; and, unless
+ * the caller gave it, the voltage really applied over this sample for the
+ * observer (25), v[k-1] for d Ts then v[k], as drive_set_applied_voltage()
+ * would. Returns the phase (alpha-beta) command. */
+static DRIVE_OUT_OF_LINE mc_ab_t drive_delay_output(drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
+{
+    const drive_delay_config_t *c = &d->cfg.delay;
+    const mc_rot_t out = mc_rot_compose(c->from_next ? d->rot_next : rot_mid, drive_rot_fraction(rot_half, c->x, c->x2));
+    mc_ab_t v_ab;
+    mc_rot_inv(out, v_f, v_g, &v_ab.alpha, &v_ab.beta);
+    (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, d->cfg.limits.v_max_V, &v_ab, &v_f, &v_g);
+    if (!d->v_ext_set) {
+        d->v_ext_V.alpha = mc_mac(v_ab.alpha, c->d, mc_sub(d->last.v_a_V, v_ab.alpha));
+        d->v_ext_V.beta = mc_mac(v_ab.beta, c->d, mc_sub(d->last.v_b_V, v_ab.beta));
+        d->v_ext_set = true;
+    }
+    return v_ab;
+}
 
 static void drive_zero_output(drive_t *d, hal_command_t *out)
 {
@@ -150,7 +223,9 @@ static bool drive_config_ok(const drive_config_t *c)
            (!c->align.enabled ||
             (c->align.ramp_ticks >= 1 && c->align.hold_ticks >= 0 && c->align.turn_ticks >= 1 &&
              c->align.settle_ticks >= 0 && c->align.off_ticks >= 0 && mc_gt(c->align.phi_turn_rad, MC_ZERO) &&
-             mc_lt(c->align.phi_turn_rad, MC_PI)));
+             mc_lt(c->align.phi_turn_rad, MC_PI))) &&
+           mc_ge(c->delay.d, MC_ZERO) && mc_le(c->delay.d, MC_ONE) && mc_ge(c->delay.x, MC_ZERO) &&
+           mc_le(c->delay.x, MC_ONE) && mc_ge(c->delay.x2, MC_ZERO) && mc_le(c->delay.x2, c->delay.x);
 }
 
 bool drive_init(drive_t *d, const drive_config_t *cfg)
@@ -336,6 +411,11 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     if (closed) {
         mc_estimate_t est;
         fg_estimator_get(&d->est, true, d->ref.theta_rad, d->ref.omega_rad_s, d->ref.accel_rad_s2, &est);
+        if (mc_ne(c->delay.d, MC_ZERO)) {
+            /* the law acts on the currents predicted to where its command
+             * starts to act (they replace the measured ones of (44)) */
+            drive_delay_currents(d, rot_half, i_f, i_g);
+        }
         if (switched) {
             fg_tracking_start(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, est.load_Nm,
                               d->est.i_d_A, d->est.i_q_A);
@@ -350,13 +430,20 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     fg_tracking_relax(&d->ctrl);
 
     /* 5. to the phases at the mid-sample angle (the average (f-g) voltage over
-     * the hold is then the commanded one), limited per phase to +-V_max with
-     * the direction kept */
+     * the hold is then the commanded one; with a delay, the middle of the
+     * interval where it acts), limited per phase to +-V_max with the
+     * direction kept */
     mc_ab_t v_ab;
-    mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
-    /* the supervisor keeps the saturation (sat_prev) for the next step's
-     * anti-windup and for the telemetry */
-    (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
+    if (mc_eq(c->delay.d, MC_ZERO)) {
+        mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
+        /* the supervisor keeps the saturation (sat_prev) for the next step's
+         * anti-windup and for the telemetry */
+        (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
+    } else {
+        v_ab = drive_delay_output(d, rot_mid, rot_half, v_f, v_g);
+        v_f = d->sup.v_prev_V[0]; /* the command as limited */
+        v_g = d->sup.v_prev_V[1];
+    }
 
     /* 6. observer prediction with the applied voltage (mid-sample frame) */
     mc_t v_f_obs = v_f, v_g_obs = v_g;
@@ -365,7 +452,10 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         d->v_ext_set = false;
     }
     fg_estimator_predict(&d->est, &d->model, v_f_obs, v_g_obs, i_f, i_g, rot_half);
-    if (d->sup.state == SUP_STATE_IDENTIFY && rl_id_step(&d->rl_id, i_f, v_f, d->ref.omega_rad_s)) {
+    /* the R, L measurement integrates the applied voltage too (at rest the
+     * frames coincide) */
+    if (d->sup.state == SUP_STATE_IDENTIFY &&
+        rl_id_step(&d->rl_id, i_f, mc_ne(c->delay.d, MC_ZERO) ? v_f_obs : v_f, d->ref.omega_rad_s)) {
         if (d->rl_id.state == RL_ID_DONE) {
             /* the measured R and L replace the model's everywhere at once:
              * observer (23), references (39), decoupling (48), (54), (68) */

@@ -81,6 +81,30 @@ typedef struct {
     int32_t los_ticks;
 } drive_protection_config_t;
 
+/* Computation delay (not in the paper: its dSpace card writes the DACs as
+ * soon as the computation ends, d ~ 0; an MCU's PWM takes the new duty a
+ * whole period later, d = 1). The voltage computed from the currents of
+ * t_k acts over [t_k + d Ts, t_k+1 + d Ts); the previous one holds before.
+ * The drive then (drive_design() derives the fields from d):
+ *  - turns its output to the phases with the (f-g) frame of the middle of
+ *    that interval, n_p theta_r at t_k + (1/2 + d) Ts, instead of the
+ *    mid-sample one, so the (f-g) voltage the motor sees on average is the
+ *    commanded one (eq. (7) inverse): the frame of the base (the
+ *    mid-sample one, or the next sample's for d >= 1/2) turned by x half
+ *    samples of the reference's rotation;
+ *  - gives the observer (25) and the standstill R, L measurement the
+ *    voltage really applied over the sample, (1 - d) v[k] + d v[k-1];
+ *  - predicts the measured currents to t_k + d Ts, where the command starts
+ *    to act, for the current and position laws (46)-(54), with the model
+ *    (23) and the voltage v[k-1] that holds until then.
+ * d = 0 skips all of it: the step is the one without the field. */
+typedef struct {
+    mc_t d;            /* delay [samples] in [0, 1] */
+    mc_t x;            /* turn of the output frame past its base, in half-sample rotations, [0, 1] */
+    mc_t x2;           /* x^2 */
+    bool from_next;    /* base of the output frame: the next sample's (d >= 1/2) or the mid-sample one */
+} drive_delay_config_t;
+
 /* Everything drive_init needs, in the firmware numeric type. Per-sample
  * coefficients already contain Ts (see firmware/design/drive_design.c).
  * Pointer-free, so it can be stored, copied and sent as bytes. */
@@ -96,6 +120,7 @@ typedef struct {
     align_config_t align;         /* rotor alignment before the start (disabled: none) */
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
     trajectory_config_t traj;
+    drive_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
 } drive_config_t;
 
 /* What one step computed, for telemetry, logs and tests. */
@@ -175,8 +200,9 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out);
 /* The phase voltages that will really be applied over the coming sample,
  * when they differ from what drive_step commands: the observer of that
  * step then uses them. For replays of recorded runs (sim/replay), or a
- * power stage whose output is known better than the command. One-shot:
- * applies to the next drive_step only. */
+ * power stage whose output is known better than the command. With a
+ * computation delay it is the mean over the sample (the drive then does not
+ * form it from its commands). One-shot: applies to the next drive_step only. */
 void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V);
 
 /* Clears a latched fault by command: the drive starts again from its

@@ -40,7 +40,8 @@ typedef struct {
     position_estimator_t pos;
     mech_observer_t mech;
     mc_rot_t u_est;        /* U(n_p (theta_est - theta_r)) of (44) */
-    mc_t i_d_A, i_q_A;     /* measured currents in the estimated rotor frame, (44) */
+    mc_t i_d_A, i_q_A;     /* measured currents in the estimated rotor frame, (44) (a drive with a
+                            * computation delay replaces them by their prediction for its law) */
 } fg_estimator_t;
 
 void fg_estimator_init(fg_estimator_t *e, const fg_estimator_config_t *cfg);

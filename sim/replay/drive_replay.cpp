@@ -85,10 +85,17 @@ int main(int argc, char** argv)
             throw std::runtime_error(std::string(argv[3]) + ": cannot write");
         }
         std::fprintf(f, "t_s,mode,theta_est,omega_est,v_a,v_b\n");
+        const double dly = sc.compute_delay_samples;
         for (std::size_t k = 0; k < currents.size(); ++k) {
             // the observer sees the voltages the recorded run applied, so the
-            // recorded currents stay consistent with them
-            drive_set_applied_voltage(drive.get(), mcsim::to_mc(currents[k].v_a), mcsim::to_mc(currents[k].v_b));
+            // recorded currents stay consistent with them: with a computation
+            // delay d, the recorded command of the last sample for d Ts, then
+            // this one's (the mean over the sample, as the drive forms it)
+            const Sample& now = currents[k];
+            const Sample prev = k > 0 ? currents[k - 1] : Sample{};
+            const double va_app = dly > 0.0 ? (1.0 - dly) * now.v_a + dly * prev.v_a : now.v_a;
+            const double vb_app = dly > 0.0 ? (1.0 - dly) * now.v_b + dly * prev.v_b : now.v_b;
+            drive_set_applied_voltage(drive.get(), mcsim::to_mc(va_app), mcsim::to_mc(vb_app));
             hal_sample_t in{};
             in.n_phases = 2;
             in.i_A[0] = mcsim::to_mc(currents[k].i_a);

@@ -124,6 +124,7 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
         in->align_rotor = sc.align_rotor;
     }
     in->i_rail_A = adc_rail_A(sc.sensor);
+    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
         in->segments[k].t_start_s = sc.segments[k].t_start_s;

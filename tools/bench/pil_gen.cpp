@@ -146,6 +146,7 @@ int record_paper000(const mcsim::Scenario& sc_in, const char* out_c, const char*
     rec.drive = drive.get();
     rec.max_samples = sample_limit(sc, max_arg);
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
+    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // the board's, as motorsim; validated at load
     if (!hal_start(&callback, &rec)) {
         throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
     }
