@@ -129,6 +129,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->cfg = *cfg;
     d->model = cfg->model;
     d->tick = 0;
+    d->observable_run = 0;
     d->v_ext_set = false;
     d->v_ext_V.alpha = MC_ZERO;
     d->v_ext_V.beta = MC_ZERO;
@@ -184,9 +185,15 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         /* the frame turns by the rotation applied last sample; every
          * DRIVE_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
-        d->rot_k = ((d->tick % DRIVE_FRAME_RESYNC) == 0u)
-                       ? mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, d->model.n_p))
-                       : d->rot_next;
+        if ((d->tick % DRIVE_FRAME_RESYNC) == 0u) {
+            d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, d->model.n_p));
+            /* the observer's gain at the reference speed (discrete-time
+             * design; a no-op otherwise): the speed moves by at most
+             * |w'|max 32 Ts = 0.1 rad/s in between for the rig */
+            fg_estimator_schedule(&d->est, d->ref.omega_rad_s);
+        } else {
+            d->rot_k = d->rot_next;
+        }
     }
     /* n_p (theta_r[k+1] - theta_r[k]): exact (difference, then an integer
      * multiple), small, so no wrap */
@@ -201,14 +208,24 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     /* 2. estimator correction */
     fg_estimator_correct(&d->est, i_f, i_g);
 
-    /* 3. supervisor event */
-    const bool want_closed =
-        !(mc_abs(d->ref.omega_rad_s) < c->limits.omega_lim_rad_s) && fg_estimator_observable(&d->est);
+    /* 3. supervisor event; the loop closes only on an estimate that has
+     * been observable for close_dwell_ticks samples in a row, so that a
+     * back-EMF hovering at the threshold cannot toggle the mode (and pile
+     * up the switch offsets) sample after sample; it opens at once */
+    const bool observable = fg_estimator_observable(&d->est);
+    if (!observable) {
+        d->observable_run = 0;
+    } else if (d->observable_run < c->close_dwell_ticks) {
+        d->observable_run += 1u;
+    }
+    const bool in_closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    const bool want_closed = !(mc_abs(d->ref.omega_rad_s) < c->limits.omega_lim_rad_s) && observable &&
+                             (in_closed || !(d->observable_run < c->close_dwell_ticks));
     if (want_closed) {
         fg_estimator_track(&d->est, d->ref.theta_rad, d->ref.omega_rad_s);
     }
     bool switched = false;
-    if (want_closed != (d->sup.state == SUP_STATE_CLOSED_LOOP)) {
+    if (want_closed != in_closed) {
         switched = supervisor_dispatch(&d->sup, want_closed ? SUP_EV_ESTIMATE_TRUSTED : SUP_EV_ESTIMATE_LOST);
         if (switched && want_closed) {
             fg_estimator_lock_branch(&d->est, d->ref.theta_rad);

@@ -80,6 +80,7 @@ typedef struct {
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
     trajectory_config_t traj;
     drive_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
+    uint32_t close_dwell_ticks;   /* the back-EMF observable this many samples in a row before the loop closes */
 } drive_config_t;
 
 /* What one step computed, for telemetry, logs and tests. */
@@ -117,6 +118,7 @@ typedef struct {
     rl_id_t rl_id;
     trajectory_t traj;
     uint32_t tick;
+    uint32_t observable_run;     /* samples in a row the back-EMF has been observable (saturates) */
     bool v_ext_set;              /* drive_set_applied_voltage() for the next step */
     mc_ab_t v_ext_V;
     trajectory_point_t ref;      /* reference of this sample */

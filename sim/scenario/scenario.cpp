@@ -779,12 +779,21 @@ Scenario load_scenario(const std::string& path)
 
     // [design] (optional): design switches that are neither gains nor bounds
     if (const auto v = root.table("design")) {
-        v->only({"load_feedforward", "identify_rl"});
+        v->only({"load_feedforward", "identify_rl", "gain_design"});
         if (const auto b = v->boolean("load_feedforward")) {
             sc.load_feedforward = *b ? 1 : 0;
         }
         if (const auto b = v->boolean("identify_rl")) {
             sc.identify_rl = *b ? 1 : 0;
+        }
+        if (const auto g = v->string("gain_design")) {
+            if (*g == "continuous") {
+                sc.gain_design = 0;
+            } else if (*g == "discrete") {
+                sc.gain_design = 1;
+            } else {
+                v->fail("gain_design", "must be \"continuous\" or \"discrete\" (got \"" + *g + "\")");
+            }
         }
     }
 

@@ -102,6 +102,7 @@ struct Scenario {
     // [design]: switches of drive_design_input_t; -1 = the design default.
     int load_feedforward = -1;
     int identify_rl = -1; // [design] identify_rl; -1: design default
+    int gain_design = -1; // [design] gain_design: 0 continuous, 1 discrete; -1: design default
 
     // [speed] (the paper-001 speed drive instead of [trajectory])
     bool speed_drive = false;
