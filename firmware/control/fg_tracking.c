@@ -9,12 +9,13 @@ void fg_tracking_init(fg_tracking_t *t, const fg_tracking_config_t *cfg)
     t->i_g_off_A = MC_ZERO;
     t->i_f_ref_A = MC_ZERO;
     t->i_g_ref_A = MC_ZERO;
+    t->load_ff_Nm = MC_ZERO;
 }
 
 /* Reference currents and voltages of the flat outputs, eqs. (38)-(39):
  * i_g,r = (J theta_r'' + f_v theta_r')/K, and the voltages from the
  * reference model (38) with i_f,r constant. */
-void fg_tracking_references(const fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
+void fg_tracking_references(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
                             const trajectory_point_t *rn, mc_t load_est_Nm, mc_t *i_fr, mc_t *i_gr, mc_t *v_fr,
                             mc_t *v_gr)
 {
@@ -23,7 +24,8 @@ void fg_tracking_references(const fg_tracking_t *t, const motor_model_t *m, mc_t
     *i_fr = mc_add(c->i_f_ref_A, t->i_f_off_A);
     /* (39) with the load of (9c): J w_r' = K i_g,r - f_v w_r - C_r, C_r from (35) */
     mc_t i_g = mc_dot2(m->J_over_K_A_s2, r->accel_rad_s2, m->fv_over_K_A_s, r->omega_rad_s);
-    i_g = mc_mac(i_g, c->load_ff_A_per_Nm, mc_clamp(load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm));
+    const mc_t load_ff = mc_clamp(load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm);
+    i_g = mc_mac(i_g, c->load_ff_A_per_Nm, load_ff);
     *i_gr = mc_clamp(mc_add(i_g, t->i_g_off_A), mc_neg(i_max_A), i_max_A);
     /* L di_g,r/dt of (39), (JL/K) theta_r''' + (L f_v/K) theta_r'', taken as
      * the change of i_g,r over the sample (L/Ts times the difference of the
@@ -31,6 +33,13 @@ void fg_tracking_references(const fg_tracking_t *t, const motor_model_t *m, mc_t
      * average is what moves the current there */
     mc_t Ldi_gr = mc_dot2(m->LJ_over_KTs_V_s2, mc_sub(rn->accel_rad_s2, r->accel_rad_s2), m->Lfv_over_KTs_V_s,
                           mc_sub(rn->omega_rad_s, r->omega_rad_s));
+    if (mc_ne(c->load_ff_L_over_KTs, MC_ZERO)) {
+        /* and of the fed-forward C_r/K: (L/K) dC_r/dt, the change since the
+         * last call (the discrete-time design; the continuous one leaves it
+         * to the twisting loop as the dC_r/dt of (56)) */
+        Ldi_gr = mc_mac(Ldi_gr, c->load_ff_L_over_KTs, mc_sub(load_ff, t->load_ff_Nm));
+        t->load_ff_Nm = load_ff;
+    }
     mc_t Ldi_fr = MC_ZERO;
     if (mc_ne(t->i_f_off_A, MC_ZERO) || mc_ne(t->i_g_off_A, MC_ZERO)) {
         Ldi_fr = mc_neg(mc_mul(c->ref_blend_L_over_tau_ohm, t->i_f_off_A));
@@ -49,6 +58,7 @@ void fg_tracking_start(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, c
     super_twisting_reset(&t->cur, MC_ZERO);
     t->i_f_off_A = MC_ZERO;
     t->i_g_off_A = MC_ZERO;
+    t->load_ff_Nm = mc_clamp(load_est_Nm, mc_neg(t->cfg.load_ff_max_Nm), t->cfg.load_ff_max_Nm);
     mc_t i_fr0, i_gr0, v_fr0, v_gr0;
     fg_tracking_references(t, m, i_max_A, ref, ref_next, load_est_Nm, &i_fr0, &i_gr0, &v_fr0, &v_gr0);
     t->i_f_off_A = mc_sub(i_d_A, i_fr0);

@@ -36,6 +36,7 @@ typedef struct {
     mc_t i_f_ref_A;                /* flat output i_f,r (0: section 5.2) */
     mc_t load_ff_A_per_Nm;         /* 1/K to add the observed load C_r to i_g,r; 0 = paper (39) as printed */
     mc_t load_ff_max_Nm;           /* the feed-forward trusts the estimate only up to this */
+    mc_t load_ff_L_over_KTs;       /* L/(K Ts): L di_g,r/dt of the fed-forward load's change; 0 = none */
     mc_t ref_blend_decay;          /* per-sample decay of the switch current-reference offset */
     mc_t ref_blend_L_over_tau_ohm; /* L/tau of that decay: its L di_r/dt voltage */
 } fg_tracking_config_t;
@@ -46,6 +47,7 @@ typedef struct {
     twisting_t pos;
     mc_t i_f_off_A, i_g_off_A;     /* decaying current-reference offsets of the switch */
     mc_t i_f_ref_A, i_g_ref_A;     /* references of the last closed-loop step */
+    mc_t load_ff_Nm;               /* the load fed forward at the last call (clamped; with load_ff_L_over_KTs only) */
 } fg_tracking_t;
 
 void fg_tracking_init(fg_tracking_t *t, const fg_tracking_config_t *cfg);
@@ -57,8 +59,9 @@ void fg_tracking_start(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, c
 
 /* Reference currents and voltages of the flat outputs, eqs. (38)-(39),
  * for the reference r at this sample and rn at the next, with the observed
- * load fed forward and the switch offsets added. */
-void fg_tracking_references(const fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
+ * load fed forward and the switch offsets added (and, with
+ * load_ff_L_over_KTs, the fed load's L di/dt; it then remembers the load). */
+void fg_tracking_references(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
                             const trajectory_point_t *rn, mc_t load_est_Nm, mc_t *i_fr, mc_t *i_gr, mc_t *v_fr,
                             mc_t *v_gr);
 

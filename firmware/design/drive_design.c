@@ -11,6 +11,44 @@
  * k_m = K_M = 1 here (w_t enters S'' with unit gain, eq. (55)); C0 is
  * the bound (57) plus the voltage-error term of the errata. A margin of
  * 1.2 is applied to each strict inequality.
+ *
+ * Those conditions are continuous-time: they ask the gains to be large
+ * enough and never bound them from above. The drive runs them once per
+ * Ts, where a gain also sets a step per sample that the estimate or the
+ * command makes whatever the error is (the chattering amplitude of a
+ * sampled sliding mode, ~ gain Ts for the first derivative, gain Ts^2 for
+ * the variable). gain_design = DISCRETE keeps the conditions above and
+ * adds the sampled system's bounds:
+ *  - back-EMF observer (25): one sample's step L alpha Ts of the estimate
+ *    e-hat turns its direction by L alpha Ts / (K |w|) rad electrical, the
+ *    resolution of the angle (29). Pi_d of section 3.1.1 grows with the
+ *    speed, (K/L)(|w'|max + n_p |w| |dw|max), and so does |e| = K |w|:
+ *    with alpha = 2 Pi_d taken at the reference speed, the resolution
+ *    2 Ts (|w'|max / |w| + n_p |dw|max) stays below DISC_EMF_TURN_RAD at
+ *    every speed from omega_lim up if |dw|max <= (DISC_EMF_TURN_RAD /
+ *    (2 Ts) - |w'|max / omega_lim) / n_p (4.8 rad/s for the rig, against 1
+ *    in the continuous design). The observer's alpha then follows |w_r|
+ *    (emf_observer_schedule); the continuous design takes |w|max and so
+ *    steps 0.07 rad at omega_lim (3.9 deg), which is why raising its
+ *    bounds loses the angle at the open-to-closed switch. The |dw|max the
+ *    resolution allows replaces bound_delta_omega_rad_s (a larger bound is
+ *    not resolvable at this Ts). lambda, and the i_f loop's gains (51),
+ *    keep their values for the bounds as given: lambda's own sampled cycle,
+ *    (lambda Ts)^2 / 4 in the current estimate, would quadruple with
+ *    Levant's lambda for the wider |dw|max (measured: the ideal run's
+ *    observation error doubles, to the paper's 0.01 A).
+ *  - twisting (21) and the load observer's alpha (35): one sample of
+ *    w = lambda_M changes the commanded acceleration by lambda_M Ts; the
+ *    loop sees it DISC_LOOP_DELAY_SAMPLES later, so the current ripple of
+ *    the limit cycle is about lambda_M n Ts J / K. It is capped at
+ *    DISC_RIPPLE_OVER_IMAX I_max: lambda_M <= that K / (J n Ts) (1.27e5
+ *    rad/s^3 for the rig; the default bounds need 8.8e4), lambda_m scaled
+ *    with it; the load observer's alpha (its load estimate steps J alpha
+ *    Ts per sample into the same acceleration) has the same cap. Bounds
+ *    beyond it (a faster load, a larger C_r) then lower the guarantee of
+ *    (22)/(57) instead of making the loop chatter until over-current.
+ *  - load feed-forward: i_g,r of (39) carries C_r/K, so its L di_g,r/dt
+ *    of (38) carries (L/K) dC_r/dt; the continuous design leaves it out.
  */
 #include "design/drive_design.h"
 
@@ -80,6 +118,28 @@
 #define RL_WINDOW_MIN 50
 #define RL_WINDOW_MAX 5000
 #define RL_STILL_OVER_OMEGA_LIM 0.1
+/* Open-to-closed switch: the back-EMF must have been observable for 2 ms
+ * (20 samples at 10 kHz, a fraction of the 10 ms current-reference blend)
+ * in a row; a back-EMF at the threshold otherwise toggles the mode sample
+ * after sample when the rotor lags near omega_lim, each toggle adding a
+ * switch offset. */
+#define CLOSE_DWELL_S 2e-3
+/* Discrete-time design (block comment at the top). The largest turn of the
+ * back-EMF estimate's direction in one sample, rad electrical: 1e-3 rad of
+ * rotor angle at n_p = 50, a tenth of the paper's 0.01 rad estimation
+ * error (Fig. 7). */
+#define DISC_EMF_TURN_RAD 0.05
+/* At most this share of that resolution budget goes to the |w'|max term at
+ * omega_lim (a bound_accel_rad_s2 near the motor's K I_max / J would
+ * otherwise leave none for |dw|max). */
+#define DISC_EMF_ACCEL_SHARE 0.5
+/* Samples between a twisting command and its effect in the estimate: one
+ * for the held voltage to show in the sampled current, one of computation
+ * delay allowed for (an MCU's PWM). */
+#define DISC_LOOP_DELAY_SAMPLES 2.0
+/* The twisting's limit-cycle current ripple is kept within the current
+ * sensor's precision, 1 % of I_n = I_max (paper 000 section 5.3). */
+#define DISC_RIPPLE_OVER_IMAX 0.01
 
 /* Rotor alignment (startup/align.h). Its times scale with the period of
  * the rotor's swing about the aligned equilibrium, T_m = 2 pi sqrt(J /
@@ -169,6 +229,8 @@ void drive_design_defaults(drive_design_input_t *in)
     in->load_feedforward = 1;            /* see drive_design.h */
     in->identify_rl = 1;
     in->align_rotor = 1;
+    in->compute_delay_samples = 0.0;
+    in->gain_design = DRIVE_GAIN_CONTINUOUS; /* see drive_gain_design_t and docs/paper000.md */
 }
 
 static int32_t ticks_of(double t_s, double fs) { return (int32_t)ceil(t_s * fs - 1e-9); }
@@ -210,14 +272,28 @@ void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t 
     const drive_gain_override_t *ov = &in->override;
     /* Electrical observer, section 3.1.1: Pi_d = (K/L)(|w'|max + n_p |w dw|max) */
     const double Pi_d = (K / L) * (in->accel_max_rad_s2 + np * in->speed_max_rad_s * in->delta_omega_max_rad_s);
-    const double alpha_e = pick(ov->emf_alpha_A_s2, ST_ALPHA_OVER_PI * Pi_d);
+    double alpha_e = pick(ov->emf_alpha_A_s2, ST_ALPHA_OVER_PI * Pi_d);
     const double lambda_e = pick(ov->emf_lambda, sqrt(4.0 * Pi_d * (alpha_e + Pi_d) / fmax(alpha_e - Pi_d, 1e-9 * alpha_e)));
+    double alpha_slope = 0.0; /* [A/s^2 per rad/s] */
+    if (in->gain_design == DRIVE_GAIN_DISCRETE && !(ov->emf_alpha_A_s2 > 0.0)) {
+        /* alpha(w_r) = 2 (K/L)(|w'|max + n_p |w_r| |dw|max) within the
+         * resolution DISC_EMF_TURN_RAD from omega_lim up (top comment) */
+        const double budget = DISC_EMF_TURN_RAD / (ST_ALPHA_OVER_PI * Ts);
+        const double w_low = in->omega_lim_rad_s;
+        const double a = fmin(in->accel_max_rad_s2, DISC_EMF_ACCEL_SHARE * budget * w_low);
+        const double dw = (budget - a / w_low) / np;
+        alpha_e = ST_ALPHA_OVER_PI * (K / L) * a;
+        alpha_slope = ST_ALPHA_OVER_PI * (K / L) * np * dw;
+        /* lambda keeps the value of the bounds as given (top comment) */
+    }
     const double l_e = pick(ov->emf_l_per_s, EMF_POLE_OVER_FS * fs);
     const double tau_f = pick(ov->injection_filter_s, INJECTION_FILTER_S);
     ec->emf.lambda_A = mc_from_double(lambda_e * Ts);
     ec->emf.l_ts = mc_from_double(l_e * Ts);
     ec->emf.alpha_V = mc_from_double(L * alpha_e * Ts);
     ec->emf.alpha_V_s = mc_from_double(L * alpha_e);
+    ec->emf.alpha_V_per_rad_s = mc_from_double(L * alpha_slope * Ts);
+    ec->emf.alpha_V_s_per_rad_s = mc_from_double(L * alpha_slope);
     ec->emf.lpf_coeff = mc_from_double(Ts / (tau_f + Ts));
 
     /* Position estimator (29)-(32), (71) */
@@ -229,7 +305,11 @@ void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t 
 
     /* Mechanical observer, section 3.2: Pi = |dC_r/dt|max / J; its torque
      * is K_t i_q (K_t = K for paper 000's two-phase motor) */
-    const double Pi_m = in->load_rate_max_Nm_s / J;
+    double Pi_m = in->load_rate_max_Nm_s / J;
+    if (in->gain_design == DRIVE_GAIN_DISCRETE && in->ripple_cap_rad_s3 > 0.0) {
+        /* the twisting's cap (top comment): the rate the sampled loop holds */
+        Pi_m = fmin(Pi_m, in->ripple_cap_rad_s3 / ST_ALPHA_OVER_PI);
+    }
     const double alpha_m = pick(ov->mech_alpha_rad_s3, ST_ALPHA_OVER_PI * Pi_m);
     const double lambda_m = pick(ov->mech_lambda, sqrt(4.0 * Pi_m * (alpha_m + Pi_m) / fmax(alpha_m - Pi_m, 1e-9 * alpha_m)));
     const double l_m = pick(ov->mech_l_per_s, MECH_POLE_OVER_FS * fs);
@@ -257,6 +337,8 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     if (!(in->i_max_A > 0.0)) return fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
     if (!(in->omega_lim_rad_s > 0.0)) return fail(err, err_len, "limits.omega_lim_rad_s", "must be > 0", in->omega_lim_rad_s);
+    if (in->gain_design != DRIVE_GAIN_CONTINUOUS && in->gain_design != DRIVE_GAIN_DISCRETE)
+        return fail(err, err_len, "design.gain_design", "must be continuous (0) or discrete (1)", (double)in->gain_design);
     if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
         return fail(err, err_len, "run.compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
     if (in->n_segments < 0 || in->n_segments > DRIVE_DESIGN_MAX_SEGMENTS)
@@ -319,6 +401,12 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     ed.omega_lim_rad_s = in->omega_lim_rad_s;
     ed.i_max_A = in->i_max_A;
     ed.override = *ov;
+    const bool discrete = in->gain_design == DRIVE_GAIN_DISCRETE;
+    /* the sampled loop's cap on lambda_M and the load observer's alpha
+     * (top comment); unused by the continuous design */
+    const double ripple_cap = DISC_RIPPLE_OVER_IMAX * in->i_max_A * K / (J * DISC_LOOP_DELAY_SAMPLES * Ts);
+    ed.gain_design = in->gain_design;
+    ed.ripple_cap_rad_s3 = ripple_cap;
     double Pi_d;
     fg_estimator_design(&ed, &cfg->est, &Pi_d);
 
@@ -337,8 +425,13 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     const double k = pick(ov->k_surface_per_s, SURFACE_POLE_PER_S);
     const double C0 = fabs(k / J - fv / (J * J)) * load_max + in->bound_load_rate_Nm_s / J +
                       (K / (J * L)) * in->bound_model_error_V;
-    const double lam_m = pick(ov->tw_lambda_m_rad_s3, TWISTING_MARGIN * C0);
-    const double lam_M = pick(ov->tw_lambda_M_rad_s3, TWISTING_MARGIN * (lam_m + 2.0 * C0));
+    double lam_m = pick(ov->tw_lambda_m_rad_s3, TWISTING_MARGIN * C0);
+    double lam_M = pick(ov->tw_lambda_M_rad_s3, TWISTING_MARGIN * (lam_m + 2.0 * C0));
+    if (discrete && !(ov->tw_lambda_M_rad_s3 > 0.0) && lam_M > ripple_cap) {
+        /* within the sampled loop's ripple: both gains scaled, (22)'s ratio kept */
+        if (!(ov->tw_lambda_m_rad_s3 > 0.0)) lam_m *= ripple_cap / lam_M;
+        lam_M = ripple_cap;
+    }
     if (!(lam_M >= lam_m)) return fail(err, err_len, "gains.tw_lambda_M_rad_s3", "must be >= tw_lambda_m_rad_s3", lam_M);
     const double JL_K = J * L / K;
     cc->pos.lambda_m = mc_from_double(JL_K * lam_m);
@@ -374,6 +467,9 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cc->ref_blend_L_over_tau_ohm = mc_from_double(tau_i > 0 ? L / tau_i : 0.0);
     cc->load_ff_A_per_Nm = mc_from_double(in->load_feedforward ? 1.0 / K : 0.0);
     cc->load_ff_max_Nm = mc_from_double(LOAD_FF_TRUST_OVER_BOUND * load_max);
+    /* (38): L di_g,r/dt of the fed-forward C_r/K (discrete design) */
+    cc->load_ff_L_over_KTs = mc_from_double((discrete && in->load_feedforward) ? L / (K * Ts) : 0.0);
+    cfg->close_dwell_ticks = (uint32_t)ceil(CLOSE_DWELL_S * fs - 1e-9);
     if (in->identify_rl) {
         const int32_t n = (int32_t)ceil(RL_WINDOW_TAUS * L / (R > 0.0 ? R : 1.0) / Ts);
         cfg->rl_id.window_ticks = n < RL_WINDOW_MIN ? RL_WINDOW_MIN : (n > RL_WINDOW_MAX ? RL_WINDOW_MAX : n);

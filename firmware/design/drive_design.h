@@ -33,6 +33,16 @@ typedef struct {
     double t_start_s, duration_s, theta_to_rad;
 } drive_segment_si_t;
 
+/* Which conditions the gains are derived from (drive_design.c):
+ *  CONTINUOUS: paper 000's continuous-time conditions (22), (51), (57) and
+ *    Levant's super-twisting condition with the bounds as given, constant
+ *    gains (the reference derivation);
+ *  DISCRETE: the same conditions, with the gains also bounded by what the
+ *    sampled system (Ts, one sample of computation delay) resolves without
+ *    chattering, the back-EMF observer's gain following the reference speed,
+ *    and the load feed-forward's L di/dt (docs/paper000.md compares them). */
+typedef enum { DRIVE_GAIN_CONTINUOUS = 0, DRIVE_GAIN_DISCRETE = 1 } drive_gain_design_t;
+
 /* Optional gain overrides: a value <= 0 means "derive it". */
 typedef struct {
     double emf_alpha_A_s2, emf_lambda, emf_l_per_s;
@@ -76,6 +86,7 @@ typedef struct {
      * currents of t_k acts from t_k + d Ts (drives/paper000_drive.h,
      * drive_delay_config_t, says what the drive does with it). */
     double compute_delay_samples;
+    drive_gain_design_t gain_design;  /* see drive_gain_design_t; default DISCRETE */
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;
@@ -102,6 +113,8 @@ typedef struct {
     double accel_max_rad_s2, speed_max_rad_s, delta_omega_max_rad_s, load_rate_max_Nm_s;
     double omega_lim_rad_s, i_max_A;
     drive_gain_override_t override;
+    drive_gain_design_t gain_design;  /* DISCRETE: speed-following back-EMF gain, capped load gain */
+    double ripple_cap_rad_s3;         /* DISCRETE: the cap of the load observer's alpha (drive_design.c) */
 } fg_estimator_design_t;
 
 /* The generic fault criteria (supervisor/fault_monitor.h) for a drive of

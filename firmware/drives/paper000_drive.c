@@ -233,6 +233,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->cfg = *cfg;
     d->model = cfg->model;
     d->tick = 0;
+    d->observable_run = 0;
     d->v_ext_set = false;
     d->v_ext_V.alpha = MC_ZERO;
     d->v_ext_V.beta = MC_ZERO;
@@ -303,9 +304,15 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         /* the frame turns by the rotation applied last sample; every
          * DRIVE_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
-        d->rot_k = ((d->tick % DRIVE_FRAME_RESYNC) == 0u)
-                       ? mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, d->model.n_p))
-                       : d->rot_next;
+        if ((d->tick % DRIVE_FRAME_RESYNC) == 0u) {
+            d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, d->model.n_p));
+            /* the observer's gain at the reference speed (discrete-time
+             * design; a no-op otherwise): the speed moves by at most
+             * |w'|max 32 Ts = 0.1 rad/s in between for the rig */
+            fg_estimator_schedule(&d->est, d->ref.omega_rad_s);
+        } else {
+            d->rot_k = d->rot_next;
+        }
     }
     /* n_p (theta_r[k+1] - theta_r[k]): exact (difference, then an integer
      * multiple), small, so no wrap */
@@ -338,10 +345,22 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
 
     /* 3. supervisor event: closed loop when the reference is fast, the
      * back-EMF observable and no loss of synchronism is being recovered
-     * from; a loss detected in closed loop is a fault (drive_lost_sync) */
+     * from (a loss detected in closed loop is a fault: drive_lost_sync).
+     * The loop closes only on an estimate that has been observable for
+     * close_dwell_ticks samples in a row, so that a back-EMF hovering at
+     * the threshold cannot toggle the mode (and pile up the switch
+     * offsets) sample after sample; it opens at once */
     const bool fast = !mc_lt(mc_abs(d->ref.omega_rad_s), c->limits.omega_lim_rad_s);
     const bool observable = fg_estimator_observable(&d->est);
-    if (fast && observable) {
+    if (!observable) {
+        d->observable_run = 0;
+    } else if (d->observable_run < c->close_dwell_ticks) {
+        d->observable_run += 1u;
+    }
+    const bool dwell_ok = d->sup.state == SUP_STATE_CLOSED_LOOP || !(d->observable_run < c->close_dwell_ticks);
+    /* (29), (71) where the angle is used, and through a re-lock's hold
+     * (the jump count goes on counting the rotor's turns) */
+    if (fast && observable && (dwell_ok || d->relock_hold > 0)) {
         fg_estimator_track(&d->est, d->ref.theta_rad, d->ref.omega_rad_s);
     }
     {
@@ -370,7 +389,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         d->relock_hold -= 1;
         d->branch_kept = d->branch_kept && fast && observable;
     }
-    const bool want_closed = fast && observable && d->relock_hold == 0;
+    const bool want_closed = fast && observable && d->relock_hold == 0 && dwell_ok;
     /* the hand-over to open loop as the reference slows: the open loop
      * (68) pulls the rotor to the nearest equilibrium of the reference's
      * field, so a rotor that the estimate puts more than half a pitch away
@@ -521,6 +540,7 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     t->overruns = d->mon.overruns;
     t->R_model_ohm = d->model.R_ohm;
     t->L_model_H = d->model.L_H;
+    t->K_model_V_s = d->model.K_V_s;
 }
 
 void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V)

@@ -121,6 +121,7 @@ typedef struct {
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
     trajectory_config_t traj;
     drive_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
+    uint32_t close_dwell_ticks;   /* the back-EMF observable this many samples in a row before the loop closes */
 } drive_config_t;
 
 /* What one step computed, for telemetry, logs and tests. */
@@ -146,6 +147,7 @@ typedef struct {
     /* model in use: the configured one, or the standstill measurement */
     rl_id_state_t rl_id_state;
     mc_t R_model_ohm, L_model_H;
+    mc_t K_model_V_s;
     uint32_t fw_version;           /* MC_VERSION_U32: major << 16 | minor << 8 | patch */
     uint32_t fault_events;         /* faults seen since init, recovered ones included */
     int32_t relocks;               /* RELOCK reactions taken */
@@ -173,6 +175,7 @@ typedef struct {
     trajectory_t traj;
     uint32_t tick;
     uint32_t align_ticks;        /* the alignment's length: the trajectory's sample 0 follows it */
+    uint32_t observable_run;     /* samples in a row the back-EMF has been observable (saturates) */
     bool v_ext_set;              /* drive_set_applied_voltage() for the next step */
     mc_ab_t v_ext_V;
     trajectory_point_t ref;      /* reference of this sample */

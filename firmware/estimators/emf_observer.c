@@ -3,6 +3,8 @@
 void emf_observer_init(emf_observer_t *o, const emf_observer_config_t *cfg)
 {
     o->cfg = *cfg;
+    o->alpha_V_now = cfg->alpha_V;
+    o->alpha_V_s_now = cfg->alpha_V_s;
     emf_observer_reset(o, MC_ZERO, MC_ZERO);
 }
 
@@ -24,12 +26,12 @@ void emf_observer_correct(emf_observer_t *o, mc_t i_f_A, mc_t i_g_A)
     o->err_f_A = mc_sub(i_f_A, o->i_f_hat_A);
     o->err_g_A = mc_sub(i_g_A, o->i_g_hat_A);
     /* lower rows of chi_fg in (25): d-hat' = alpha sgn(eps), as voltages */
-    o->e_f_hat_V = mc_add(o->e_f_hat_V, mc_mul_sgn(c->alpha_V, o->err_f_A));
-    o->e_g_hat_V = mc_add(o->e_g_hat_V, mc_mul_sgn(c->alpha_V, o->err_g_A));
+    o->e_f_hat_V = mc_add(o->e_f_hat_V, mc_mul_sgn(o->alpha_V_now, o->err_f_A));
+    o->e_g_hat_V = mc_add(o->e_g_hat_V, mc_mul_sgn(o->alpha_V_now, o->err_g_A));
     /* alpha sgn_eq(eps) of (28c)-(28d): the injection through a first-order
      * low-pass (the raw one chatters at the sample rate) */
-    o->z_f_V_s = mc_mac(o->z_f_V_s, c->lpf_coeff, mc_sub(mc_mul_sgn(c->alpha_V_s, o->err_f_A), o->z_f_V_s));
-    o->z_g_V_s = mc_mac(o->z_g_V_s, c->lpf_coeff, mc_sub(mc_mul_sgn(c->alpha_V_s, o->err_g_A), o->z_g_V_s));
+    o->z_f_V_s = mc_mac(o->z_f_V_s, c->lpf_coeff, mc_sub(mc_mul_sgn(o->alpha_V_s_now, o->err_f_A), o->z_f_V_s));
+    o->z_g_V_s = mc_mac(o->z_g_V_s, c->lpf_coeff, mc_sub(mc_mul_sgn(o->alpha_V_s_now, o->err_g_A), o->z_g_V_s));
 }
 
 void emf_observer_predict(emf_observer_t *o, const motor_model_t *m, mc_t v_f_V, mc_t v_g_V, mc_t i_f_A, mc_t i_g_A,

@@ -36,6 +36,12 @@ typedef struct {
     mc_t alpha_V;            /* L * alpha_{f,g} * Ts: e-hat step per sample [V] */
     mc_t alpha_V_s;          /* L * alpha_{f,g}: equivalent injection amplitude [V/s] */
     mc_t lpf_coeff;          /* Ts/(tau + Ts) of the equivalent-injection filter */
+    /* Discrete-time design (design/drive_design.c, gain_design): alpha
+     * follows the reference speed, alpha(|w_r|) = alpha + slope |w_r|, as
+     * the bound Pi_d of section 3.1.1 does; 0: a constant alpha (the
+     * continuous-time design, which takes |w|max). */
+    mc_t alpha_V_per_rad_s;  /* slope of alpha_V [V per sample per rad/s] */
+    mc_t alpha_V_s_per_rad_s;/* slope of alpha_V_s [V/s per rad/s] */
 } emf_observer_config_t;
 
 typedef struct {
@@ -44,7 +50,18 @@ typedef struct {
     mc_t e_f_hat_V, e_g_hat_V; /* L*d_f, L*d_g estimates, eq. (28a)-(28b) */
     mc_t z_f_V_s, z_g_V_s;     /* filtered equivalent injections L*alpha*sgn_eq(eps), (28c)-(28d) */
     mc_t err_f_A, err_g_A;     /* eps_f, eps_g of the last correction */
+    mc_t alpha_V_now, alpha_V_s_now; /* alpha_V, alpha_V_s at the reference speed of this sample */
 } emf_observer_t;
+
+/* The injection amplitude for the reference speed |w_r| of this sample
+ * (before emf_observer_correct); a no-op with the constant alpha. */
+static inline void emf_observer_schedule(emf_observer_t *o, mc_t speed_abs_rad_s)
+{
+    if (mc_ne(o->cfg.alpha_V_per_rad_s, MC_ZERO)) {
+        o->alpha_V_now = mc_mac(o->cfg.alpha_V, o->cfg.alpha_V_per_rad_s, speed_abs_rad_s);
+        o->alpha_V_s_now = mc_mac(o->cfg.alpha_V_s, o->cfg.alpha_V_s_per_rad_s, speed_abs_rad_s);
+    }
+}
 
 void emf_observer_init(emf_observer_t *o, const emf_observer_config_t *cfg);
 

@@ -7,6 +7,7 @@
  * (mech_observer.h). One mc_estimate_t out (estimate.h).
  *
  * Per sample, in this order (the drive's recipe calls them):
+ *   fg_estimator_schedule   the observer's gain at the reference speed (discrete-time design)
  *   fg_estimator_correct    measured (f-g) currents: observer correction, observability
  *   fg_estimator_track      (29), (71) where the angle is used (closed loop, the switch)
  *   fg_estimator_lock_branch at the open-to-closed switch: the branch nearest the reference
@@ -45,6 +46,13 @@ typedef struct {
 } fg_estimator_t;
 
 void fg_estimator_init(fg_estimator_t *e, const fg_estimator_config_t *cfg);
+
+/* The observer's injection amplitude for the reference speed of this
+ * sample (the discrete-time design; nothing with constant gains). */
+static inline void fg_estimator_schedule(fg_estimator_t *e, mc_t omega_r_rad_s)
+{
+    emf_observer_schedule(&e->emf, mc_abs(omega_r_rad_s));
+}
 
 /* Observer correction (25) with the measured (f-g) currents [A], and the
  * observability test of the back-EMF. */

@@ -7,6 +7,14 @@
 
 namespace mcsim {
 
+namespace {
+// The time a load change is given before the tracking error counts in
+// theta_track_load_settled_max_rad: 100 ms, the recovery time the load-step
+// requirement of the paper-000 issue states ("back within 0.02 rad in
+// 100 ms").
+constexpr double kLoadSettleS = 0.1;
+}  // namespace
+
 const char* const kColumnNames[kNumColumns] = {
     "t_s",       "mode",        "theta_ref", "omega_ref",       "accel_ref",  "theta",     "theta_est",
     "omega",     "omega_est",   "accel",     "accel_est",       "load_true_Nm", "load_est_Nm", "i_a",
@@ -164,11 +172,23 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     }
     last_mode_ = mode;
     watch_.on_period(p, static_cast<std::int64_t>(tl.fault), plant_);
+    // [load] changes complete by now (a step at t_s, a ramp at t_s + ramp_s);
+    // settled: kLoadSettleS after the last one, and the next not begun
+    while (load_next_ < sc_.load.size() && sc_.load[load_next_].t_s + sc_.load[load_next_].ramp_s <= p.t_s) {
+        load_done_t_ = sc_.load[load_next_].t_s + sc_.load[load_next_].ramp_s;
+        ++load_next_;
+    }
+    const bool load_settled = load_done_t_ >= 0.0 && p.t_s - load_done_t_ >= kLoadSettleS &&
+                              (load_next_ >= sc_.load.size() || sc_.load[load_next_].t_s > p.t_s);
     // "Closed loop" by the reference speed, as in section 5.4, so that the
     // open/closed switch transients count against the drive.
     if (std::fabs(ref.omega_rad_s) >= omega_lim_rad_s_) {
         ++n_closed_;
         theta_track_max_ = std::max(theta_track_max_, track);
+        if (load_settled) {
+            // fmax: the first one replaces the NaN of "no such sample"
+            theta_track_load_settled_max_ = std::fmax(theta_track_load_settled_max_, track);
+        }
         theta_est_max_ = std::max(theta_est_max_, est);
         current_obs_max_ = std::max(current_obs_max_, std::max(std::fabs(i_f - i_f_hat), std::fabs(i_g - i_g_hat)));
         omega_est_max_ = std::max(omega_est_max_, w_err);
@@ -182,7 +202,7 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     }
     // NaN anywhere must not read as a perfect run: max() ignores NaN.
     if (!std::isfinite(theta) || !std::isfinite(theta_est) || !std::isfinite(i_f_hat)) {
-        theta_track_max_ = theta_est_max_ = current_obs_max_ = NAN;
+        theta_track_max_ = theta_est_max_ = current_obs_max_ = theta_track_load_settled_max_ = NAN;
     }
 }
 
@@ -203,6 +223,13 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("omega_est_rms_rad_s", rms(omega_est_ss_));
     m.emplace_back("final_theta_err_rad", std::fabs(plant_.theta_rad() - offset_rad_ - ref_.final_theta_rad()));
     m.emplace_back("final_theta_rad", plant_.theta_rad() - offset_rad_);
+    {
+        drive_telemetry_t tl;
+        drive_get_telemetry(&drive_, &tl);
+        m.emplace_back("model_R_ohm", to_double(tl.R_model_ohm));
+        m.emplace_back("model_L_H", to_double(tl.L_model_H));
+        m.emplace_back("model_K_V_s", to_double(tl.K_model_V_s));
+    }
     m.emplace_back("align_offset_rad", offset_rad_);
     m.emplace_back("align_residual_rad", align_residual_rad_);
     m.emplace_back("align_time_s", static_cast<double>(sc_.pre_ticks) * sc_.ts_s);
@@ -211,6 +238,7 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("first_closed_loop_t_s", first_switch_t_);
     m.emplace_back("mode_switches", mode_switches_);
     m.emplace_back("theta_track_max_all_rad", theta_track_max_all_);
+    m.emplace_back("theta_track_load_settled_max_rad", theta_track_load_settled_max_);
     m.emplace_back("ref_mismatch_max_rad", ref_mismatch_max_);
     m.emplace_back("max_abs_current_A", max_abs_current_);
     m.emplace_back("max_abs_voltage_V", max_abs_voltage_);

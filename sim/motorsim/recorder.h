@@ -8,6 +8,7 @@
 #define MCSIM_MOTORSIM_RECORDER_H
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -118,6 +119,11 @@ private:
     std::int64_t fault_ = 0;
     RunWatch watch_;
     double first_switch_t_ = -1.0;
+    // [load] changes: the next one not yet complete, the end of the last
+    // complete one (-1: none yet), the tracking error from kLoadSettleS after it
+    std::size_t load_next_ = 0;
+    double load_done_t_ = -1.0;
+    double theta_track_load_settled_max_ = NAN;
 };
 
 }  // namespace mcsim

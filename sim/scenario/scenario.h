@@ -110,6 +110,7 @@ struct Scenario {
     // before the Rig is built. The run starts at t = -pre_ticks * ts_s;
     // duration_s counts from t = 0.
     std::uint32_t pre_ticks = 0;
+    int gain_design = -1; // [design] gain_design: 0 continuous, 1 discrete; -1: design default
 
     // [speed] (the paper-001 speed drive instead of [trajectory])
     bool speed_drive = false;

@@ -195,6 +195,58 @@ TEST(DriveDesign, TwistingGainsBeatTheWorstPerturbation)
     EXPECT_LT(late_max, 1e-3) << "twisting with the designed gains did not hold S near 0";
 }
 
+// The discrete-time gain design (drive_design.c, gain_design = DISCRETE)
+// against the sampled system's bounds, worked out here from the rig: the
+// back-EMF observer's per-sample step turns its estimate by at most 0.05 rad
+// electrical at every speed from omega_lim up while still meeting alpha >=
+// 2 Pi_d(w) of the bounds as given there; the twisting's lambda_M and the
+// load observer's alpha within the ripple cap 0.01 I_max K/(J 2 Ts), with
+// (22)'s ratio kept; the load feed-forward's L/(K Ts). The default design
+// is the continuous one.
+TEST(DriveDesign, DiscreteDesignKeepsTheGainsWithinTheSampledBounds)
+{
+    const double L = 9e-3, K = 0.27, J = 3.18e-4, Ts = 1e-4, I_max = 3.0;
+    const int np = 50;
+    char err[160];
+    drive_design_input_t in = paper_input();
+    EXPECT_EQ(in.gain_design, DRIVE_GAIN_CONTINUOUS);
+    drive_config_t cont, disc;
+    ASSERT_TRUE(drive_design(&in, &cont, err, sizeof err)) << err;
+    EXPECT_EQ(D(cont.est.emf.alpha_V_per_rad_s), 0.0);
+    EXPECT_EQ(D(cont.ctrl.load_ff_L_over_KTs), 0.0);
+    in.gain_design = DRIVE_GAIN_DISCRETE;
+    ASSERT_TRUE(drive_design(&in, &disc, err, sizeof err)) << err;
+    double w_max, a_max;
+    trajectory_peaks(18.0, 2.0, &w_max, &a_max);
+    for (double w = 3.0; w <= w_max; w += 0.25) {
+        const double step_V = D(disc.est.emf.alpha_V) + D(disc.est.emf.alpha_V_per_rad_s) * w;  // L alpha(w) Ts
+        EXPECT_LE(step_V / (K * w), 0.05 + 1e-4) << w;
+        const double Pi_w = (K / L) * (a_max + np * w * in.bound_delta_omega_rad_s);
+        EXPECT_GE(step_V, L * 2 * Pi_w * Ts - 1e-5) << w;
+    }
+    EXPECT_NEAR(D(disc.ctrl.load_ff_L_over_KTs), L / (K * Ts), 1e-3);
+    // default bounds: the twisting is below the cap and equals the continuous one
+    const double cap = 0.01 * I_max * K / (J * 2 * Ts);
+    const double JL_K = J * L / K;
+    EXPECT_EQ(disc.ctrl.pos.lambda_M, cont.ctrl.pos.lambda_M);
+    EXPECT_LT(D(cont.ctrl.pos.lambda_M) / JL_K, cap);
+    // raised toward the motor's limits: capped, ratio kept; the continuous design is not
+    in.bound_load_Nm = 0.475;
+    in.bound_load_rate_Nm_s = 40.0;
+    ASSERT_TRUE(drive_design(&in, &disc, err, sizeof err)) << err;
+    in.gain_design = DRIVE_GAIN_CONTINUOUS;
+    ASSERT_TRUE(drive_design(&in, &cont, err, sizeof err)) << err;
+    EXPECT_NEAR(D(disc.ctrl.pos.lambda_M) / JL_K / cap, 1.0, 1e-3);
+    EXPECT_NEAR(D(disc.ctrl.pos.lambda_m) / D(disc.ctrl.pos.lambda_M),
+                D(cont.ctrl.pos.lambda_m) / D(cont.ctrl.pos.lambda_M), 1e-3);
+    EXPECT_GT(D(cont.ctrl.pos.lambda_M) / JL_K, 2 * cap);
+    EXPECT_LE(D(disc.est.mech.alpha_Nm) / (J * Ts), cap * (1 + 1e-3));
+    EXPECT_GT(D(cont.est.mech.alpha_Nm) / (J * Ts), cap);
+    in.gain_design = static_cast<drive_gain_design_t>(7);
+    EXPECT_FALSE(drive_design(&in, &disc, err, sizeof err));
+    EXPECT_NE(std::string(err).find("gain_design"), std::string::npos) << err;
+}
+
 // Section 5.4, open loop below omega_lim, eq. (68): the voltage is put on
 // the phases along the reference electrical angle at mid-sample,
 // n_p (theta_r[k] + theta_r[k+1])/2, so its average over the held sample

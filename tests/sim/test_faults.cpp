@@ -181,14 +181,16 @@ TEST(Faults, OverrunsOnTheThird)
 }
 
 // A locked rotor at speed: the back-EMF collapses (loss of synchronism
-// within 10 ms), three re-locks fail, the safe state.
+// within 10 ms), the re-locks fail (at most relock_max), the safe state.
 TEST(Faults, LockedRotor)
 {
     mcsim::Scenario sc = experiment();
     sc.faults.locked_rotor_t_s = kInject;
     const Result r = run(sc);
     common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 10e-3, true);
-    EXPECT_EQ(r.drive.relocks, r.drive.cfg.prot.relock_max);
+    // it tried to re-lock (bounded), and the loss stood
+    EXPECT_GE(r.drive.relocks, 1);
+    EXPECT_LE(r.drive.relocks, r.drive.cfg.prot.relock_max);
 }
 
 // An open winding: no current in it, the observer's error grows: loss of

@@ -6,6 +6,16 @@
   --load-steps  load steps on the experiment: a step of 0.1, 0.2, 0.3 N m at
               1 s, 0.2 N m with [bounds] bound_load_Nm = 0.3, and 0.2 N m
               ramped over 20 ms
+  --designs   the two gain designs ([design] gain_design) side by side:
+              ideal, experiment over seeds 1-10, and the experiment with its
+              bounds raised (bound_load_rate_Nm_s = 10, and bound_load_Nm =
+              0.475 with it)
+  --load-capacity  load steps of 0.1-0.4 N m at 0.5, 1.0, 1.5, 2.5, 3.0 s on
+              the experiment (seed 1), both designs, with the default bounds
+              and with bound_load_Nm = the step + the Coulomb friction; a cell
+              is max / settled tracking error (theta_track_max_rad /
+              theta_track_load_settled_max_rad) and passes (ok) when there is
+              no trip, no pole slip, max < 0.05 and settled < 0.02 rad
 
     python3 tools/bench/paper000_tables.py --results [--build build/host]
 
@@ -86,18 +96,90 @@ def load_steps(ms: Path) -> None:
         print(f"| {name} | {g(tr)}{verdict} | {m['fault']} |")
 
 
+COULOMB_NM = 0.0752   # sim/motors/paper000_stepper.toml: the default load bound
+HALF_PITCH_RAD = 0.0628  # pi/n_p: beyond it the rotor has slipped a pole
+STEP_TIMES = (0.5, 1.0, 1.5, 2.5, 3.0)
+STEP_LOADS = (0.1, 0.15, 0.2, 0.3, 0.4)
+
+
+def experiment_variant(design: str, bounds: dict[str, float], load: tuple[float, float] | None = None) -> str:
+    t = (SC / "paper000_experiment.toml").read_text()
+    t += f'\n[design]\ngain_design = "{design}"\n'
+    if bounds:
+        t += "\n[bounds]\n" + "".join(f"{k} = {v}\n" for k, v in bounds.items())
+    if load is not None:
+        t += f"\n[load]\nsteps = [{{ t_s = {load[1]}, torque_Nm = {load[0]} }}]\n"
+    return t
+
+
+def designs(ms: Path) -> None:
+    ideal_text = (SC / "paper000_ideal.toml").read_text()
+    raised = [("`bound_load_rate_Nm_s = 10`", {"bound_load_rate_Nm_s": 10.0}),
+              ("and `bound_load_Nm = 0.475`", {"bound_load_rate_Nm_s": 10.0, "bound_load_Nm": 0.475})]
+    print("| | continuous | discrete |")
+    print("| --- | --- | --- |")
+    rows: dict[str, list[str]] = {}
+    for design in ("continuous", "discrete"):
+        ideal = run(ms, ideal_text + f'\n[design]\ngain_design = "{design}"\n', SC / "paper000_ideal.toml")
+        rows.setdefault("ideal: `theta_track_max_rad` / `theta_est_max_rad` / `current_obs_max_a`", []).append(
+            f"{g(ideal['theta_track_max_rad'])} / {g(ideal['theta_est_max_rad'])} / {g(ideal['current_obs_max_a'])}")
+        for name, bounds in [("experiment, seeds 1-10", {})] + [("experiment " + n, b) for n, b in raised]:
+            text = experiment_variant(design, bounds)
+            with ThreadPoolExecutor(2) as pool:
+                seeds = list(pool.map(lambda s: run(ms, text, SC / "paper000_experiment.toml", "--seed", str(s)),
+                                      range(1, 11)))
+            def mx(k: str) -> str:
+                return g(max(m[k] for m in seeds))
+            trips = sum(1 for m in seeds if m["fault"] != 0)
+            rows.setdefault(name + ": max over seeds of `theta_track_max_rad` / `theta_est_max_rad` / "
+                            "`omega_est_peak_max_rad_s`", []).append(
+                f"{mx('theta_track_max_rad')} / {mx('theta_est_max_rad')} / {mx('omega_est_peak_max_rad_s')}"
+                + (f", {trips} trip(s)" if trips else ""))
+    for k, v in rows.items():
+        print(f"| {k} | {v[0]} | {v[1]} |")
+
+
+def load_capacity(ms: Path) -> None:
+    cases = []
+    for design in ("continuous", "discrete"):
+        for raised in (False, True):
+            for load in STEP_LOADS:
+                bounds = {"bound_load_Nm": round(load + COULOMB_NM, 4)} if raised else {}
+                cases.append((design, raised, load, [experiment_variant(design, bounds, (load, t)) for t in STEP_TIMES]))
+    flat = [(i, j, text) for i, c in enumerate(cases) for j, text in enumerate(c[3])]
+    with ThreadPoolExecutor(2) as pool:
+        res = list(pool.map(lambda x: run(ms, x[2], SC / "paper000_experiment.toml"), flat))
+    cell: dict[tuple[int, int], str] = {}
+    for (i, j, _), m in zip(flat, res):
+        if m["theta_track_max_all_rad"] >= HALF_PITCH_RAD:
+            cell[(i, j)] = "slip" + (", trip" if m["fault"] else "")
+        elif m["fault"]:
+            cell[(i, j)] = "trip"
+        else:
+            tr, st = m["theta_track_max_rad"], m["theta_track_load_settled_max_rad"]
+            ok = tr < 0.05 and st is not None and st < 0.02
+            cell[(i, j)] = f"{g(tr)} / {g(st) if st is not None else '-'}" + (" ok" if ok else "")
+    print("| design | bounds | step | " + " | ".join(f"at {t:g} s" for t in STEP_TIMES) + " |")
+    print("| --- | --- | --- | " + " | ".join("---" for _ in STEP_TIMES) + " |")
+    for i, (design, raised, load, _) in enumerate(cases):
+        b = f"`bound_load_Nm = {load + COULOMB_NM:.3g}`" if raised else "default"
+        print(f"| {design} | {b} | {load:g} N m | " + " | ".join(cell[(i, j)] for j in range(len(STEP_TIMES))) + " |")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "host"))
     ap.add_argument("--results", action="store_true")
     ap.add_argument("--load-steps", action="store_true")
+    ap.add_argument("--designs", action="store_true")
+    ap.add_argument("--load-capacity", action="store_true")
     a = ap.parse_args()
     ms = Path(a.build).resolve() / "sim" / "motorsim"
     if not ms.exists():
         print(f"paper000_tables: {ms}: not built", file=sys.stderr)
         return 2
-    if not (a.results or a.load_steps):
-        print("paper000_tables: give --results and/or --load-steps", file=sys.stderr)
+    if not (a.results or a.load_steps or a.designs or a.load_capacity):
+        print("paper000_tables: give --results, --load-steps, --designs and/or --load-capacity", file=sys.stderr)
         return 2
     if a.results:
         results(ms)
@@ -105,6 +187,10 @@ def main() -> int:
         if a.results:
             print()
         load_steps(ms)
+    if a.designs:
+        designs(ms)
+    if a.load_capacity:
+        load_capacity(ms)
     return 0
 
 
