@@ -56,9 +56,10 @@ typedef struct {
     drive_motor_si_t motor;
     double ts_s;               /* sample period (1e-4 in the paper) */
     double v_max_V, i_max_A, i_trip_A, omega_lim_rad_s;
-    /* current amplitude of the open-loop drive (68); <= 0 means i_max_A as
-     * in the paper. Lower values make the back-EMF angle at the switch far
-     * less sensitive to R and L errors (see docs/robustness.md). */
+    /* current amplitude of the open-loop drive (68) and of the alignment;
+     * <= 0 means 2/3 of i_max_A (OPEN_LOOP_OVER_IMAX, drive_design.c: it
+     * makes the switch to closed loop far less sensitive to R, L, K
+     * errors); the paper uses i_max_A. */
     double i_open_loop_A;
     /* Bounds the gains are derived from (Section 3.1.1, 3.2, 4.1.2): */
     double bound_accel_rad_s2;       /* |omega_dot|max */

@@ -340,8 +340,9 @@ TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
     ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
     ASSERT_TRUE(step2(&d, M(0), M(0), &va, &vb));
-    // theta_r = 0 at t = 0: v along phase a with magnitude R I_max (68)
-    EXPECT_NEAR(D(va), 3.01 * 3.0, 1e-3);
+    // theta_r = 0 at t = 0: v along phase a with magnitude R I (68), I the
+    // design's open-loop current, 2/3 of I_max (OPEN_LOOP_OVER_IMAX)
+    EXPECT_NEAR(D(va), 3.01 * 3.0 * 2.0 / 3.0, 1e-3);
     EXPECT_NEAR(D(vb), 0.0, 1e-3);
     EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_OPEN_LOOP);
     // absurd currents just below the trip: whatever the law asks, |v| <= V_max
