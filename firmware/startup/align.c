@@ -24,8 +24,7 @@ bool align_step(align_t *a, mc_t v_hold_V, mc_t *v_f_V, mc_t *v_g_V)
     }
     int32_t k = a->k;
     a->k += 1;
-    mc_t mag = v_hold_V;
-    mc_t phi = MC_ZERO;
+    const mc_t mag = v_hold_V;
     /* stage 1: ramp up (linear in k, never a step), hold at angle 0 */
     if (k < c->ramp_ticks) {
         *v_f_V = mc_mul(v_hold_V, mc_ratio_i(k + 1, c->ramp_ticks));
@@ -40,8 +39,7 @@ bool align_step(align_t *a, mc_t v_hold_V, mc_t *v_f_V, mc_t *v_g_V)
     /* stage 2: out to phi_turn and back at a constant rate */
     if (k < 2 * c->turn_ticks) {
         const int32_t n = k < c->turn_ticks ? k + 1 : 2 * c->turn_ticks - (k + 1);
-        phi = mc_mul(c->phi_turn_rad, mc_ratio_i(n, c->turn_ticks));
-        const mc_rot_t r = mc_rot_from_angle(phi);
+        const mc_rot_t r = mc_rot_from_angle(mc_mul(c->phi_turn_rad, mc_ratio_i(n, c->turn_ticks)));
         *v_f_V = mc_mul(mag, r.c);
         *v_g_V = mc_mul(mag, r.s);
         return false;

@@ -69,10 +69,11 @@ struct Result {
     }
 };
 
-Result run(mcsim::Scenario sc)
+Result run(mcsim::Scenario sc, fault_reaction_t los_reaction = FAULT_REACT_SAFE)
 {
     Result r;
     mcsim::design_and_init_drive(sc, &r.drive);
+    r.drive.cfg.prot.reaction[DRIVE_FAULT_LOSS_OF_SYNC] = static_cast<std::uint8_t>(los_reaction);
     r.sc = sc;
     r.ts = sc.ts_s;
     mcsim::Rig rig(sc);
@@ -186,12 +187,18 @@ TEST(Faults, OverrunsOnTheThird)
 }
 
 // A locked rotor at speed: the back-EMF collapses (loss of synchronism
-// within 10 ms), the re-locks fail (at most relock_max), the safe state.
+// within 10 ms); with the re-lock reaction configured, the re-locks fail
+// (at most relock_max) and the drive goes to the safe state; with the
+// default (safe at once) it stops at the first detection.
 TEST(Faults, LockedRotor)
 {
     mcsim::Scenario sc = experiment();
     sc.faults.locked_rotor_t_s = kInject;
-    const Result r = run(sc);
+    const Result safe = run(sc);
+    common_checks(safe, DRIVE_FAULT_LOSS_OF_SYNC, 10e-3, true);
+    EXPECT_EQ(safe.drive.relocks, 0);
+    EXPECT_EQ(drive_flight_recorder(&safe.drive)->events, 1u);
+    const Result r = run(sc, FAULT_REACT_RELOCK);
     common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 10e-3, true);
     // it tried to re-lock (bounded), and the loss stood
     EXPECT_GE(r.drive.relocks, 1);
