@@ -203,8 +203,8 @@
  * after the switch the mechanical observer's speed is off by up to
  * 1.2 rad/s, and a quarter of it, the observability floor, let the
  * criterion fire on the nominal run for a few samples at a time); the estimate may not jump a
- * quarter of a pitch against the reference in one sample (nominal steps
- * are below 2e-3 rad); the current observer's error may not exceed 0.5 A,
+ * quarter of a pitch against the reference between two checks (0.4 ms;
+ * nominal steps are below 2e-3 rad a sample); the current observer's error may not exceed 0.5 A,
  * ten times its worst value with the bench's noise (0.046 A); each
  * persisting for 5 ms (50 samples, longer than a noise spike, shorter than
  * the 21.6 ms swing period at the 2 A start). */
@@ -511,12 +511,12 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     pc->relock_hold_ticks = ticks_of(RELOCK_HOLD_S, fs);
     pc->relock_confirm_ticks = ticks_of(RELOCK_CONFIRM_S, fs);
     pc->los_track_rad = mc_from_double(3.14159265358979323846 / np);
-    pc->los_track_ticks = ticks_of(LOS_TRACK_S, fs);
+    pc->los_track_ticks = ticks_of(LOS_TRACK_S, fs / DRIVE_LOS_DECIMATION); /* in checks */
     pc->los_emf_tol = mc_from_double(LOS_EMF_TOL);
     pc->los_emf_floor_V = mc_from_double(LOS_EMF_FLOOR_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s);
     pc->los_jump_rad = mc_from_double(LOS_JUMP_OVER_PITCH * 2.0 * 3.14159265358979323846 / np);
     pc->los_obs_err_A = mc_from_double(LOS_OBS_ERR_A);
-    pc->los_ticks = ticks_of(LOS_PERSIST_S, fs);
+    pc->los_ticks = ticks_of(LOS_PERSIST_S, fs / DRIVE_LOS_DECIMATION); /* in checks */
     if (in->align_rotor) {
         const double i_ol = i_open_loop;
         const double T_m = 2.0 * 3.14159265358979323846 * sqrt(J / (np * K * i_ol));

@@ -178,11 +178,14 @@ static bool drive_output(drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t 
 }
 
 /* Loss of synchronism (drive_protection_config_t), in closed loop. */
-static bool drive_lost_sync(drive_t *d, bool observable, mc_t dtheta_r_rad)
+static bool drive_lost_sync(drive_t *d, bool observable)
 {
     const drive_protection_config_t *p = &d->cfg.prot;
     if (!observable) {
         return true; /* the back-EMF vanished while the reference is fast */
+    }
+    if ((d->tick & (DRIVE_LOS_DECIMATION - 1u)) != 0u) {
+        return false; /* the criteria below run on every DRIVE_LOS_DECIMATION-th sample */
     }
     const fg_estimator_t *e = &d->est;
     const mc_t theta_est = e->pos.theta_est_rad;
@@ -198,8 +201,10 @@ static bool drive_lost_sync(drive_t *d, bool observable, mc_t dtheta_r_rad)
     const mc_t hi = mc_add(mc_mac(kw, kw, p->los_emf_tol), p->los_emf_floor_V);
     const mc_t lo = mc_max(MC_ZERO, mc_sub(mc_sub(kw, mc_mul(kw, p->los_emf_tol)), p->los_emf_floor_V));
     const bool emf_bad = mc_gt(e->pos.e2_V2, mc_mul(hi, hi)) || mc_lt(e->pos.e2_V2, mc_mul(lo, lo));
-    const bool jump =
-        mc_gt(mc_abs(mc_sub(mc_sub(theta_est, d->theta_est_prev_rad), dtheta_r_rad)), p->los_jump_rad);
+    /* the estimate's step against the reference's since the last check */
+    const bool jump = mc_gt(mc_abs(mc_sub(mc_sub(theta_est, d->theta_est_prev_rad),
+                                          mc_sub(d->ref.theta_rad, d->theta_ref_prev_rad))),
+                            p->los_jump_rad);
     return fault_persist_step(&d->los_persist, emf_bad || jump, p->los_ticks);
 }
 
@@ -251,6 +256,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->obs_persist.run = 0;
     d->track_persist.run = 0;
     d->theta_est_prev_rad = MC_ZERO;
+    d->theta_ref_prev_rad = MC_ZERO;
     align_init(&d->align, &cfg->align);
     const int32_t n_align = align_total_ticks(&cfg->align);
     d->align_ticks = n_align > 0 ? (uint32_t)n_align : 0u;
@@ -365,11 +371,13 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     }
     {
         const drive_protection_config_t *p = &c->prot;
-        const bool obs_bad = fault_persist_step(
-            &d->obs_persist,
-            mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)), p->los_obs_err_A), p->los_ticks);
-        const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast &&
-                          drive_lost_sync(d, observable, mc_div_i(dphi, d->model.n_p));
+        const bool check = (d->tick & (DRIVE_LOS_DECIMATION - 1u)) == 0u;
+        const bool obs_bad =
+            check && fault_persist_step(&d->obs_persist,
+                                        mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)),
+                                              p->los_obs_err_A),
+                                        p->los_ticks);
+        const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast && drive_lost_sync(d, observable);
         if ((lost || obs_bad) && drive_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
             drive_zero_output(d, out);
             return false;
@@ -378,7 +386,10 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
             d->los_persist.run = 0;
             d->obs_persist.run = 0;
         }
-        d->theta_est_prev_rad = d->est.pos.theta_est_rad;
+        if (check) {
+            d->theta_est_prev_rad = d->est.pos.theta_est_rad;
+            d->theta_ref_prev_rad = d->ref.theta_rad;
+        }
     }
     if (d->relock_hold > 0) {
         /* while recovering, (29) and (71) went on counting the rotor's

@@ -55,7 +55,7 @@ extern "C" {
  *   persisting for los_ticks samples, any of:
  *     back-EMF magnitude inconsistent with the estimated speed,
  *       | |e_hat| - K |w_est| | > los_emf_tol K |w_est| + los_emf_floor_V;
- *     estimate jump: |d theta_est - d theta_r| over one sample > los_jump_rad;
+ *     estimate jump: |d theta_est - d theta_r| between two checks > los_jump_rad;
  *     current observer error max(|i_f - i_f_hat|, |i_g - i_g_hat|) > los_obs_err_A
  *       (also in open loop after the alignment: an open phase shows here);
  *   the back-EMF unobservable while the reference is above omega_lim (the
@@ -67,6 +67,12 @@ extern "C" {
  * after relock_confirm_ticks of closed loop; if the reference slows below
  * omega_lim before that, the loss stands (safe state).
  * Derived in design/drive_design.c. */
+/* The loss-of-synchronism criteria (all but the unobservable back-EMF)
+ * run on every DRIVE_LOS_DECIMATION-th sample: they persist for 5 ms and
+ * 0.2 s, so a quarter of the samples decides as well at a quarter of the
+ * cost (their tick counts below count checks). A power of two. */
+#define DRIVE_LOS_DECIMATION 4u
+
 typedef struct {
     uint8_t reaction[DRIVE_FAULT_COUNT]; /* fault_reaction_t per fault code */
     int32_t relock_max;                  /* RELOCK retries before SAFE */
@@ -167,7 +173,8 @@ typedef struct {
     fault_persist_t los_persist;
     fault_persist_t obs_persist; /* current observer error */
     fault_persist_t track_persist; /* estimate far from the reference */
-    mc_t theta_est_prev_rad;     /* for the jump criterion */
+    mc_t theta_est_prev_rad;     /* estimate and reference at the last check, for the jump criterion */
+    mc_t theta_ref_prev_rad;
     fg_estimator_t est;
     fg_tracking_t ctrl;
     align_t align;

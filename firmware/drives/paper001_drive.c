@@ -55,17 +55,20 @@ static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command
 {
     const paper001_config_t *c = &d->cfg;
     drive_fault_t f = fault_monitor_command(&d->mon, out, d->sup.sat_prev);
-    mc_estimate_t e;
-    paper001_drive_estimate(d, &e);
-    if (f == DRIVE_FAULT_NONE && (!mc_is_finite(e.theta_rad) || !mc_is_finite(e.omega_rad_s))) {
+    /* the estimator's own state, not paper001_drive_estimate (which forms
+     * the mechanical angle and the acceleration): the speed and the
+     * electrical angle are what the criteria and the recorder need */
+    const bool emf = c->estimator == P001_ESTIMATOR_BACK_EMF;
+    const mc_t w_hat = emf ? d->emf.mech.omega_est_rad_s : d->speed.omega_rad_s;
+    const mc_t e_hat = emf ? d->emf.pos.theta_est_rad : d->speed.unwrap.e_rad;
+    if (f == DRIVE_FAULT_NONE && (!mc_is_finite(w_hat) || !mc_is_finite(e_hat))) {
         f = DRIVE_FAULT_NON_FINITE;
     }
     if (f == DRIVE_FAULT_NONE && d->sup.state == SUP_STATE_CLOSED_LOOP) {
-        const bool rho_bad = c->estimator == P001_ESTIMATOR_FLUX &&
-                             (mc_lt(d->flux.rho2, c->los_rho2_lo) || mc_gt(d->flux.rho2, c->los_rho2_hi));
+        const bool rho_bad = !emf && (mc_lt(d->flux.rho2, c->los_rho2_lo) || mc_gt(d->flux.rho2, c->los_rho2_hi));
         const mc_t w_ref = d->ref.omega_rad_s;
         const mc_t w_tol = mc_mac(c->los_speed_floor_rad_s, c->los_speed_tol, mc_abs(w_ref));
-        const bool speed_bad = mc_gt(mc_abs(mc_sub(e.omega_rad_s, w_ref)), w_tol);
+        const bool speed_bad = mc_gt(mc_abs(mc_sub(w_hat, w_ref)), w_tol);
         if (fault_persist_step(&d->rho_persist, rho_bad, c->los_ticks) ||
             fault_persist_step(&d->speed_persist, speed_bad, c->los_speed_ticks)) {
             f = DRIVE_FAULT_LOSS_OF_SYNC;
@@ -79,8 +82,8 @@ static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command
         r.v_V[k] = out->v_V[k];
     }
     r.ref = d->ref.omega_rad_s;
-    r.est = mc_elec_angle(e.theta_rad, c->model.n_p);
-    r.speed = e.omega_rad_s;
+    r.est = e_hat;
+    r.speed = w_hat;
     flight_recorder_push(&d->rec, &r);
     d->tick += 1u;
     if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {

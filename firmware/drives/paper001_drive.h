@@ -230,7 +230,8 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
 bool paper001_drive_clear_fault(paper001_drive_t *d);
 
 /* The flight recorder (supervisor/flight_recorder.h): ref = w*, est = the
- * electrical angle estimate, speed = w_hat. */
+ * estimator's angle (flux: the electrical angle in (-pi, pi]; back-EMF:
+ * the mechanical angle estimate), speed = w_hat. */
 static inline const flight_recorder_t *paper001_flight_recorder(const paper001_drive_t *d) { return &d->rec; }
 
 #ifdef __cplusplus

@@ -57,6 +57,10 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
         /* stuck: bit-identical samples while the voltage across the phase
          * moved by stuck_dv_V (di/dt = dv/L makes any live current move) */
         if (mc_eq(i, m->i_last_A[k])) {
+            if (m->same_run[k] == 0) { /* a run starts: the command range from here */
+                m->v_lo_V[k] = m->v_last_V[k];
+                m->v_hi_V[k] = m->v_last_V[k];
+            }
             m->same_run[k] += 1;
             m->v_lo_V[k] = mc_min(m->v_lo_V[k], m->v_last_V[k]);
             m->v_hi_V[k] = mc_max(m->v_hi_V[k], m->v_last_V[k]);
@@ -66,10 +70,7 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
         } else {
             m->i_last_A[k] = i;
             m->same_run[k] = 0;
-            m->v_lo_V[k] = m->v_last_V[k];
-            m->v_hi_V[k] = m->v_last_V[k];
         }
-        i2 = mc_mac(i2, i, i);
     }
     m->rail_run = at_rail ? m->rail_run + 1 : 0;
     if (m->rail_run >= c->rail_ticks && at_rail) {
@@ -80,11 +81,18 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
     }
     /* I^2 t on the current vector: three phases carry 3/2 |i_ab|^2 in the
      * sum of squares, two carry |i_ab|^2; the design scales i2t_cont_A2 to
-     * the same sum (design/drive_design.c) */
-    m->i2_sum_A2 = mc_add(m->i2_sum_A2, i2);
+     * the same sum (design/drive_design.c). Heating is slow against a
+     * sample: every FAULT_I2T_SUBSAMPLE-th sample enters the block's mean. */
     m->i2_n += 1;
+    if ((m->i2_n & (FAULT_I2T_SUBSAMPLE - 1)) == 0) {
+        for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
+            i2 = mc_mac(i2, in->i_A[k], in->i_A[k]);
+        }
+        m->i2_sum_A2 = mc_add(m->i2_sum_A2, i2);
+    }
     if (m->i2_n >= FAULT_I2T_DECIMATION) {
-        const mc_t excess = mc_sub(mc_div_i(m->i2_sum_A2, FAULT_I2T_DECIMATION), c->i2t_cont_A2);
+        const mc_t excess =
+            mc_sub(mc_div_i(m->i2_sum_A2, FAULT_I2T_DECIMATION / FAULT_I2T_SUBSAMPLE), c->i2t_cont_A2);
         m->i2t_A2 = mc_max(MC_ZERO, mc_mac(m->i2t_A2, excess, c->i2t_gain));
         m->i2_sum_A2 = MC_ZERO;
         m->i2_n = 0;

@@ -29,6 +29,11 @@ extern "C" {
  * above the fixed-point resolution, which a per-sample increment of 1e-4
  * relative would not. A power of two: the mean is a shift. */
 #define FAULT_I2T_DECIMATION 64
+/* Of those, every FAULT_I2T_SUBSAMPLE-th sample enters the mean (16 per
+ * block): a motor heats over seconds, and a 0.4 ms subsample of the
+ * current's square follows that as well at a quarter of the cost. Powers
+ * of two. */
+#define FAULT_I2T_SUBSAMPLE 4
 
 typedef struct {
     mc_t i_trip_A;          /* instantaneous: |i_phase| > i_trip_A */
