@@ -153,17 +153,21 @@ static bool drive_output(drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t 
     d->last.i_g_A = i_g;
     d->last.v_a_V = v_ab.alpha;
     d->last.v_b_V = v_ab.beta;
-    flight_record_t r;
-    r.tick = d->tick;
-    r.state = (uint8_t)d->sup.state;
-    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-        r.i_A[k] = in->i_A[k];
-        r.v_V[k] = out->v_V[k];
+    flight_record_t *r = flight_recorder_slot(&d->rec);
+    if (r != 0) {
+        r->tick = d->tick;
+        r->state = (uint8_t)d->sup.state;
+        r->i_A[0] = in->i_A[0];
+        r->i_A[1] = in->i_A[1];
+        r->i_A[2] = MC_ZERO; /* two phases */
+        r->v_V[0] = out->v_V[0];
+        r->v_V[1] = out->v_V[1];
+        r->v_V[2] = MC_ZERO;
+        r->ref = d->ref.theta_rad;
+        r->est = d->est.pos.theta_est_rad;
+        r->speed = d->est.mech.omega_est_rad_s;
+        flight_recorder_commit(&d->rec);
     }
-    r.ref = d->ref.theta_rad;
-    r.est = d->est.pos.theta_est_rad;
-    r.speed = d->est.mech.omega_est_rad_s;
-    flight_recorder_push(&d->rec, &r);
     drive_fault_t f = fault_monitor_command(&d->mon, out, d->sup.sat_prev);
     if (f == DRIVE_FAULT_NONE &&
         (!mc_is_finite(d->est.pos.theta_est_rad) || !mc_is_finite(d->est.mech.omega_est_rad_s))) {

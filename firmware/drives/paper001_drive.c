@@ -74,17 +74,19 @@ static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command
             f = DRIVE_FAULT_LOSS_OF_SYNC;
         }
     }
-    flight_record_t r;
-    r.tick = d->tick;
-    r.state = (uint8_t)d->sup.state;
-    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-        r.i_A[k] = in->i_A[k];
-        r.v_V[k] = out->v_V[k];
+    flight_record_t *r = flight_recorder_slot(&d->rec);
+    if (r != 0) {
+        r->tick = d->tick;
+        r->state = (uint8_t)d->sup.state;
+        for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
+            r->i_A[k] = in->i_A[k];
+            r->v_V[k] = out->v_V[k];
+        }
+        r->ref = d->ref.omega_rad_s;
+        r->est = e_hat;
+        r->speed = w_hat;
+        flight_recorder_commit(&d->rec);
     }
-    r.ref = d->ref.omega_rad_s;
-    r.est = e_hat;
-    r.speed = w_hat;
-    flight_recorder_push(&d->rec, &r);
     d->tick += 1u;
     if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
         p001_zero_output(d, out);

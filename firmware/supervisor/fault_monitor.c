@@ -15,6 +15,7 @@ void fault_monitor_init(fault_monitor_t *m, const fault_monitor_config_t *cfg)
         m->v_last_V[k] = MC_ZERO;
     }
     m->rail_run = 0;
+    m->rail_abs_A = mc_gt(cfg->i_rail_A, MC_ZERO) ? cfg->i_rail_A : MC_MAX;
     m->overrun_level = 0;
     m->overruns = 0;
 }
@@ -22,27 +23,27 @@ void fault_monitor_init(fault_monitor_t *m, const fault_monitor_config_t *cfg)
 drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, uint8_t n_phases)
 {
     const fault_monitor_config_t *c = &m->cfg;
-    /* the backend's own verdicts first: they are facts, not estimates */
-    if ((in->status & HAL_STATUS_PWM_TRIP) != 0u) {
-        return DRIVE_FAULT_HW_TRIP;
-    }
-    if ((in->status & HAL_STATUS_ADC_FAULT) != 0u) {
-        return DRIVE_FAULT_ADC;
-    }
-    /* overruns: a leaky level, so isolated ones are tolerated and a burst
-     * (overrun_limit / overrun_weight of them within about
-     * overrun_weight samples each) trips */
-    if ((in->status & HAL_STATUS_OVERRUN) != 0u) {
-        m->overruns += 1u;
-        m->overrun_level += c->overrun_weight;
-        if (m->overrun_level >= c->overrun_limit) {
-            return DRIVE_FAULT_OVERRUN;
+    if (in->status != 0u) {
+        /* the backend's own verdicts first: they are facts, not estimates */
+        if ((in->status & HAL_STATUS_PWM_TRIP) != 0u) {
+            return DRIVE_FAULT_HW_TRIP;
+        }
+        if ((in->status & HAL_STATUS_ADC_FAULT) != 0u) {
+            return DRIVE_FAULT_ADC;
+        }
+        /* overruns: a leaky level, so isolated ones are tolerated and a
+         * burst (overrun_limit / overrun_weight of them within about
+         * overrun_weight samples each) trips */
+        if ((in->status & HAL_STATUS_OVERRUN) != 0u) {
+            m->overruns += 1u;
+            m->overrun_level += c->overrun_weight;
+            if (m->overrun_level >= c->overrun_limit) {
+                return DRIVE_FAULT_OVERRUN;
+            }
         }
     } else if (m->overrun_level > 0) {
         m->overrun_level -= 1;
     }
-    const mc_t trip_neg = mc_neg(c->i_trip_A);
-    const mc_t rail_neg = mc_neg(c->i_rail_A);
     bool at_rail = false;
     mc_t i2 = MC_ZERO;
     for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
@@ -50,10 +51,12 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
         if (!mc_is_finite(i)) {
             return DRIVE_FAULT_NON_FINITE;
         }
-        if (mc_gt(i, c->i_trip_A) || mc_lt(i, trip_neg)) {
+        const mc_t a = mc_abs(i);
+        if (mc_gt(a, c->i_trip_A)) {
             return DRIVE_FAULT_OVERCURRENT;
         }
-        at_rail = at_rail || (mc_gt(c->i_rail_A, MC_ZERO) && (mc_ge(i, c->i_rail_A) || mc_le(i, rail_neg)));
+        /* rail_abs_A is MC_MAX when the rail is unknown (never reached) */
+        at_rail = at_rail || mc_ge(a, m->rail_abs_A);
         /* stuck: bit-identical samples while the voltage across the phase
          * moved by stuck_dv_V (di/dt = dv/L makes any live current move) */
         if (mc_eq(i, m->i_last_A[k])) {

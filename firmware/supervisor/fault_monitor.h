@@ -61,6 +61,7 @@ typedef struct {
     mc_t v_hi_V[HAL_MAX_PHASES];
     mc_t v_last_V[HAL_MAX_PHASES];    /* the last command (acts on the next sample) */
     int32_t rail_run;
+    mc_t rail_abs_A;                  /* i_rail_A, or MC_MAX without a rail */
     int32_t overrun_level;
     uint32_t overruns;                /* total, for telemetry */
 } fault_monitor_t;

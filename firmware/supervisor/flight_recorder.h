@@ -56,6 +56,15 @@ static inline void flight_recorder_push(flight_recorder_t *r, const flight_recor
     }
 }
 
+/* The same without a copy: the slot the next sample goes to (NULL once
+ * frozen), to be filled in place and then committed with
+ * flight_recorder_commit(). */
+static inline flight_record_t *flight_recorder_slot(flight_recorder_t *r)
+{
+    return r->frozen ? 0 : &r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)];
+}
+static inline void flight_recorder_commit(flight_recorder_t *r) { r->n += r->frozen ? 0u : 1u; }
+
 /* A fault at tick: counts it, and freezes the ring with the first one. */
 void flight_recorder_fault(flight_recorder_t *r, drive_fault_t f, uint32_t tick);
 
