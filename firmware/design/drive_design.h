@@ -79,6 +79,9 @@ typedef struct {
     /* 1 (default): align the rotor before the start (startup/align.h), so
      * the drive starts from any rotor angle; 0: assume it rests at 0. */
     int align_rotor;
+    /* 1 (default): measure K in closed loop and use it from then on
+     * (startup/k_identification.h); 0: trust the motor model. */
+    int identify_k;
     /* current at which a sample is at the ADC's rail [A]; 0: unknown (the
      * rail check is off). The board's, or the scenario's ADC full scale. */
     double i_rail_A;

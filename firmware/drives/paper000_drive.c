@@ -212,6 +212,32 @@ static bool drive_lost_sync(drive_t *d, bool observable)
     return fault_persist_step(&d->los_persist, emf_bad || jump, p->los_ticks);
 }
 
+/* The measured K replaces the model's everywhere it was folded in
+ * (startup/k_identification.h): the model (J/K, f_v/K, ...), (30)'s 1/K
+ * and the observability threshold (K omega_lim)^2, the twisting gains and
+ * feed-forwards that carry J L/K or 1/K (design/drive_design.c), the load
+ * clamp 2 K I_max. r = K_old/K_new. The blocks keep their own copies of
+ * their configuration, so those are what change. */
+_Static_assert(K_ID_DECIMATION == DRIVE_LOS_DECIMATION, "the K measurement runs on the loss-of-sync checks' samples");
+
+static void drive_apply_K(drive_t *d, mc_t K_V_s)
+{
+    const mc_t r = mc_div(d->model.K_V_s, K_V_s);
+    const mc_t inv_r = mc_div(K_V_s, d->model.K_V_s);
+    motor_model_set_K(&d->model, K_V_s);
+    position_estimator_config_t *pc = &d->est.pos.cfg;
+    pc->inv_K_rad_s_per_V = mc_mul(pc->inv_K_rad_s_per_V, r);
+    pc->e2_min_V2 = mc_mul(mc_mul(pc->e2_min_V2, inv_r), inv_r);
+    d->est.mech.cfg.tau_max_Nm = mc_mul(d->est.mech.cfg.tau_max_Nm, inv_r);
+    fg_tracking_config_t *cc = &d->ctrl.cfg;
+    cc->pos.lambda_m = mc_mul(cc->pos.lambda_m, r);
+    cc->pos.lambda_M = mc_mul(cc->pos.lambda_M, r);
+    d->ctrl.pos.cfg = cc->pos;
+    cc->v_k_w_V_s = mc_mul(cc->v_k_w_V_s, r);
+    cc->load_ff_A_per_Nm = mc_mul(cc->load_ff_A_per_Nm, r);
+    cc->load_ff_L_over_KTs = mc_mul(cc->load_ff_L_over_KTs, r);
+}
+
 /* The trajectory's sample for drive sample n: the alignment's samples all
  * map to 0 (the reference holds at its start). */
 static uint32_t drive_traj_tick(const drive_t *d, uint32_t n)
@@ -250,6 +276,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     fg_tracking_init(&d->ctrl, &cfg->ctrl);
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
     rl_id_init(&d->rl_id, &cfg->rl_id);
+    k_id_init(&d->k_id, &cfg->k_id);
     fault_monitor_init(&d->mon, &cfg->faults);
     flight_recorder_init(&d->rec);
     d->relocks = 0;
@@ -393,6 +420,13 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         if (check) {
             d->theta_est_prev_rad = d->est.pos.theta_est_rad;
             d->theta_ref_prev_rad = d->ref.theta_rad;
+            /* K in closed loop, on the same decimated samples (its
+             * K_ID_DECIMATION is DRIVE_LOS_DECIMATION), not while a loss
+             * is recovered from */
+            if (d->sup.state == SUP_STATE_CLOSED_LOOP && d->recovering == 0 &&
+                k_id_step(&d->k_id, d->est.pos.e2_V2, d->ref.omega_rad_s) && d->k_id.state == K_ID_DONE) {
+                drive_apply_K(d, d->k_id.K_V_s);
+            }
         }
     }
     if (d->relock_hold > 0) {
@@ -555,6 +589,7 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     t->overruns = d->mon.overruns;
     t->R_model_ohm = d->model.R_ohm;
     t->L_model_H = d->model.L_H;
+    t->k_id_state = d->k_id.state;
     t->K_model_V_s = d->model.K_V_s;
 }
 

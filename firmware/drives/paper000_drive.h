@@ -33,6 +33,7 @@
 #include "math/mc_num.h"
 #include "model/motor_model.h"
 #include "startup/align.h"
+#include "startup/k_identification.h"
 #include "startup/open_loop.h"
 #include "startup/rl_identification.h"
 #include "supervisor/fault_monitor.h"
@@ -125,6 +126,7 @@ typedef struct {
     open_loop_config_t open_loop;
     align_config_t align;         /* rotor alignment before the start (disabled: none) */
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
+    k_id_config_t k_id;           /* K measured in closed loop (disabled: off) */
     trajectory_config_t traj;
     drive_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
     uint32_t close_dwell_ticks;   /* the back-EMF observable this many samples in a row before the loop closes */
@@ -153,6 +155,7 @@ typedef struct {
     /* model in use: the configured one, or the standstill measurement */
     rl_id_state_t rl_id_state;
     mc_t R_model_ohm, L_model_H;
+    k_id_state_t k_id_state;
     mc_t K_model_V_s;
     uint32_t fw_version;           /* MC_VERSION_U32: major << 16 | minor << 8 | patch */
     uint32_t fault_events;         /* faults seen since init, recovered ones included */
@@ -179,6 +182,7 @@ typedef struct {
     fg_tracking_t ctrl;
     align_t align;
     rl_id_t rl_id;
+    k_id_t k_id;
     trajectory_t traj;
     uint32_t tick;
     uint32_t align_ticks;        /* the alignment's length: the trajectory's sample 0 follows it */

@@ -9,3 +9,13 @@ void motor_model_set_rl(motor_model_t *m, mc_t R_ohm, mc_t L_fs_ohm)
     m->LJ_over_KTs_V_s2 = mc_mul(L_fs_ohm, m->J_over_K_A_s2);
     m->Lfv_over_KTs_V_s = mc_mul(L_fs_ohm, m->fv_over_K_A_s);
 }
+
+void motor_model_set_K(motor_model_t *m, mc_t K_V_s)
+{
+    const mc_t r = mc_div(m->K_V_s, K_V_s);
+    m->K_V_s = K_V_s;
+    m->J_over_K_A_s2 = mc_mul(m->J_over_K_A_s2, r);
+    m->fv_over_K_A_s = mc_mul(m->fv_over_K_A_s, r);
+    m->LJ_over_KTs_V_s2 = mc_mul(m->LJ_over_KTs_V_s2, r);
+    m->Lfv_over_KTs_V_s = mc_mul(m->Lfv_over_KTs_V_s, r);
+}

@@ -52,6 +52,11 @@ typedef struct {
  * from them, with the same operations the design would have rounded. */
 void motor_model_set_rl(motor_model_t *m, mc_t R_ohm, mc_t L_fs_ohm);
 
+/* Replaces K by a measured K_V_s (startup/k_identification.h) and rescales
+ * everything the model folded K into: J/K, f_v/K, L J/(K Ts), L f_v/(K Ts)
+ * by K_old/K_new (a ratio near 1: no range issue in fixed point). */
+void motor_model_set_K(motor_model_t *m, mc_t K_V_s);
+
 #ifdef __cplusplus
 }
 #endif

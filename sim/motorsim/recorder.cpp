@@ -229,6 +229,7 @@ MetricList Recorder::metrics(double wall_loop_s) const
         m.emplace_back("model_R_ohm", to_double(tl.R_model_ohm));
         m.emplace_back("model_L_H", to_double(tl.L_model_H));
         m.emplace_back("model_K_V_s", to_double(tl.K_model_V_s));
+        m.emplace_back("k_id_state", static_cast<std::int64_t>(tl.k_id_state));
     }
     m.emplace_back("align_offset_rad", offset_rad_);
     m.emplace_back("align_residual_rad", align_residual_rad_);

@@ -123,6 +123,9 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     if (sc.align_rotor >= 0) {
         in->align_rotor = sc.align_rotor;
     }
+    if (sc.identify_k >= 0) {
+        in->identify_k = sc.identify_k;
+    }
     in->i_rail_A = adc_rail_A(sc.sensor);
     in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
     if (sc.gain_design >= 0) {

@@ -780,7 +780,7 @@ Scenario load_scenario(const std::string& path)
 
     // [design] (optional): design switches that are neither gains nor bounds
     if (const auto v = root.table("design")) {
-        v->only({"load_feedforward", "identify_rl", "align_rotor", "gain_design"});
+        v->only({"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design"});
         if (const auto b = v->boolean("load_feedforward")) {
             sc.load_feedforward = *b ? 1 : 0;
         }
@@ -789,6 +789,9 @@ Scenario load_scenario(const std::string& path)
         }
         if (const auto b = v->boolean("align_rotor")) {
             sc.align_rotor = *b ? 1 : 0;
+        }
+        if (const auto b = v->boolean("identify_k")) {
+            sc.identify_k = *b ? 1 : 0;
         }
         if (const auto g = v->string("gain_design")) {
             if (*g == "continuous") {

@@ -104,6 +104,7 @@ struct Scenario {
     int load_feedforward = -1;
     int identify_rl = -1; // [design] identify_rl; -1: design default
     int align_rotor = -1; // [design] align_rotor; -1: design default
+    int identify_k = -1;  // [design] identify_k; -1: design default
 
     // Samples the drive runs before t = 0 (the position drive's rotor
     // alignment, drive_t.align_ticks): set by whoever designs the drive,

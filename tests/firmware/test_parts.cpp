@@ -11,6 +11,7 @@ extern "C" {
 #include "math/mc_convert.h"
 #include "model/motor_model.h"
 #include "startup/align.h"
+#include "startup/k_identification.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/supervisor.h"
 }
@@ -462,4 +463,81 @@ TEST(FaultMonitor, StuckOnlyWhileTheVoltageMoves)
     }
     EXPECT_EQ(f, DRIVE_FAULT_SENSOR_STUCK);
     EXPECT_LE(k, 52);
+}
+
+// ---- K in closed loop (startup/k_identification.h) ----
+
+namespace {
+k_id_config_t k_cfg(double K_model)
+{
+    k_id_config_t c{};
+    c.enabled = true;
+    c.w_min_rad_s = M(6.0);
+    c.inv_w_scale_s = M(1.0 / 20.0);
+    c.n_window = 500;
+    c.K_model_V_s = M(K_model);
+    c.deadband = M(0.03);
+    return c;
+}
+// |e| = K |w| along a speed ramp, with +-5 % of deterministic ripple on |e|
+double k_run(k_id_t* k, double K_true)
+{
+    int n = 0;
+    for (int i = 0; i < 5000 && k->state == K_ID_RUNNING; ++i) {
+        const double w = -20.0 * std::sin(0.001 * i);  // both signs, below w_min at times
+        const double e = K_true * std::fabs(w) * (1.0 + 0.05 * std::sin(0.37 * i));
+        k_id_step(k, M(e * e), M(w));
+        ++n;
+    }
+    return D(k->K_V_s);
+}
+}  // namespace
+
+// A plant K 15 % above or below the model's is measured within 1 %; within
+// the 3 % deadband the model is kept; beyond [1/2, 2] it is rejected;
+// nothing before n_window samples above w_min.
+TEST(KIdentification, MeasuresKeepsAndRejects)
+{
+    for (double f : {0.85, 1.15}) {
+        k_id_t k;
+        const k_id_config_t c = k_cfg(0.27);
+        k_id_init(&k, &c);
+        const double K = k_run(&k, 0.27 * f);
+        EXPECT_EQ(k.state, K_ID_DONE) << f;
+        EXPECT_NEAR(K / (0.27 * f), 1.0, 0.01) << f;
+        EXPECT_EQ(k.n, 500);
+    }
+    k_id_t k;
+    const k_id_config_t c = k_cfg(0.27);
+    k_id_init(&k, &c);
+    k_run(&k, 0.27 * 1.02);
+    EXPECT_EQ(k.state, K_ID_KEPT);
+    k_id_init(&k, &c);
+    k_run(&k, 0.27 * 2.5);
+    EXPECT_EQ(k.state, K_ID_REJECTED);
+    EXPECT_EQ(D(k.K_V_s), D(M(0.27)));
+    k_id_init(&k, &c);
+    for (int i = 0; i < 2000; ++i) EXPECT_FALSE(k_id_step(&k, M(1.0), M(5.9)));  // below w_min
+    EXPECT_EQ(k.state, K_ID_RUNNING);
+    EXPECT_EQ(k.n, 0);
+}
+
+// motor_model_set_K rescales every K-folded field by K_old/K_new.
+TEST(KIdentification, ModelSetK)
+{
+    motor_model_t m{};
+    m.K_V_s = M(0.27);
+    m.J_over_K_A_s2 = M(3.18e-4 / 0.27 * 1000.0);  // scaled up to be resolvable in Q14.17
+    m.fv_over_K_A_s = M(2.37e-3 / 0.27 * 100.0);
+    m.LJ_over_KTs_V_s2 = M(0.106);
+    m.Lfv_over_KTs_V_s = M(0.79);
+    const double r = 0.27 / 0.31;
+    const double j = D(m.J_over_K_A_s2), fv = D(m.fv_over_K_A_s);
+    motor_model_set_K(&m, M(0.31));
+    const double tol = MC_FIXED ? 1e-4 : 1e-6;
+    EXPECT_NEAR(D(m.K_V_s), 0.31, tol);
+    EXPECT_NEAR(D(m.J_over_K_A_s2), j * r, tol * 10);
+    EXPECT_NEAR(D(m.fv_over_K_A_s), fv * r, tol * 10);
+    EXPECT_NEAR(D(m.LJ_over_KTs_V_s2), 0.106 * r, tol);
+    EXPECT_NEAR(D(m.Lfv_over_KTs_V_s), 0.79 * r, tol);
 }
