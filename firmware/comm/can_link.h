@@ -1,0 +1,117 @@
+/*
+ * can_link.h - the drives' CAN message set (tools/can/drive.dbc, the one
+ * source) in firmware units: telemetry values in mc_t packed into frames,
+ * command frames validated and turned into commands in mc_t. The bit
+ * layout is the C that cantools generates from the DBC
+ * (comm/generated/drive_can.{h,c}, regenerated and compared by ctest
+ * tools.can_codegen; never edited by hand); this file adds the scaling
+ * between SI values and the DBC's integers, in the firmware numeric type
+ * (no float in the fixed-point build), and the validation of commands:
+ * identifier, node, length (DLC), every signal's DBC range. A rejected
+ * frame changes nothing and is counted. Nothing allocates; no I/O.
+ */
+#ifndef COMM_CAN_LINK_H
+#define COMM_CAN_LINK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "math/mc_num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define CAN_LINK_MSG_SET_VERSION 1u   /* the DBC's MsgSetVersion; VERSION "drive-can 1" */
+#define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
+
+/* One classic CAN frame. */
+typedef struct {
+    uint32_t id;       /* 11-bit standard identifier */
+    uint8_t dlc;       /* 0-8 */
+    uint8_t data[8];
+} can_frame_t;
+
+/* Telemetry messages, in the order of CmdSetRate's Message signal. */
+typedef enum {
+    CAN_TLM_HEARTBEAT = 0,
+    CAN_TLM_POSITION = 1,
+    CAN_TLM_VELOCITY = 2,
+    CAN_TLM_CURRENTS = 3,
+    CAN_TLM_OBSERVER = 4,
+    CAN_TLM_VOLTAGES = 5,
+    CAN_TLM_TIMING = 6,
+    CAN_TLM_COUNT = 7
+} can_tlm_msg_t;
+
+/* Everything the telemetry carries, SI in mc_t (the DBC's comments say
+ * what each is for each drive). Out-of-range values saturate to the
+ * signal's range; a non-finite one is sent as 0. */
+typedef struct {
+    uint8_t drive_kind, mode, state, fault_code, fault_events, rejected_commands, relocks, first_fault;
+    bool enabled, saturated;
+    uint16_t counter, overruns;
+    mc_t theta_ref_rad, theta_est_rad;
+    mc_t omega_ref_rad_s, omega_est_rad_s, accel_est_rad_s2, load_est_Nm;
+    mc_t i1_A, i2_A, i1_ref_A, i2_ref_A, i1_est_A, i2_est_A;
+    mc_t emf1_V, emf2_V, v1_V, v2_V, v_bus_V;
+    mc_t step_time_us;
+} can_telemetry_t;
+
+/* Packs telemetry message m of node into *f. Returns false for an unknown m
+ * or node (f untouched). */
+bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_frame_t *f);
+
+typedef enum {
+    CAN_CMD_NONE = 0,
+    CAN_CMD_ENABLE,
+    CAN_CMD_MOVE,
+    CAN_CMD_SPEED,
+    CAN_CMD_STOP,
+    CAN_CMD_SET_OMEGA_LIM,
+    CAN_CMD_CLEAR_FAULTS,
+    CAN_CMD_SET_RATE
+} can_cmd_kind_t;
+
+/* A validated command, SI in mc_t. */
+typedef struct {
+    can_cmd_kind_t kind;
+    bool enable;
+    mc_t theta_to_rad, duration_s;
+    mc_t omega_ref_rad_s, ramp_rad_s2;
+    mc_t omega_lim_rad_s;
+    uint8_t message;
+    uint16_t period_ms;
+} can_cmd_t;
+
+/* Why a frame was refused (0: accepted). */
+typedef enum {
+    CAN_REJECT_NONE = 0,
+    CAN_REJECT_NOT_OURS,   /* another node's frame or a telemetry id: ignored, not counted */
+    CAN_REJECT_UNKNOWN_ID, /* in our node's command space but no command */
+    CAN_REJECT_DLC,        /* length differs from the DBC's */
+    CAN_REJECT_RANGE       /* a signal outside the DBC's [min|max] */
+} can_reject_t;
+
+/* Validates frame f for node and, if it is a valid command, fills *cmd and
+ * returns CAN_REJECT_NONE; otherwise *cmd is set to CAN_CMD_NONE and the
+ * reason is returned. Pure: the caller decides what a command does (and
+ * whether the drive's mode allows it) and counts the refusals. */
+can_reject_t can_link_parse(uint8_t node, const can_frame_t *f, can_cmd_t *cmd);
+
+/* The DBC's integer for value x of a signal of factor 1/inv (inv = 1, 100,
+ * 500, 1000, 10000 or 100000 in this message set), rounded to nearest and
+ * saturated to [lo, hi]; 0 for a non-finite x. Fixed point: the exact
+ * 64-bit product of the Q14.17 raw value and inv, rounded (no float).
+ * Exposed for the tests. */
+int64_t can_link_to_raw(mc_t x, int32_t inv, int64_t lo, int64_t hi);
+
+/* The value of DBC integer r of a signal of factor 1/inv. Fixed point:
+ * (r 2^17) / inv rounded, saturated to the Q14.17 range. */
+mc_t can_link_from_raw(int64_t r, int32_t inv);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* COMM_CAN_LINK_H */
