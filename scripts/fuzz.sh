@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# scripts/fuzz.sh - fuzzes the scenario and motor-file parser for a bounded
+# scripts/fuzz.sh - fuzzes the scenario and motor-file parser, then the CAN
+# command parser (tests/fuzz/fuzz_can_parse.cpp, a third of the time, seed
+# corpus tests/fuzz/can_corpus), each for a bounded
 # time: builds tests/fuzz/fuzz_scenario.cpp with Clang, libFuzzer,
 # AddressSanitizer and UndefinedBehaviorSanitizer (CMake option MC_FUZZ) and
 # runs it from the seed corpus tests/fuzz/corpus. Fails on a crash, a
@@ -16,12 +18,14 @@ usage() {
     cat <<'EOF'
 usage: scripts/fuzz.sh [--time SECONDS] [--build-dir DIR] [-- LIBFUZZER_OPTION...]
 
-Builds the fuzzer (DIR, default build/fuzz) and runs it for SECONDS (default
-60, or $MC_FUZZ_SECONDS) from the seed corpus tests/fuzz/corpus; the inputs
-it adds go to DIR/run/corpus, a crashing one to DIR/run/crash-*. Exit status
-1 if it found anything, 2 on a usage or build error.
+Builds the fuzzers (DIR, default build/fuzz) and runs the scenario parser's
+for SECONDS (default 60, or $MC_FUZZ_SECONDS) from the seed corpus
+tests/fuzz/corpus, then the CAN command parser's for a third of that from
+tests/fuzz/can_corpus; the inputs they add go to DIR/run-TARGET/corpus, a
+crashing one to DIR/run-TARGET/crash-*. Exit status 1 if either found
+anything, 2 on a usage or build error.
 
-Reproduce a crash:  DIR/tests/fuzz/fuzz_scenario DIR/run/crash-...
+Reproduce a crash:  DIR/tests/fuzz/TARGET DIR/run-TARGET/crash-...
   --time SECONDS   fuzzing time (libFuzzer -max_total_time)
   --build-dir DIR  build directory of the MC_FUZZ configure
   -h, --help       this text
@@ -53,7 +57,7 @@ trap 'rm -f "$log"' EXIT
 echo "==== fuzz: configure and build $build (clang, -fsanitize=fuzzer,address,undefined)"
 if ! cmake -S "$ROOT" -B "$build" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS=-O1 -DCMAKE_CXX_FLAGS=-O1 -DMC_FUZZ=ON >"$log" 2>&1 ||
-    ! cmake --build "$build" --target fuzz_scenario >>"$log" 2>&1; then
+    ! cmake --build "$build" --target fuzz_scenario fuzz_can_parse >>"$log" 2>&1; then
     cat "$log" >&2
     echo "fuzz.sh: configuring or building the fuzzer failed" >&2
     exit 2
@@ -63,37 +67,50 @@ echo "---- fuzz: built in $((SECONDS - t0)) s"
 # Each run starts from the seed corpus alone, so a failure reproduces from
 # its crash file; the harness's files (the input, the motor files) live in
 # run/work.
-run="$build/run"
-rm -rf "$run"
-mkdir -p "$run/corpus" "$run/work"
-n_seeds=$(find tests/fuzz/corpus -type f | wc -l)
-echo "==== fuzz: scenario + motor-file parser, ${seconds} s, $n_seeds seed inputs (tests/fuzz/corpus)"
-tf=$SECONDS
-rc=0
-MC_FUZZ_WORKDIR="$run/work" \
-    ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
-    UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}" \
-    "$build/tests/fuzz/fuzz_scenario" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=8192 \
-    -print_final_stats=1 -artifact_prefix="$run/" "${extra[@]}" "$run/corpus" tests/fuzz/corpus \
-    >"$run/fuzz.log" 2>&1 || rc=$?
+# run_fuzzer TARGET SEED_CORPUS SECONDS MAX_LEN LABEL
+run_fuzzer() {
+    local target="$1" seeds="$2" secs="$3" max_len="$4" label="$5"
+    local run="$build/run-$target"
+    rm -rf "$run"
+    mkdir -p "$run/corpus" "$run/work"
+    local n_seeds tf rc=0
+    n_seeds=$(find "$seeds" -type f | wc -l)
+    echo "==== fuzz: $label, ${secs} s, $n_seeds seed inputs ($seeds)"
+    tf=$SECONDS
+    MC_FUZZ_WORKDIR="$run/work" \
+        ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
+        UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}" \
+        "$build/tests/fuzz/$target" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len="$max_len" \
+        -print_final_stats=1 -artifact_prefix="$run/" "${extra[@]}" "$run/corpus" "$seeds" \
+        >"$run/fuzz.log" 2>&1 || rc=$?
+    # libFuzzer's last status line: "#213389 DONE cov: 2076 ft: 5691 corp: 343/148Kb ..."
+    local status execs rate seed cov corp
+    status=$(grep -E '^#[0-9]+[[:space:]]+(DONE|pulse|NEW|REDUCE|INITED)' "$run/fuzz.log" | tail -1 || true)
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$run/fuzz.log")
+    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$run/fuzz.log")
+    seed=$(sed -n 's/^INFO: Seed: *//p' "$run/fuzz.log" | head -1)
+    cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$status")
+    corp=$(sed -n 's/.* corp: \([0-9]*\/[0-9A-Za-z]*\).*/\1/p' <<<"$status")
+    echo "---- fuzz: ${execs:-?} inputs in $((SECONDS - tf)) s (${rate:-?}/s), coverage ${cov:-?} edges," \
+        "corpus ${corp:-?} (seeds + $(find "$run/corpus" -type f | wc -l) new), libFuzzer -seed=${seed:-?}"
+    if [ "$rc" -ne 0 ]; then
+        tail -n 60 "$run/fuzz.log"
+        echo
+        echo "==== fuzz: $target FAILED (libFuzzer exit status $rc); whole log: $run/fuzz.log"
+        for c in "$run"/crash-* "$run"/leak-* "$run"/timeout-* "$run"/oom-*; do
+            [ -e "$c" ] && echo "  reproduce: $build/tests/fuzz/$target $c"
+        done
+        return 1
+    fi
+    rm -rf "$run/work"
+    return 0
+}
 
-# libFuzzer's last status line: "#213389 DONE cov: 2076 ft: 5691 corp: 343/148Kb ..."
-status=$(grep -E '^#[0-9]+[[:space:]]+(DONE|pulse|NEW|REDUCE|INITED)' "$run/fuzz.log" | tail -1 || true)
-execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$run/fuzz.log")
-rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$run/fuzz.log")
-seed=$(sed -n 's/^INFO: Seed: *//p' "$run/fuzz.log" | head -1)
-cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$status")
-corp=$(sed -n 's/.* corp: \([0-9]*\/[0-9A-Za-z]*\).*/\1/p' <<<"$status")
-echo "---- fuzz: ${execs:-?} inputs in $((SECONDS - tf)) s (${rate:-?}/s), coverage ${cov:-?} edges," \
-    "corpus ${corp:-?} (seeds + $(find "$run/corpus" -type f | wc -l) new), libFuzzer -seed=${seed:-?}"
-if [ "$rc" -ne 0 ]; then
-    tail -n 60 "$run/fuzz.log"
-    echo
-    echo "==== fuzz: FAILED (libFuzzer exit status $rc); whole log: $run/fuzz.log"
-    for c in "$run"/crash-* "$run"/leak-* "$run"/timeout-* "$run"/oom-*; do
-        [ -e "$c" ] && echo "  reproduce: $build/tests/fuzz/fuzz_scenario $c"
-    done
+failed=0
+run_fuzzer fuzz_scenario tests/fuzz/corpus "$seconds" 8192 "scenario + motor-file parser" || failed=1
+# the CAN command parser: small inputs, fast; a third of the scenario time
+run_fuzzer fuzz_can_parse tests/fuzz/can_corpus "$(( (seconds + 2) / 3 ))" 240 "CAN command parser" || failed=1
+if [ "$failed" -ne 0 ]; then
     exit 1
 fi
-rm -rf "$run/work"
 echo "==== fuzz: clean ($((SECONDS - t0)) s in all)"
