@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 extern "C" {
 #include "adapter/phase_adapter.h"
 #include "control/fg_tracking.h"
 #include "math/mc_convert.h"
 #include "model/motor_model.h"
+#include "comm/can_tx.h"
 #include "startup/align.h"
 #include "startup/k_identification.h"
 #include "supervisor/fault_monitor.h"
@@ -540,4 +542,61 @@ TEST(KIdentification, ModelSetK)
     EXPECT_NEAR(D(m.fv_over_K_A_s), fv * r, tol * 10);
     EXPECT_NEAR(D(m.LJ_over_KTs_V_s2), 0.106 * r, tol);
     EXPECT_NEAR(D(m.Lfv_over_KTs_V_s), 0.79 * r, tol);
+}
+
+// ---- CAN telemetry schedule (comm/can_tx.h) ----
+
+// Default rates over 1 s at 10 kHz: heartbeat 10, the six others 100 each,
+// at most one frame queued per sample, ids of node 5; CmdSetRate changes a
+// rate and turns one off; a queue nobody empties drops and counts.
+TEST(CanTx, RatesQueueAndDrops)
+{
+    can_tx_config_t c;
+    can_tx_defaults(&c, 5, 10000);
+    can_tx_t t;
+    can_tx_init(&t, &c);
+    can_telemetry_t tlm{};
+    int per_id[0x800] = {0};
+    for (uint32_t k = 0; k < 10000; ++k) {
+        const uint32_t before = t.sent;
+        can_tx_step(&t, k, &tlm);
+        EXPECT_LE(t.sent - before, 1u);
+        can_frame_t f;
+        while (can_tx_pop(&t, &f)) {
+            ASSERT_LT(f.id, 0x800u);
+            EXPECT_EQ(f.id & 0xFu, 5u);
+            ++per_id[f.id];
+        }
+    }
+    EXPECT_EQ(per_id[0x105], 10);
+    for (uint32_t id : {0x115u, 0x125u, 0x135u, 0x145u, 0x155u, 0x165u}) EXPECT_EQ(per_id[id], 100) << std::hex << id;
+    EXPECT_EQ(t.dropped, 0u);
+    // Position every 1 ms, Timing off
+    ASSERT_TRUE(can_tx_set_period(&t, 10000, CAN_TLM_POSITION, 1));
+    ASSERT_TRUE(can_tx_set_period(&t, 10000, CAN_TLM_TIMING, 0));
+    EXPECT_FALSE(can_tx_set_period(&t, 10000, CAN_TLM_COUNT, 10));
+    EXPECT_FALSE(can_tx_set_period(&t, 10000, CAN_TLM_POSITION, 60001));
+    std::memset(per_id, 0, sizeof per_id);
+    for (uint32_t k = 10000; k < 20000; ++k) {
+        can_tx_step(&t, k, &tlm);
+        can_frame_t f;
+        while (can_tx_pop(&t, &f)) ++per_id[f.id];
+    }
+    EXPECT_GE(per_id[0x115], 990);
+    EXPECT_EQ(per_id[0x165], 0);
+    // all seven due at the same sample: one a sample, the others follow
+    can_tx_init(&t, &c);
+    for (uint8_t m = 0; m < CAN_TLM_COUNT; ++m) ASSERT_TRUE(can_tx_set_period(&t, 0, m, 10));
+    for (uint32_t k = 0; k < 7; ++k) {
+        can_tx_step(&t, k, &tlm);
+        EXPECT_EQ(t.sent, k + 1) << k;
+    }
+    // nobody transmits: 16 frames queued, the rest counted as dropped
+    can_tx_init(&t, &c);
+    for (uint32_t k = 0; k < 1000; ++k) can_tx_step(&t, k, &tlm);
+    EXPECT_EQ(t.count, CAN_TX_QUEUE);
+    EXPECT_EQ(t.sent, CAN_TX_QUEUE);
+    EXPECT_GT(t.dropped, 0u);
+    // 1 heartbeat and 10 of each other message were due in 1000 samples
+    EXPECT_EQ(t.sent + t.dropped, 1u + 10u * 6u);
 }

@@ -1,0 +1,66 @@
+/*
+ * can_tx.h - the telemetry schedule and transmit queue of a drive on CAN
+ * (messages of tools/can/drive.dbc, packed by comm/can_link.h).
+ *
+ * The control step calls can_tx_step() once per sample: it packs at most
+ * one due message into a fixed-size queue, so its cost per sample is
+ * bounded by one pack whatever the rates; the backend's transmit side
+ * (an interrupt, or the simulator) takes frames with can_tx_pop(). Nothing
+ * blocks: when the queue is full a due message is dropped and counted.
+ * Rates per message are set in samples at init and by CmdSetRate (ms);
+ * period 0 turns a message off. Nothing allocates.
+ */
+#ifndef COMM_CAN_TX_H
+#define COMM_CAN_TX_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "comm/can_link.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* 16 frames: at the default rates (one message a ms) more than a bus
+ * outage of 2 ms would need; a power of two (the ring's index is a mask). */
+#define CAN_TX_QUEUE 16u
+
+typedef struct {
+    uint8_t node;                              /* 0-15 */
+    int32_t fs_hz;                             /* control rate: ms to samples */
+    uint32_t period_ticks[CAN_TLM_COUNT];      /* 0: off */
+} can_tx_config_t;
+
+typedef struct {
+    can_tx_config_t cfg;
+    uint32_t due[CAN_TLM_COUNT];               /* sample at which each is next due */
+    can_frame_t q[CAN_TX_QUEUE];
+    uint32_t head;                             /* next frame to pop */
+    uint32_t count;
+    uint32_t sent;                             /* queued since init */
+    uint32_t dropped;                          /* due but the queue was full */
+} can_tx_t;
+
+/* Default periods: heartbeat 100 ms, every other message 10 ms, each first
+ * due at a different sample (staggered, so one sample rarely has two). */
+void can_tx_defaults(can_tx_config_t *c, uint8_t node, int32_t fs_hz);
+
+void can_tx_init(can_tx_t *t, const can_tx_config_t *cfg);
+
+/* Once per control sample: queues the first due message (at most one). */
+void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm);
+
+/* The next frame to transmit, if any. */
+bool can_tx_pop(can_tx_t *t, can_frame_t *f);
+
+/* CmdSetRate: message m every period_ms (0: off), from the next sample.
+ * Returns false (nothing changed) for an unknown m or a period beyond
+ * 60000 ms. */
+bool can_tx_set_period(can_tx_t *t, uint32_t tick, uint8_t m, uint16_t period_ms);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* COMM_CAN_TX_H */
