@@ -47,16 +47,7 @@ typedef struct {
 
 void flight_recorder_init(flight_recorder_t *r);
 
-/* Appends one sample (ignored once frozen). */
-static inline void flight_recorder_push(flight_recorder_t *r, const flight_record_t *s)
-{
-    if (!r->frozen) {
-        r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)] = *s;
-        r->n += 1u;
-    }
-}
-
-/* The same without a copy: the slot the next sample goes to (NULL once
+/* Appending one sample, without a copy: the slot it goes to (NULL once
  * frozen), to be filled in place and then committed with
  * flight_recorder_commit(). */
 static inline flight_record_t *flight_recorder_slot(flight_recorder_t *r)

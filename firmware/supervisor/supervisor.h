@@ -115,19 +115,6 @@ bool supervisor_dispatch(supervisor_t *s, sup_event_t ev);
 /* Latches f (the first fault is kept) and goes to FAULT. */
 void supervisor_fault(supervisor_t *s, drive_fault_t f);
 
-/* True if any of the first n_phases phase currents of the sample is beyond
- * +-i_trip_A (n_phases: the drive's, a constant, so the loop unrolls). */
-static inline bool supervisor_overcurrent(const hal_sample_t *in, uint8_t n_phases, mc_t i_trip_A)
-{
-    const mc_t trip_neg = mc_neg(i_trip_A);
-    for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
-        if (mc_gt(in->i_A[k], i_trip_A) || mc_lt(in->i_A[k], trip_neg)) {
-            return true;
-        }
-    }
-    return false;
-}
-
 /* Telemetry mode of the state. */
 drive_mode_t supervisor_mode(const supervisor_t *s);
 

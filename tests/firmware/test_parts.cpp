@@ -194,22 +194,6 @@ TEST(Supervisor, FaultLatchesTheFirstCause)
     EXPECT_FALSE(supervisor_dispatch(&s, SUP_EV_ESTIMATE_TRUSTED));
 }
 
-TEST(Supervisor, OvercurrentOnAnyPhase)
-{
-    hal_sample_t s = sample3(0.0, 0.0, 0.0);
-    for (int k = 0; k < 3; ++k) {
-        for (double i : {4.6, -4.6}) {
-            s = sample3(0.0, 0.0, 0.0);
-            s.i_A[k] = M(i);
-            EXPECT_TRUE(supervisor_overcurrent(&s, 3, M(4.5))) << k << " " << i;
-        }
-    }
-    s = sample3(4.4, -4.4, 4.5);
-    EXPECT_FALSE(supervisor_overcurrent(&s, 3, M(4.5)));
-    s = sample3(0.0, 0.0, 9.0);  // phase c is not there for a two-phase drive
-    EXPECT_FALSE(supervisor_overcurrent(&s, 2, M(4.5)));
-}
-
 // Bumpless: at a switch the applied voltage stays the last one, then the
 // offset decays by blend_decay per sample to 0.
 TEST(Supervisor, BlendRemovesTheStepAndDecays)
@@ -599,4 +583,26 @@ TEST(CanTx, RatesQueueAndDrops)
     EXPECT_GT(t.dropped, 0u);
     // 1 heartbeat and 10 of each other message were due in 1000 samples
     EXPECT_EQ(t.sent + t.dropped, 1u + 10u * 6u);
+}
+
+// Over-current on any of the drive's phases, either sign; the third phase
+// of a sample is not looked at by a two-phase drive.
+TEST(FaultMonitor, OvercurrentOnAnyPhase)
+{
+    const fault_monitor_config_t c = rig_faults();
+    fault_monitor_t m;
+    for (int k = 0; k < 3; ++k) {
+        for (double i : {4.6, -4.6}) {
+            hal_sample_t s = sample3(0.0, 0.0, 0.0);
+            s.i_A[k] = M(i);
+            fault_monitor_init(&m, &c);
+            EXPECT_EQ(fault_monitor_sample(&m, &s, 3), DRIVE_FAULT_OVERCURRENT) << k << " " << i;
+        }
+    }
+    hal_sample_t s = sample3(4.4, -4.4, 4.5);
+    fault_monitor_init(&m, &c);
+    EXPECT_EQ(fault_monitor_sample(&m, &s, 3), DRIVE_FAULT_NONE);
+    s = sample3(0.0, 0.0, 9.0);
+    fault_monitor_init(&m, &c);
+    EXPECT_EQ(fault_monitor_sample(&m, &s, 2), DRIVE_FAULT_NONE);
 }

@@ -129,8 +129,9 @@ MUTANTS = [
     m("estimator_frame_sign", "estimators/fg_estimator.h", "(44): estimated frame turned the wrong way",
       ("mc_rot_fwd(e->u_est, i_f_A, i_g_A, &e->i_d_A, &e->i_q_A);", "mc_rot_inv(e->u_est, i_f_A, i_g_A, &e->i_d_A, &e->i_q_A);")),
     # ---- supervisor
-    m("sup_trip_first_phase_only", "supervisor/supervisor.h", "over-current trip looks at phase a only",
-      ("k < n_phases && k < HAL_MAX_PHASES", "k < 1u && k < n_phases")),
+    m("sup_trip_first_phase_only", "supervisor/fault_monitor.c", "over-current trip looks at phase a only",
+      ("k < n_phases && k < HAL_MAX_PHASES; ++k) {\n        const mc_t i = in->i_A[k];",
+       "k < 1u && k < n_phases; ++k) {\n        const mc_t i = in->i_A[k];")),
     m("sup_limit_twice_vmax", "supervisor/supervisor.h", "voltage limited at 2 V_max",
       ("const bool sat = mc_gt(v_peak, v_max_V);", "const bool sat = mc_gt(v_peak, mc_mul_i(v_max_V, 2));")),
     m("sup_blend_sign", "supervisor/supervisor.h", "switch offset doubles the voltage step instead of removing it",
