@@ -55,10 +55,16 @@ BASE_PKGS=(cmake ninja-build gcc g++ googletest libgtest-dev python3-venv
 # installed here without recommends); llvm for llvm-symbolizer (sanitizer
 # reports with file and line).
 ANALYSIS_PKGS=(cppcheck clang-tidy clang libclang-rt-14-dev llvm)
+# The VM fixture (tools/vm/: Debian's own kernel in QEMU with TCG, for the
+# SocketCAN and Comedi tests this machine's kernel cannot run): QEMU for
+# x86-64, busybox-static for the initramfs, can-utils (candump, cansend)
+# and iproute2 (ip link add ... type vcan) used inside the VM. The kernel
+# package itself is downloaded by tools/vm/build_image.py, never installed.
+VM_PKGS=(qemu-system-x86 busybox-static can-utils iproute2)
 # Cross builds and processor-in-the-loop runs.
 CROSS_PKGS=(gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)
 
-PKGS=("${BASE_PKGS[@]}" "${ANALYSIS_PKGS[@]}")
+PKGS=("${BASE_PKGS[@]}" "${ANALYSIS_PKGS[@]}" "${VM_PKGS[@]}")
 [ "$cross" = 1 ] && PKGS+=("${CROSS_PKGS[@]}")
 
 # Only one setup at a time (two terminals, or parallel scripts).

@@ -13,6 +13,19 @@
 _Static_assert(DRIVE_CAN_CMD_STOP_LENGTH == DRIVE_CAN_CMD_CLEAR_FAULTS_LENGTH,
                "CmdStop and CmdClearFaults are parsed alike (one reserved byte)");
 
+const char *can_link_reject_name(can_reject_t r)
+{
+    switch (r) {
+    case CAN_REJECT_NONE: return "none";
+    case CAN_REJECT_NOT_OURS: return "not ours";
+    case CAN_REJECT_UNKNOWN_ID: return "unknown id";
+    case CAN_REJECT_DLC: return "dlc";
+    case CAN_REJECT_RANGE: return "range";
+    case CAN_REJECT_MODE: return "mode";
+    default: return "?";
+    }
+}
+
 int64_t can_link_to_raw(mc_t x, int32_t inv, int64_t lo, int64_t hi)
 {
     if (!mc_is_finite(x)) {

@@ -16,6 +16,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "hal/hal_types.h"
 #include "math/mc_num.h"
 
 #ifdef __cplusplus
@@ -23,14 +24,13 @@ extern "C" {
 #endif
 
 #define CAN_LINK_MSG_SET_VERSION 1u   /* the DBC's MsgSetVersion; VERSION "drive-can 1" */
+/* The heartbeat's DriveKind (the DBC's VAL_ table). */
+#define CAN_DRIVE_KIND_POSITION_P000 0u
+#define CAN_DRIVE_KIND_SPEED_P001 1u
 #define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
 
-/* One classic CAN frame. */
-typedef struct {
-    uint32_t id;       /* 11-bit standard identifier */
-    uint8_t dlc;       /* 0-8 */
-    uint8_t data[8];
-} can_frame_t;
+/* One classic CAN frame: the HAL's (hal/hal_types.h). */
+typedef hal_can_frame_t can_frame_t;
 
 /* Telemetry messages, in the order of CmdSetRate's Message signal. */
 typedef enum {
@@ -90,8 +90,14 @@ typedef enum {
     CAN_REJECT_NOT_OURS,   /* another node's frame or a telemetry id: ignored, not counted */
     CAN_REJECT_UNKNOWN_ID, /* in our node's command space but no command */
     CAN_REJECT_DLC,        /* length differs from the DBC's */
-    CAN_REJECT_RANGE       /* a signal outside the DBC's [min|max] */
+    CAN_REJECT_RANGE,      /* a signal outside the DBC's [min|max] */
+    CAN_REJECT_MODE        /* valid, but not in this drive or its present state (the drive's
+                            * command functions decide; can_link_parse never returns it) */
 } can_reject_t;
+
+/* A short name of a reason ("none", "not ours", "unknown id", "dlc",
+ * "range", "mode"), never NULL. */
+const char *can_link_reject_name(can_reject_t r);
 
 /* Validates frame f for node and, if it is a valid command, fills *cmd and
  * returns CAN_REJECT_NONE; otherwise *cmd is set to CAN_CMD_NONE and the

@@ -34,25 +34,34 @@ void can_tx_init(can_tx_t *t, const can_tx_config_t *cfg)
     t->dropped = 0;
 }
 
-void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm)
+int32_t can_tx_next_due(const can_tx_t *t, uint32_t tick)
 {
     for (uint32_t m = 0; m < CAN_TLM_COUNT; ++m) {
-        const uint32_t p = t->cfg.period_ticks[m];
         /* due when tick has reached due[m] (wrap-safe difference) */
-        if (p == 0u || (int32_t)(tick - t->due[m]) < 0) {
-            continue;
+        if (t->cfg.period_ticks[m] != 0u && (int32_t)(tick - t->due[m]) >= 0) {
+            return (int32_t)m;
         }
-        t->due[m] = tick + p;
-        if (t->count >= CAN_TX_QUEUE) {
-            t->dropped += 1u;
-            return;
-        }
-        can_frame_t *f = &t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)];
-        if (can_link_pack((can_tlm_msg_t)m, t->cfg.node, tlm, f)) {
-            t->count += 1u;
-            t->sent += 1u;
-        }
-        return; /* at most one message a sample */
+    }
+    return -1;
+}
+
+void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm)
+{
+    /* at most one message a sample: the first due */
+    const int32_t next = can_tx_next_due(t, tick);
+    if (next < 0) {
+        return;
+    }
+    const uint32_t m = (uint32_t)next;
+    t->due[m] = tick + t->cfg.period_ticks[m];
+    if (t->count >= CAN_TX_QUEUE) {
+        t->dropped += 1u;
+        return;
+    }
+    can_frame_t *f = &t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)];
+    if (can_link_pack((can_tlm_msg_t)m, t->cfg.node, tlm, f)) {
+        t->count += 1u;
+        t->sent += 1u;
     }
 }
 

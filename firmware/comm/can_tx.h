@@ -51,6 +51,12 @@ void can_tx_init(can_tx_t *t, const can_tx_config_t *cfg);
 /* Once per control sample: queues the first due message (at most one). */
 void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm);
 
+/* The message can_tx_step would queue at tick (the first due one), or -1. */
+int32_t can_tx_next_due(const can_tx_t *t, uint32_t tick);
+
+/* True if a message is due at tick. */
+static inline bool can_tx_due(const can_tx_t *t, uint32_t tick) { return can_tx_next_due(t, tick) >= 0; }
+
 /* The next frame to transmit, if any. */
 bool can_tx_pop(can_tx_t *t, can_frame_t *f);
 

@@ -487,6 +487,9 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->limits.i_max_A = mc_from_double(in->i_max_A);
     cfg->limits.i_trip_A = mc_from_double(in->i_trip_A);
     cfg->limits.omega_lim_rad_s = mc_from_double(in->omega_lim_rad_s);
+    /* the bounds the gains were designed for are what a commanded move may use */
+    cfg->move_speed_max_rad_s = mc_from_double(w_max);
+    cfg->move_accel_max_rad_s2 = mc_from_double(a_max);
     cfg->sup.blend_decay = mc_from_double(exp(-Ts / pick(ov->blend_tau_s, BLEND_TAU_S)));
     cc->i_f_ref_A = mc_from_double(0.0);
     const double tau_i = pick(ov->current_blend_tau_s, CURRENT_BLEND_TAU_S);

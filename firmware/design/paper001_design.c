@@ -133,6 +133,8 @@ void p001_design_defaults(p001_design_input_t *in)
     in->probe_s = P001_PROBE_S;
     in->estimator = P001_ESTIMATOR_FLUX;
     in->omega_lim_rad_s = 0.0;
+    in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
+    in->i_rail_A = 0.0;              /* unknown: no rail check */
 }
 
 /* A per-sample coefficient the fixed-point build can hold. */

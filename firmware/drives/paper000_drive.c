@@ -269,6 +269,8 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->model = cfg->model;
     d->tick = 0;
     d->observable_run = 0;
+    d->disabled = false;
+    d->omega_lim_rad_s = cfg->limits.omega_lim_rad_s;
     d->v_ext_set = false;
     d->v_ext_V.alpha = MC_ZERO;
     d->v_ext_V.beta = MC_ZERO;
@@ -316,6 +318,10 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     if (d->sup.state == SUP_STATE_FAULT) {
         drive_zero_output(d, out);
         return false;
+    }
+    if (d->disabled) {
+        drive_zero_output(d, out);
+        return true;
     }
     if (!phase_adapter_accepts(in, (uint8_t)DRIVE_N_PHASES)) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
@@ -387,7 +393,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
      * close_dwell_ticks samples in a row, so that a back-EMF hovering at
      * the threshold cannot toggle the mode (and pile up the switch
      * offsets) sample after sample; it opens at once */
-    const bool fast = !mc_lt(mc_abs(d->ref.omega_rad_s), c->limits.omega_lim_rad_s);
+    const bool fast = !mc_lt(mc_abs(d->ref.omega_rad_s), d->omega_lim_rad_s);
     const bool observable = fg_estimator_observable(&d->est);
     if (!observable) {
         d->observable_run = 0;
@@ -539,6 +545,122 @@ bool drive_clear_fault(drive_t *d)
 {
     /* an exact self-copy (d->cfg = *cfg with cfg == &d->cfg) is allowed (C11 6.5.16.1) */
     return drive_init(d, &d->cfg);
+}
+
+bool drive_set_enabled(drive_t *d, bool on)
+{
+    if (d->sup.state == SUP_STATE_FAULT) {
+        return false;
+    }
+    if (!on) {
+        d->disabled = true;
+        return true;
+    }
+    if (!d->disabled) {
+        return true;
+    }
+    return drive_init(d, &d->cfg);
+}
+
+/* Samples of a duration of s seconds at fs_hz, rounded, in integer
+ * arithmetic on the whole and fractional seconds (s fs overflows Q14.17). */
+static uint32_t drive_ticks_of(mc_t s, int32_t fs_hz)
+{
+    const int32_t whole = mc_round_i(s);
+    const int32_t frac = mc_round_i(mc_mul_i(mc_sub(s, mc_from_i(whole)), fs_hz));
+    const int64_t n = (int64_t)whole * fs_hz + frac;
+    return n < 1 ? 1u : (uint32_t)n;
+}
+
+/* The end of the last configured move, in trajectory samples. */
+static uint32_t drive_traj_end(const drive_t *d)
+{
+    const trajectory_config_t *tc = &d->traj.cfg;
+    if (tc->n_segments <= 0) {
+        return 0u;
+    }
+    const trajectory_segment_t *s = &tc->seg[tc->n_segments - 1];
+    return s->start_tick + s->duration_ticks;
+}
+
+bool drive_move(drive_t *d, mc_t theta_to_rad, mc_t duration_s)
+{
+    const drive_config_t *c = &d->cfg;
+    const bool running = d->sup.state == SUP_STATE_OPEN_LOOP || d->sup.state == SUP_STATE_CLOSED_LOOP;
+    /* the reference of the next step was evaluated at traj(tick + 1) by the
+     * last step (ref_next): the move starts after it, from the rest value */
+    const uint32_t now = drive_traj_tick(d, d->tick + 1u);
+    if (d->disabled || !running || now < drive_traj_end(d) || !mc_gt(duration_s, MC_ZERO) ||
+        !mc_gt(c->move_speed_max_rad_s, MC_ZERO)) {
+        return false;
+    }
+    /* eq. (70)'s peaks: 2.1875 |d|/T and 7.5132 |d|/T^2 (POLY7_DP_MAX,
+     * POLY7_DDP_MAX of design/drive_design.c), checked as products so
+     * nothing overflows: |v| T <= ..., with v = d/T */
+    const mc_t from = d->ref_next.theta_rad;
+    const mc_t dist = mc_abs(mc_sub(theta_to_rad, from));
+    if (mc_gt(mc_mul(dist, MC_C(2.1875)), mc_mul(c->move_speed_max_rad_s, duration_s))) {
+        return false;
+    }
+    const mc_t v = mc_div(dist, duration_s);
+    if (mc_gt(mc_mul(v, MC_C(7.5132)), mc_mul(c->move_accel_max_rad_s2, duration_s))) {
+        return false;
+    }
+    /* the jerk scale d/T^3 and 21 d (the polynomial's largest
+     * coefficient) within half the numeric range */
+    const mc_t a = mc_div(v, duration_s);
+    if (mc_gt(a, mc_mul(MC_C(8192.0), duration_s)) || mc_gt(dist, MC_C(390.0))) {
+        return false;
+    }
+    trajectory_config_t tc = d->traj.cfg;
+    tc.theta_start_rad = from;
+    tc.n_segments = 1;
+    trajectory_segment_t *s = &tc.seg[0];
+    *s = (trajectory_segment_t){0};
+    s->start_tick = now + 1u;
+    s->duration_ticks = drive_ticks_of(duration_s, tc.fs_hz);
+    s->theta_to_rad = theta_to_rad;
+    trajectory_t t;
+    if (!trajectory_init(&t, &tc)) {
+        return false;
+    }
+    d->traj = t;
+    return true;
+}
+
+bool drive_stop(drive_t *d)
+{
+    if (d->sup.state == SUP_STATE_FAULT) {
+        return false;
+    }
+    /* keep the moves that have started by the next step's reference */
+    const uint32_t now = drive_traj_tick(d, d->tick + 1u);
+    trajectory_config_t tc = d->traj.cfg;
+    int32_t n = 0;
+    while (n < tc.n_segments && tc.seg[n].start_tick <= now) {
+        n += 1;
+    }
+    if (n == tc.n_segments) {
+        return true;
+    }
+    tc.n_segments = n;
+    trajectory_t t;
+    if (!trajectory_init(&t, &tc)) {
+        return false;
+    }
+    d->traj = t;
+    return true;
+}
+
+bool drive_set_omega_lim(drive_t *d, mc_t omega_lim_rad_s)
+{
+    const drive_config_t *c = &d->cfg;
+    if (d->sup.state == SUP_STATE_CLOSED_LOOP || mc_lt(omega_lim_rad_s, c->limits.omega_lim_rad_s) ||
+        mc_gt(omega_lim_rad_s, c->move_speed_max_rad_s)) {
+        return false;
+    }
+    d->omega_lim_rad_s = omega_lim_rad_s;
+    return true;
 }
 
 void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)

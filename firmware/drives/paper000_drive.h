@@ -130,6 +130,11 @@ typedef struct {
     trajectory_config_t traj;
     drive_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
     uint32_t close_dwell_ticks;   /* the back-EMF observable this many samples in a row before the loop closes */
+    /* moves by command (drive_move): the peak speed and acceleration of
+     * eq. (70) must stay within what the gains were designed for (the
+     * design's w_max and a_max); 0: moves by command refused */
+    mc_t move_speed_max_rad_s;
+    mc_t move_accel_max_rad_s2;
 } drive_config_t;
 
 /* What one step computed, for telemetry, logs and tests. */
@@ -187,6 +192,8 @@ typedef struct {
     uint32_t tick;
     uint32_t align_ticks;        /* the alignment's length: the trajectory's sample 0 follows it */
     uint32_t observable_run;     /* samples in a row the back-EMF has been observable (saturates) */
+    bool disabled;               /* drive_set_enabled(false): 0 V until enabled again */
+    mc_t omega_lim_rad_s;        /* in use: cfg.limits' or drive_set_omega_lim's */
     bool v_ext_set;              /* drive_set_applied_voltage() for the next step */
     mc_ab_t v_ext_V;
     trajectory_point_t ref;      /* reference of this sample */
@@ -223,6 +230,38 @@ void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V);
  * initial state (alignment first). Returns what drive_init returns. The
  * flight recorder's snapshot is discarded with it. */
 bool drive_clear_fault(drive_t *d);
+
+/* Commands (from a host link such as comm/can_paper000.h). Each returns
+ * false and changes nothing when it is refused in the drive's present
+ * state; none is refused for an argument the DBC's ranges allow unless
+ * said so.
+ *
+ * drive_set_enabled: false puts the drive in its safe state (0 V on every
+ * phase) until enabled again; true after a disable starts the drive again
+ * as at power-up (alignment, identification, the configured moves): the
+ * rotor may have been moved meanwhile. Refused in FAULT (clear it first);
+ * enabling an enabled drive is accepted and changes nothing. */
+bool drive_set_enabled(drive_t *d, bool on);
+
+/* Move to theta_to_rad over duration_s from where the reference rests,
+ * with the rest-to-rest polynomial of eq. (70), starting two samples on.
+ * Refused while disabled, outside OPEN_LOOP/CLOSED_LOOP (alignment,
+ * identification, FAULT), while a move is in progress or queued, and when
+ * its peak speed 2.1875 |d|/T or acceleration 7.5132 |d|/T^2 exceeds
+ * cfg.move_speed_max_rad_s / move_accel_max_rad_s2. */
+bool drive_move(drive_t *d, mc_t theta_to_rad, mc_t duration_s);
+
+/* Stop: the moves not yet started are dropped; the one in progress ends
+ * at its end point (eq. (70) is rest-to-rest: stopping sooner would need
+ * a jerk the gains were not designed for; disable is the emergency stop).
+ * Refused in FAULT. */
+bool drive_stop(drive_t *d);
+
+/* The speed from which the loop closes (paper 000 section 5.1). Refused
+ * in closed loop, below cfg.limits.omega_lim_rad_s (the observer's gains
+ * and the observability threshold hold from there up) and above
+ * cfg.move_speed_max_rad_s. drive_init restores the configured one. */
+bool drive_set_omega_lim(drive_t *d, mc_t omega_lim_rad_s);
 
 /* The flight recorder: the first fault's code, tick and the samples before
  * it (flight_recorder_get). Valid until drive_clear_fault. */

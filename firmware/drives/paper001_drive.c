@@ -149,6 +149,13 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     d->ref.omega_rad_s = MC_ZERO;
     d->ref.accel_rad_s2 = MC_ZERO;
     d->ref.theta_rad = MC_ZERO;
+    d->disabled = false;
+    d->omega_lim_rad_s = cfg->omega_lim_rad_s;
+    d->v_bus_V = MC_ZERO;
+    d->stop_ramp_rad_s2 = MC_ZERO;
+    for (uint32_t k = 0; k + 1u < cfg->profile.n_points && k < SPEED_PROFILE_MAX_POINTS; ++k) {
+        d->stop_ramp_rad_s2 = mc_max(d->stop_ramp_rad_s2, mc_abs(cfg->profile.slope_rad_s2[k]));
+    }
     if (!p001_config_ok(cfg) || !profile_ok) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
         return false;
@@ -228,7 +235,7 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, &i_f, &i_g); /* paper 000 (6) */
     fg_estimator_correct(&d->emf, i_f, i_g);
     const bool want_closed =
-        !mc_lt(mc_abs(d->ref.omega_rad_s), c->omega_lim_rad_s) && fg_estimator_observable(&d->emf);
+        !mc_lt(mc_abs(d->ref.omega_rad_s), d->omega_lim_rad_s) && fg_estimator_observable(&d->emf);
     if (want_closed) {
         fg_estimator_track(&d->emf, theta_r, d->ref.omega_rad_s);
     }
@@ -279,11 +286,16 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         p001_zero_output(d, out);
         return false;
     }
+    if (d->disabled) {
+        p001_zero_output(d, out);
+        return true;
+    }
     if (!phase_adapter_accepts(in, c->n_phases) || !mc_gt(in->v_bus_V, c->v_bus_min_V)) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
         p001_zero_output(d, out);
         return false;
     }
+    d->v_bus_V = in->v_bus_V;
     {
         const drive_fault_t f = fault_monitor_sample(&d->mon, in, c->n_phases);
         if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
@@ -436,4 +448,72 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
     t->v_saturated = !fault && d->sup.sat_prev;
     t->fault_events = d->rec.events;
     t->overruns = d->mon.overruns;
+}
+
+bool paper001_drive_set_enabled(paper001_drive_t *d, bool on)
+{
+    if (d->sup.state == SUP_STATE_FAULT) {
+        return false;
+    }
+    if (!on) {
+        d->disabled = true;
+        return true;
+    }
+    if (!d->disabled) {
+        return true;
+    }
+    return paper001_drive_init(d, &d->cfg);
+}
+
+bool paper001_drive_set_speed(paper001_drive_t *d, mc_t omega_rad_s, mc_t ramp_rad_s2)
+{
+    const paper001_config_t *c = &d->cfg;
+    if (d->disabled || d->sup.state == SUP_STATE_FAULT || !mc_gt(ramp_rad_s2, MC_ZERO)) {
+        return false;
+    }
+    /* the back-EMF K_e |w| within a share of the phase voltage the bus
+     * gives: v_bus/sqrt(3) for three legs (space vector), v_bus for an
+     * H-bridge per winding */
+    const mc_t v_phase = (c->n_phases == 3u) ? mc_mul(d->v_bus_V, MC_C(0.57735027)) : d->v_bus_V;
+    if (mc_gt(mc_mul(c->model.K_V_s, mc_abs(omega_rad_s)), mc_mul(P001_CMD_VOLTAGE_SHARE, v_phase))) {
+        return false;
+    }
+    /* the ramp within K_t i_max / J (K_t = 3/2 K_e with three phases, K_e
+     * with two); the product saturates above the DBC's largest ramp */
+    mc_t a_max = mc_mul(mc_mul(c->model.K_V_s, c->limits.i_max_A), c->model.inv_J);
+    if (c->n_phases == 3u) {
+        a_max = mc_mul(a_max, MC_C(1.5));
+    }
+    if (mc_gt(ramp_rad_s2, a_max)) {
+        return false;
+    }
+    if (!speed_profile_retarget(&d->profile, d->tick, omega_rad_s, ramp_rad_s2)) {
+        return false;
+    }
+    d->stop_ramp_rad_s2 = ramp_rad_s2;
+    return true;
+}
+
+bool paper001_drive_stop(paper001_drive_t *d)
+{
+    if (d->sup.state == SUP_STATE_FAULT) {
+        return false;
+    }
+    /* a profile without a ramp (a constant speed) stops in one second */
+    mc_t ramp = d->stop_ramp_rad_s2;
+    if (!mc_gt(ramp, MC_ZERO)) {
+        ramp = mc_max(mc_abs(d->ref.omega_rad_s), MC_C(0.1));
+    }
+    return speed_profile_retarget(&d->profile, d->tick, MC_ZERO, ramp);
+}
+
+bool paper001_drive_set_omega_lim(paper001_drive_t *d, mc_t omega_lim_rad_s)
+{
+    const paper001_config_t *c = &d->cfg;
+    if (c->estimator != P001_ESTIMATOR_BACK_EMF || d->sup.state == SUP_STATE_CLOSED_LOOP ||
+        mc_lt(omega_lim_rad_s, c->omega_lim_rad_s)) {
+        return false;
+    }
+    d->omega_lim_rad_s = omega_lim_rad_s;
+    return true;
 }

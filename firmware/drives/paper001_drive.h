@@ -145,6 +145,11 @@ static inline mc_ab_t paper001_applied_mean(const paper001_config_t *c, mc_ab_t 
 /* Below this lead the output angle is not advanced: 1e-6 rad is far below
  * anything the drive resolves, and sin/cos of smaller angles would make
  * subnormal intermediates (x^3) in the float build at standstill. */
+/* Share of the largest phase voltage a commanded speed's back-EMF may
+ * take: the rest (10 %) is left for the R i and L di/dt drops and the
+ * controller's margin. */
+#define P001_CMD_VOLTAGE_SHARE MC_C(0.9)
+
 #define P001_ADVANCE_MIN_RAD MC_C(1e-6)
 
 /* The angle the voltage of (11) is turned to alpha-beta with: the estimate
@@ -204,6 +209,10 @@ typedef struct {
     ida_pbc_t ctrl;
     speed_profile_t profile;
     speed_point_t ref;
+    bool disabled;                 /* paper001_drive_set_enabled(false): 0 V until enabled again */
+    mc_t stop_ramp_rad_s2;         /* the ramp of a stop: the last commanded, else the profile's steepest */
+    mc_t omega_lim_rad_s;          /* in use (BACK_EMF): cfg's or paper001_drive_set_omega_lim's */
+    mc_t v_bus_V;                  /* the last accepted bus measurement */
     uint32_t tick;
     struct {
         uint32_t tick;
@@ -228,6 +237,31 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
 /* Clears a latched fault by command: the drive starts again from its
  * initial state (the probe first). Returns what paper001_drive_init returns. */
 bool paper001_drive_clear_fault(paper001_drive_t *d);
+
+/* Commands (from a host link such as comm/can_paper001.h). Each returns
+ * false and changes nothing when refused.
+ *
+ * paper001_drive_set_enabled: false puts the drive in its safe state (0 V)
+ * until enabled again; true after a disable starts it again as at
+ * power-up (probe, open-loop start, the configured profile). Refused in
+ * FAULT; enabling an enabled drive changes nothing. */
+bool paper001_drive_set_enabled(paper001_drive_t *d, bool on);
+
+/* Go to omega_rad_s at ramp_rad_s2 from where the reference is
+ * (speed_profile_retarget); the ramp becomes the stop ramp. Refused while
+ * disabled or faulted, when K_e |w| exceeds P001_CMD_VOLTAGE_SHARE of the
+ * largest phase voltage the last measured bus gives (v_bus/sqrt(3) with
+ * three legs, v_bus with H-bridges), and when the ramp exceeds the
+ * acceleration i_max gives the model's inertia unloaded (K_t i_max/J). */
+bool paper001_drive_set_speed(paper001_drive_t *d, mc_t omega_rad_s, mc_t ramp_rad_s2);
+
+/* Stop: ramp to 0 at the stop ramp. Refused while faulted. */
+bool paper001_drive_stop(paper001_drive_t *d);
+
+/* The speed from which the back-EMF estimator's loop closes (estimator
+ * BACK_EMF only). Refused with the flux estimator, in closed loop, and
+ * below cfg.omega_lim_rad_s (the gains hold from there up). */
+bool paper001_drive_set_omega_lim(paper001_drive_t *d, mc_t omega_lim_rad_s);
 
 /* The flight recorder (supervisor/flight_recorder.h): ref = w*, est = the
  * estimator's angle (flux: the electrical angle in (-pi, pi]; back-EMF:

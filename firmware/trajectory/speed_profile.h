@@ -52,6 +52,16 @@ bool speed_profile_init(speed_profile_t *p, const speed_profile_config_t *cfg);
 /* The reference at sample `tick` (ticks must not decrease between calls). */
 void speed_profile_eval(speed_profile_t *p, uint32_t tick, speed_point_t *out);
 
+/* A new target while running (a speed command): from sample `tick` (not
+ * before the last evaluation) the reference ramps from where it is at
+ * `tick` to omega_to_rad_s at ramp_rad_s2 (> 0) and holds there; the
+ * corners before are dropped. w* and theta* stay continuous; dw/dt steps
+ * to the ramp's. The ramp lasts round(|dw| fs / ramp) samples (at least
+ * one), counted in whole and fractional seconds so that nothing
+ * overflows: up to 6553.5 s. Returns false (nothing changed) for a ramp
+ * <= 0 or a ramp longer than that. */
+bool speed_profile_retarget(speed_profile_t *p, uint32_t tick, mc_t omega_to_rad_s, mc_t ramp_rad_s2);
+
 #ifdef __cplusplus
 }
 #endif

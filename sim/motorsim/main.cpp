@@ -3,6 +3,12 @@
 //
 //   motorsim --scenario FILE [--out DIR] [--metrics-out FILE.json]
 //            [--seed N] [--no-plot] [--no-csv] [--quiet]
+//            [--can IFACE [--can-node N]] [--realtime]
+//
+// With --can the drive is a node on a SocketCAN interface (docs/can.md):
+// it sends the telemetry of tools/can/drive.dbc and obeys its commands
+// (motorsim/can_glue.h). --realtime paces the loop to the wall clock
+// (else it runs as fast as it can).
 //
 // Outputs (kOutputModes below, also in --help):
 //   --out DIR given        CSV + metrics JSON + PNG into DIR
@@ -28,6 +34,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include <unistd.h>
 
@@ -46,6 +53,8 @@
 #include "model/reference.h"
 #include "model/pm_plant.h"
 #include "motorsim/drive_glue.h"
+#include "motorsim/can_glue.h"
+#include "can/socketcan.h"
 #include "motorsim/outputs.h"
 #include "motorsim/recorder.h"
 #include "motorsim_config.h"
@@ -108,6 +117,9 @@ struct Options {
     bool no_plot = false;
     bool no_csv = false;
     bool quiet = false;
+    std::string can_iface;  // empty: no CAN
+    unsigned can_node = 0;
+    bool realtime = false;
 };
 
 // Refuses output paths that cannot work before anything runs; creates nothing.
@@ -166,10 +178,13 @@ private:
 
 // Runs the HAL backend for n_total periods with a progress line; returns
 // the wall time of the loop.
-double run_loop(std::uint32_t n_total, bool quiet, const mcsim::RunWatch& watch)
+// With realtime, the loop runs in 1 ms chunks and sleeps until the wall
+// clock has caught up with the simulated time (ts_s per period).
+double run_loop(std::uint32_t n_total, bool quiet, const mcsim::RunWatch& watch, bool realtime, double ts_s)
 {
-    const std::uint32_t chunk = std::max<std::uint32_t>(1, n_total / 100);
-    Progress progress(!quiet, n_total);
+    const std::uint32_t rt_chunk = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::lround(1e-3 / ts_s)));
+    const std::uint32_t chunk = realtime ? rt_chunk : std::max<std::uint32_t>(1, n_total / 100);
+    Progress progress(!quiet && !realtime, n_total);
     const auto t0 = std::chrono::steady_clock::now();
     double wall_s = 0.0;
     for (std::uint32_t done = 0; done < n_total;) {
@@ -178,6 +193,9 @@ double run_loop(std::uint32_t n_total, bool quiet, const mcsim::RunWatch& watch)
         done += n;
         if (watch.diverged()) {
             break;  // the rest would be NaN; the outputs end where physics did
+        }
+        if (realtime) {
+            std::this_thread::sleep_until(t0 + std::chrono::duration<double>(static_cast<double>(done) * ts_s));
         }
         wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         progress.update(done, wall_s);
@@ -377,6 +395,15 @@ int run(const Options& opt)
         check_output_dir(fs::path(json_path).parent_path().string(), "--metrics-out");
     }
 
+    // The CAN interface, opened (and so checked) before the run.
+    if (opt.realtime && opt.can_iface.empty() && !opt.quiet) {
+        std::fprintf(stderr, "motorsim: --realtime without --can: the run is paced to the wall clock\n");
+    }
+    std::unique_ptr<mcsim::SocketCan> can;
+    if (!opt.can_iface.empty()) {
+        can = std::make_unique<mcsim::SocketCan>(opt.can_iface, opt.can_node);
+    }
+
     // The whole log stays in memory until the run is over (no file I/O in
     // the loop): ~300 bytes per sample. Refuse runs that would not fit.
     if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
@@ -446,15 +473,36 @@ int run(const Options& opt)
         mcsim::design_and_init_speed_drive(sc, speed_drive.get(), &rep);
         speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, *speed_drive, /*record_rows=*/write_csv);
         hal_sw_plant_set_monitor(&mcsim::SpeedRecorder::monitor, speed_rec.get());
-        if (!hal_start(&speed_control_callback, speed_drive.get())) {
-            throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
-        }
     } else {
         rec = std::make_unique<mcsim::Recorder>(sc, plant, *drive, ref, /*record_rows=*/write_csv);
         hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, rec.get());
-        if (!hal_start(&mcsim::drive_control_callback, drive.get())) {
-            throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+    }
+    // On CAN the callback is the drive's node (motorsim/can_glue.h); else
+    // the drive alone.
+    std::unique_ptr<mcsim::CanDriveContext> can_ctx;
+    bool started = false;
+    if (can) {
+        can_ctx = std::make_unique<mcsim::CanDriveContext>();
+        can_ctx->position = drive.get();
+        can_ctx->speed = speed_drive.get();
+        can_ctx->ts_s = sc.ts_s;
+        can_ctx->t_start_s = sc.t_start_s();
+        can_ctx->log = opt.quiet ? nullptr : stderr;
+        mcsim::can_glue_init(can_ctx.get(), opt.can_node, hal_control_rate_hz());
+        if (rec) {
+            rec->score_against_drive_reference(true);
+        } else {
+            speed_rec->score_against_drive_reference(true);
         }
+        hal_sw_plant_set_can(can->bus());
+        started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
+    } else if (sc.speed_drive) {
+        started = hal_start(&speed_control_callback, speed_drive.get());
+    } else {
+        started = hal_start(&mcsim::drive_control_callback, drive.get());
+    }
+    if (!started) {
+        throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
     }
 
     // ---- the loop: plant + drive + metrics only --------------------------
@@ -476,10 +524,23 @@ int run(const Options& opt)
         }
     }
     const mcsim::RunWatch& watch = sc.speed_drive ? speed_rec->watch() : rec->watch();
-    const double wall_s = run_loop(sc.n_ticks(), opt.quiet, watch);
+    if (can && !opt.quiet) {
+        std::fprintf(stderr, "motorsim: on CAN %s as node %u (%s), %s\n", can->iface().c_str(), opt.can_node,
+                     sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive",
+                     opt.realtime ? "in real time" : "as fast as it runs");
+    }
+    const double wall_s = run_loop(sc.n_ticks(), opt.quiet, watch, opt.realtime, sc.ts_s);
+
     hal_safe_state();
     hal_sw_plant_detach();
     mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
+    if (can_ctx) {
+        const can_node_t& nd = can_ctx->node;
+        metrics.emplace_back("can_frames_sent", static_cast<std::int64_t>(can->sent()));
+        metrics.emplace_back("can_frames_dropped", static_cast<std::int64_t>(nd.tx.dropped));
+        metrics.emplace_back("can_commands_accepted", static_cast<std::int64_t>(nd.accepted));
+        metrics.emplace_back("can_commands_refused", static_cast<std::int64_t>(nd.rejected));
+    }
     if (commission.ok) {
         metrics.emplace_back("id_R_ohm", commission.R_ohm);
         metrics.emplace_back("id_L_H", commission.L_H);
@@ -583,6 +644,15 @@ int main(int argc, char** argv)
     app.add_flag("--no-expect", opt.no_expect,
                  "do not judge the metrics against the scenario's [expect] table (for variants: another "
                  "estimator, seed or angle); a fault or a diverged plant still fails the run");
+    CLI::Option* can_opt = app.add_option("--can", opt.can_iface,
+                   "run the drive as a node on SocketCAN interface IFACE (can0, vcan0): telemetry and commands "
+                   "of tools/can/drive.dbc (docs/can.md)")
+        ->type_name("IFACE");
+    app.add_option("--can-node", opt.can_node, "node id 0-15 on the bus (default 0), added to the DBC's ids")
+        ->type_name("N")
+        ->check(CLI::Range(0u, 15u))
+        ->needs(can_opt);
+    app.add_flag("--realtime", opt.realtime, "pace the simulation to the wall clock (default: as fast as it runs)");
     app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
     app.add_flag("--no-csv", opt.no_csv, "do not record or write the CSV log (and so no PNG either)");
     app.add_flag("--quiet", opt.quiet, "print nothing but warnings and errors");

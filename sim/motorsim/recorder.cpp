@@ -151,7 +151,13 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
         watch_.on_period(p, static_cast<std::int64_t>(tl.fault), plant_);
         return;
     }
-    const RefPoint ref = ref_.eval(p.t_s);
+    RefPoint ref = ref_.eval(p.t_s);
+    if (drive_ref_) {
+        ref.theta_rad = theta_ref;
+        ref.omega_rad_s = to_double(tl.omega_ref_rad_s);
+        ref.accel_rad_s2 = to_double(tl.accel_ref_rad_s2);
+    }
+    drive_theta_ref_last_ = theta_ref;
     const double track = std::fabs(theta - ref.theta_rad);
     const double est = std::fabs(theta - theta_est);
     const double w_err = std::fabs(omega - omega_est);
@@ -221,7 +227,8 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("omega_est_peak_max_rad_s", n_peak_ > 0 ? omega_est_peak_max_ : NAN);
     m.emplace_back("omega_est_max_rad_s", omega_est_max_);
     m.emplace_back("omega_est_rms_rad_s", rms(omega_est_ss_));
-    m.emplace_back("final_theta_err_rad", std::fabs(plant_.theta_rad() - offset_rad_ - ref_.final_theta_rad()));
+    const double theta_end = drive_ref_ ? drive_theta_ref_last_ : ref_.final_theta_rad();
+    m.emplace_back("final_theta_err_rad", std::fabs(plant_.theta_rad() - offset_rad_ - theta_end));
     m.emplace_back("final_theta_rad", plant_.theta_rad() - offset_rad_);
     {
         drive_telemetry_t tl;

@@ -90,8 +90,16 @@ public:
     MetricList metrics(double wall_loop_s) const;
     const RunWatch& watch() const { return watch_; }
 
+    // Scores the tracking against the drive's own reference instead of the
+    // scenario's: a drive commanded over CAN moves where it is told, not
+    // where the scenario's [trajectory] says.
+    void score_against_drive_reference(bool on) { drive_ref_ = on; }
+
 private:
     void on_period(const hal_sw_plant_period_t& p);
+
+    bool drive_ref_ = false;
+    double drive_theta_ref_last_ = 0.0;
 
     const Scenario& sc_;
     const PmPlant& plant_;

@@ -79,7 +79,11 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
     paper001_drive_get_telemetry(&drive_, &tm);
     const double t = p.t_s;
     double slope = 0.0;
-    const double w_ref = omega_ref(t, &slope);
+    double w_ref = omega_ref(t, &slope);
+    if (drive_ref_) {
+        w_ref = to_double(tm.omega_ref_rad_s);
+        slope = to_double(tm.accel_ref_rad_s2);
+    }
     const double w = plant_.omega_rad_s();
     const double err_rpm = std::fabs(w - w_ref) * kRadSToRpm;
     const double th_e = wrap_pi(static_cast<double>(plant_.motor().n_p) * plant_.theta_rad());

@@ -75,7 +75,13 @@ public:
     // reference speed of the scenario at t (double, independent of the drive's)
     double omega_ref(double t_s, double* slope) const;
 
+    // Scores against the drive's own speed reference instead of the
+    // scenario's (a drive commanded over CAN; the settling windows still
+    // follow the scenario's corners).
+    void score_against_drive_reference(bool on) { drive_ref_ = on; }
+
 private:
+    bool drive_ref_ = false;
     void on_period(const hal_sw_plant_period_t& p);
 
     const Scenario& sc_;

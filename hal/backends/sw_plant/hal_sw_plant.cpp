@@ -23,6 +23,7 @@ struct Backend {
     double delay = 0.0;      // computation delay, fraction of a sample
     double v_prev[3] = {0.0, 0.0, 0.0};  // voltage applied over the last sample
     mcsim::FaultInjector* faults = nullptr;  // injected faults, or none
+    const hal_sw_plant_can_t* can = nullptr;  // CAN bus, or none
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -55,6 +56,8 @@ bool hal_sw_plant_set_compute_delay(double fraction)
 }
 
 void hal_sw_plant_set_faults(mcsim::FaultInjector* faults) { g_hal.faults = faults; }
+
+void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus) { g_hal.can = bus; }
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
@@ -200,5 +203,15 @@ uint32_t hal_time_us(void)
 }
 
 const char* hal_last_error(void) { return g_hal.error; }
+
+bool hal_can_send(const hal_can_frame_t* f)
+{
+    return g_hal.can != nullptr && f != nullptr && g_hal.can->send(g_hal.can->ctx, f);
+}
+
+bool hal_can_receive(hal_can_frame_t* f)
+{
+    return g_hal.can != nullptr && f != nullptr && g_hal.can->receive(g_hal.can->ctx, f);
+}
 
 }  // extern "C"

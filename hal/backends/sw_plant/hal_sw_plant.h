@@ -56,6 +56,16 @@ void hal_sw_plant_detach(void);
 // later: d = 1). 0 after attach. False (and no change) outside [0, 1].
 bool hal_sw_plant_set_compute_delay(double fraction);
 
+// A CAN bus behind hal_can_send/hal_can_receive (sim/can/socketcan.h,
+// or a test's); nullptr, or none set since attach: no bus (both return
+// false). Not owned; it must outlive the run.
+struct hal_sw_plant_can_t {
+    void* ctx;
+    bool (*send)(void* ctx, const hal_can_frame_t* f);  // false: not taken
+    bool (*receive)(void* ctx, hal_can_frame_t* f);     // false: nothing pending
+};
+void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus);
+
 // Optional observer of every period; pass nullptr to remove.
 // Injected faults (sim/model/fault_injection.h) applied each period from
 // now on; nullptr: none. The injector must outlive the run.

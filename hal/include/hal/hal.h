@@ -42,6 +42,14 @@ void hal_safe_state(void);
 /* Time since hal_start in microseconds (wraps after 71 minutes). */
 uint32_t hal_time_us(void);
 
+/* CAN, optional (a backend without a bus returns false from both). Both
+ * are non-blocking and may be called from the control callback.
+ * hal_can_send: false when there is no bus or no room to transmit (the
+ * frame was not taken: keep it and try again later).
+ * hal_can_receive: false when nothing is pending, else the oldest frame. */
+bool hal_can_send(const hal_can_frame_t *f);
+bool hal_can_receive(hal_can_frame_t *f);
+
 /* Human-readable reason of the last failure, never NULL. */
 const char *hal_last_error(void);
 

@@ -54,6 +54,14 @@ typedef struct {
     mc_t v_V[HAL_MAX_PHASES];
 } hal_command_t;
 
+/* One classic CAN frame (11-bit identifier), for hal_can_send/receive and
+ * the firmware's CAN link (comm/can_link.h). */
+typedef struct {
+    uint32_t id;                 /* standard identifier, 0-0x7FF */
+    uint8_t dlc;                 /* data length, 0-8 */
+    uint8_t data[8];
+} hal_can_frame_t;
+
 #ifdef __cplusplus
 }
 #endif

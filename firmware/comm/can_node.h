@@ -1,0 +1,69 @@
+/*
+ * can_node.h - a drive's node on the CAN bus: the telemetry schedule and
+ * queue (comm/can_tx.h), the command side (comm/can_link.h) and the
+ * counters a host sees in the heartbeat. What the telemetry carries and
+ * what a command does are the drive's (comm/can_paper000.h,
+ * comm/can_paper001.h): the node calls the drive's apply function for
+ * each valid command and counts its verdict. The backend moves the frames
+ * (hal_can_receive -> can_node_receive; can_node_peek/can_node_pop ->
+ * hal_can_send), from the control callback or its own interrupt. A
+ * refused frame changes nothing but the counters. Nothing allocates.
+ */
+#ifndef COMM_CAN_NODE_H
+#define COMM_CAN_NODE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "comm/can_link.h"
+#include "comm/can_tx.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Frames taken from the bus per control sample at most: a burst beyond
+ * it waits in the backend's receive queue (the bound keeps the step's
+ * cost bounded; 4 commands per 100 us is far beyond any host's need). */
+#define CAN_NODE_RX_PER_STEP 4u
+
+/* What a drive does with a valid command: CAN_REJECT_NONE if carried out,
+ * CAN_REJECT_MODE if refused (nothing changed). */
+typedef can_reject_t (*can_apply_fn)(void *drive, const can_cmd_t *cmd);
+
+typedef struct {
+    can_tx_t tx;
+    uint32_t accepted;          /* commands carried out */
+    uint32_t rejected;          /* commands refused: DLC, range, unknown id, mode */
+    uint32_t ignored;           /* other nodes' and telemetry frames */
+    can_reject_t last_reject;   /* the latest refusal's reason */
+    uint32_t last_reject_id;    /* and its identifier */
+    uint32_t heartbeats;        /* the heartbeat's Counter (wrapping at 16 bits on the bus) */
+} can_node_t;
+
+void can_node_init(can_node_t *n, const can_tx_config_t *cfg);
+
+/* One received frame: validated (can_link_parse); a CmdSetRate is carried
+ * out here, any other valid command by apply(drive, cmd). Returns the
+ * verdict: CAN_REJECT_NONE when carried out. */
+can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f, can_apply_fn apply, void *drive);
+
+/* True if a telemetry message is due at tick: the caller then fills the
+ * telemetry (only then: it costs more than the check) and calls
+ * can_node_transmit. */
+bool can_node_due(const can_node_t *n, uint32_t tick);
+
+/* Queues the due message (at most one per sample) with the node's own
+ * fields (rejected commands, heartbeat counter) filled into *t. */
+void can_node_transmit(can_node_t *n, uint32_t tick, can_telemetry_t *t);
+
+/* The next frame to send, left queued; can_node_pop removes it once the
+ * bus took it. */
+bool can_node_peek(const can_node_t *n, can_frame_t *f);
+void can_node_pop(can_node_t *n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* COMM_CAN_NODE_H */

@@ -1,0 +1,402 @@
+// The drives on CAN (firmware/comm/can_node.h, can_paper000.h,
+// can_paper001.h) and the commands they obey (drive_move, drive_stop,
+// drive_set_enabled, drive_set_omega_lim; paper001_drive_set_speed, ...):
+// valid commands change the drive as documented, and a frame of any wrong
+// kind, or a valid command the drive refuses, leaves every byte of the
+// drive as it was and is counted.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "comm/can_node.h"
+#include "comm/can_paper000.h"
+#include "comm/can_paper001.h"
+#include "design/drive_design.h"
+#include "design/paper001_design.h"
+#include "math/mc_convert.h"
+
+namespace {
+mc_t M(double x) { return mc_from_double(x); }
+double D(mc_t x) { return mc_to_double(x); }
+constexpr int kFs = 10000;
+
+// the paper-000 rig with one short move: 0 -> 0.5 rad in 0.5 s from t = 0
+bool init_position(drive_t* d)
+{
+    drive_design_input_t in;
+    drive_design_defaults(&in);
+    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+    in.ts_s = 1e-4;
+    in.v_max_V = 30.0;
+    in.i_max_A = 3.0;
+    in.i_trip_A = 4.5;
+    in.omega_lim_rad_s = 3.0;
+    in.n_segments = 1;
+    in.segments[0] = {0.0, 0.5, 0.5};
+    in.align_rotor = 0;
+    drive_config_t cfg;
+    char err[160];
+    return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+}
+
+// one sample with small changing currents (so no sensor-stuck fault)
+bool step_position(drive_t* d, int k, hal_command_t* out)
+{
+    hal_sample_t in{};
+    in.n_phases = 2;
+    in.tick = static_cast<uint32_t>(k);
+    in.i_A[0] = M(1e-3 * std::sin(0.1 * k));
+    in.i_A[1] = M(1e-3 * std::cos(0.1 * k));
+    in.v_bus_V = M(30.0);
+    return drive_step(d, &in, out);
+}
+
+can_frame_t frame(uint32_t id, std::vector<uint8_t> data)
+{
+    can_frame_t f{};
+    f.id = id;
+    f.dlc = static_cast<uint8_t>(data.size());
+    for (size_t i = 0; i < data.size() && i < 8; ++i) f.data[i] = data[i];
+    return f;
+}
+
+// CmdMove to theta over T (raw DBC integers: 1e-5 rad, 1 ms)
+can_frame_t cmd_move(double theta, double T, uint8_t node = 0)
+{
+    const int32_t th = static_cast<int32_t>(std::lround(theta * 1e5));
+    const uint16_t ms = static_cast<uint16_t>(std::lround(T * 1e3));
+    return frame(0x210u + node, {uint8_t(th), uint8_t(th >> 8), uint8_t(th >> 16), uint8_t(th >> 24), uint8_t(ms),
+                                 uint8_t(ms >> 8)});
+}
+// CmdSpeed (0.01 rad/s, 0.1 rad/s^2)
+can_frame_t cmd_speed(double w, double ramp)
+{
+    const int16_t wr = static_cast<int16_t>(std::lround(w * 100));
+    const uint16_t rr = static_cast<uint16_t>(std::lround(ramp * 10));
+    return frame(0x220u, {uint8_t(wr), uint8_t(wr >> 8), uint8_t(rr), uint8_t(rr >> 8)});
+}
+
+// Every wrong kind of frame for node 0: wrong lengths of each command,
+// values outside the DBC's ranges, unknown ids in our command space,
+// other nodes', telemetry ids, an extended/remote id (the SocketCAN
+// transport hands those on as 0xFFFFFFFF), a length beyond 8.
+std::vector<std::pair<can_frame_t, can_reject_t>> bad_frames()
+{
+    std::vector<std::pair<can_frame_t, can_reject_t>> v;
+    const uint32_t cmds[] = {0x200, 0x210, 0x220, 0x230, 0x240, 0x250, 0x260};
+    const int lens[] = {1, 6, 4, 1, 2, 1, 3};
+    for (int c = 0; c < 7; ++c) {
+        for (int n : {0, lens[c] - 1, lens[c] + 1, 8}) {
+            if (n == lens[c] || n < 0) continue;
+            v.push_back({frame(cmds[c], std::vector<uint8_t>(static_cast<size_t>(n), 0)), CAN_REJECT_DLC});
+        }
+    }
+    can_frame_t f = frame(0x210, {0, 0, 0, 0, 0, 0});
+    f.dlc = 9;
+    v.push_back({f, CAN_REJECT_DLC});
+    v.push_back({frame(0x200, {2}), CAN_REJECT_RANGE});                    // Enable: unused bit set
+    v.push_back({frame(0x210, {0, 0, 0, 0, 0, 0}), CAN_REJECT_RANGE});     // Move: Duration 0 < 0.001
+    v.push_back({frame(0x220, {0, 0, 0, 0}), CAN_REJECT_RANGE});           // Speed: Ramp 0 < 0.1
+    v.push_back({frame(0x230, {1}), CAN_REJECT_RANGE});                    // Stop: reserved byte
+    v.push_back({frame(0x240, {0, 0}), CAN_REJECT_RANGE});                 // SetOmegaLim 0 < 0.001
+    v.push_back({frame(0x250, {0xFF}), CAN_REJECT_RANGE});                 // ClearFaults: reserved byte
+    v.push_back({frame(0x260, {7, 10, 0}), CAN_REJECT_RANGE});             // SetRate: message 7
+    v.push_back({frame(0x260, {1, 0x61, 0xEA}), CAN_REJECT_RANGE});        // SetRate: 60001 ms
+    for (uint32_t id : {0x270u, 0x280u, 0x2F0u}) v.push_back({frame(id, {0}), CAN_REJECT_UNKNOWN_ID});
+    for (uint32_t id : {0x211u, 0x23Fu, 0x100u, 0x110u, 0x1FFu, 0x300u, 0x7FFu, 0x800u, 0xFFFFFFFFu})
+        v.push_back({frame(id, {0, 0, 0, 0, 0, 0}), CAN_REJECT_NOT_OURS});
+    return v;
+}
+
+template <class T>
+std::vector<uint8_t> bytes_of(const T& x)
+{
+    const auto* p = reinterpret_cast<const uint8_t*>(&x);
+    return std::vector<uint8_t>(p, p + sizeof x);
+}
+
+can_node_t make_node(uint8_t node = 0)
+{
+    can_tx_config_t c;
+    can_tx_defaults(&c, node, kFs);
+    can_node_t n;
+    can_node_init(&n, &c);
+    return n;
+}
+}  // namespace
+
+// Bad frames of every kind: the position drive's bytes unchanged, each
+// counted as rejected with its reason (or ignored when not ours).
+TEST(CanNode, BadFramesNeverChangeThePositionDrive)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_position(&d));
+    hal_command_t out;
+    for (int k = 0; k < 100; ++k) ASSERT_TRUE(step_position(&d, k, &out));
+    can_node_t n = make_node();
+    const auto before = bytes_of(d);
+    uint32_t rejected = 0, ignored = 0;
+    for (const auto& [f, why] : bad_frames()) {
+        EXPECT_EQ(can_node_receive(&n, 100, &f, &can_paper000_apply, &d), why) << std::hex << f.id << " dlc " << int(f.dlc);
+        (why == CAN_REJECT_NOT_OURS ? ignored : rejected) += 1;
+    }
+    // valid commands the position drive refuses: CmdSpeed (the speed
+    // drive's), CmdMove during the move, ClearFaults without a fault,
+    // SetOmegaLim below the designed 3 rad/s, an infeasible move
+    const can_frame_t refused[] = {cmd_speed(5.0, 10.0), cmd_move(1.0, 1.0), frame(0x250, {0}),
+                                   frame(0x240, {0xD0, 0x07})};
+    for (const can_frame_t& f : refused) {
+        EXPECT_EQ(can_node_receive(&n, 100, &f, &can_paper000_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
+        ++rejected;
+    }
+    EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed the drive";
+    EXPECT_EQ(n.rejected, rejected);
+    EXPECT_EQ(n.ignored, ignored);
+    EXPECT_EQ(n.accepted, 0u);
+    EXPECT_EQ(n.last_reject, CAN_REJECT_MODE);
+    // the count reaches the heartbeat
+    can_telemetry_t t{};
+    can_node_transmit(&n, 0, &t);
+    EXPECT_EQ(t.rejected_commands, static_cast<uint8_t>(rejected));
+}
+
+// CmdMove after the move: accepted, starts from the rest value without a
+// jump and ends at the target; a second one during it is refused; an
+// infeasible one (beyond the designed speed) is refused; CmdStop drops a
+// queued move; CmdSetOmegaLim within [designed, w_max] is taken.
+TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_position(&d));
+    can_node_t n = make_node();
+    hal_command_t out;
+    int k = 0;
+    for (; k < 6000; ++k) ASSERT_TRUE(step_position(&d, k, &out)) << k;
+    ASSERT_NEAR(D(d.ref.theta_rad), 0.5, 1e-4);
+    // beyond the design's w_max (2.1875 * 0.5 / 0.5 = 2.19 -> omega_lim 3): 100 rad in 1 s
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)cmd_move(100.0, 1.0), &can_paper000_apply, &d),
+              CAN_REJECT_MODE);
+    const can_frame_t mv = cmd_move(0.2, 0.5);
+    ASSERT_EQ(can_node_receive(&n, k, &mv, &can_paper000_apply, &d), CAN_REJECT_NONE);
+    EXPECT_EQ(can_node_receive(&n, k, &mv, &can_paper000_apply, &d), CAN_REJECT_MODE) << "a move during a move";
+    double prev = D(d.ref.theta_rad), max_step = 0.0;
+    for (int j = 0; j < 6000; ++j, ++k) {
+        ASSERT_TRUE(step_position(&d, k, &out));
+        max_step = std::max(max_step, std::fabs(D(d.ref.theta_rad) - prev));
+        prev = D(d.ref.theta_rad);
+    }
+    EXPECT_NEAR(prev, 0.2, 1e-4);
+    // the polynomial's largest step over one sample: 2.1875 * 0.3 / 0.5 * Ts = 1.3e-4 rad
+    EXPECT_LT(max_step, 1.4e-4);
+    // ThetaRef of the position telemetry is the new one
+    can_telemetry_t t{};
+    can_paper000_telemetry(&d, M(30.0), M(5.0), &t);
+    EXPECT_NEAR(D(t.theta_ref_rad), 0.2, 1e-4);
+    EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_POSITION_P000);
+    EXPECT_TRUE(t.enabled);
+    // SetOmegaLim: 2.9 refused (below the design), 3.0 taken
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &can_paper000_apply, &d),
+              CAN_REJECT_MODE);
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0xB8, 0x0B}), &can_paper000_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_NEAR(D(d.omega_lim_rad_s), 3.0, 1e-3);
+    // Stop with nothing queued: accepted, the reference stays
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x230, {0}), &can_paper000_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_EQ(n.accepted, 3u);
+    EXPECT_EQ(n.rejected, 3u);
+}
+
+// CmdStop drops the moves not started; the one in progress ends.
+TEST(CanNode, PositionDriveStopKeepsTheMoveInProgress)
+{
+    static drive_t d;
+    drive_design_input_t in;
+    drive_design_defaults(&in);
+    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+    in.ts_s = 1e-4;
+    in.v_max_V = 30.0;
+    in.i_max_A = 3.0;
+    in.i_trip_A = 4.5;
+    in.omega_lim_rad_s = 3.0;
+    in.n_segments = 2;
+    in.segments[0] = {0.0, 0.5, 0.5};
+    in.segments[1] = {0.5, 0.5, 0.0};
+    in.align_rotor = 0;
+    drive_config_t cfg;
+    char err[160];
+    ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err) && drive_init(&d, &cfg));
+    hal_command_t out;
+    int k = 0;
+    for (; k < 2000; ++k) ASSERT_TRUE(step_position(&d, k, &out));
+    ASSERT_TRUE(drive_stop(&d));
+    EXPECT_EQ(d.traj.cfg.n_segments, 1);
+    for (; k < 12000; ++k) ASSERT_TRUE(step_position(&d, k, &out));
+    EXPECT_NEAR(D(d.ref.theta_rad), 0.5, 1e-4) << "the second move ran after the stop";
+}
+
+// Disable: 0 V and no fault; enable again: a fresh start (tick 0).
+TEST(CanNode, DisableHoldsZeroVoltsEnableRestarts)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_position(&d));
+    can_node_t n = make_node();
+    hal_command_t out;
+    for (int k = 0; k < 1000; ++k) ASSERT_TRUE(step_position(&d, k, &out));
+    ASSERT_EQ(can_node_receive(&n, 1000, &(const can_frame_t&)frame(0x200, {0}), &can_paper000_apply, &d),
+              CAN_REJECT_NONE);
+    for (int k = 1000; k < 1100; ++k) {
+        ASSERT_TRUE(step_position(&d, k, &out));
+        EXPECT_EQ(D(out.v_V[0]), 0.0);
+        EXPECT_EQ(D(out.v_V[1]), 0.0);
+    }
+    can_telemetry_t t{};
+    can_paper000_telemetry(&d, M(30.0), M(5.0), &t);
+    EXPECT_FALSE(t.enabled);
+    EXPECT_NE(d.sup.state, SUP_STATE_FAULT);
+    ASSERT_EQ(can_node_receive(&n, 1100, &(const can_frame_t&)frame(0x200, {1}), &can_paper000_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_EQ(d.tick, 0u);
+    EXPECT_FALSE(d.disabled);
+}
+
+// The heartbeat counter counts heartbeats; SetRate is the node's own.
+TEST(CanNode, SetRateAndHeartbeatCounter)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_position(&d));
+    can_node_t n = make_node(3);
+    // Position every 1 ms on node 3
+    ASSERT_EQ(can_node_receive(&n, 0, &(const can_frame_t&)frame(0x263, {1, 1, 0}), &can_paper000_apply, &d),
+              CAN_REJECT_NONE);
+    int position = 0, heartbeats = 0;
+    uint16_t last_counter = 0;
+    for (uint32_t k = 0; k < 10000; ++k) {
+        if (can_node_due(&n, k)) {
+            can_telemetry_t t{};
+            can_paper000_telemetry(&d, M(30.0), M(1.0), &t);
+            can_node_transmit(&n, k, &t);
+        }
+        can_frame_t f;
+        while (can_node_peek(&n, &f)) {
+            can_node_pop(&n);
+            if (f.id == 0x113) ++position;
+            if (f.id == 0x103) {
+                ++heartbeats;
+                last_counter = static_cast<uint16_t>(f.data[5] | (f.data[6] << 8));  // Counter: bits 40-55
+            }
+        }
+    }
+    EXPECT_GE(position, 990);
+    EXPECT_EQ(heartbeats, 10);
+    EXPECT_EQ(last_counter, 9u);
+    EXPECT_EQ(n.tx.dropped, 0u);
+}
+
+// speed_profile_retarget: w* and theta* continuous, the target reached in
+// round(|dw| fs / ramp) samples and held.
+TEST(SpeedProfile, RetargetIsContinuousAndReachesTheTarget)
+{
+    speed_profile_config_t c{};
+    c.n_points = 2;
+    c.fs_hz = kFs;
+    c.t_tick[1] = 5000;
+    c.omega_rad_s[1] = M(5.0);
+    c.length_s[0] = M(0.5);
+    c.slope_rad_s2[0] = M(10.0);
+    speed_profile_t p;
+    ASSERT_TRUE(speed_profile_init(&p, &c));
+    speed_point_t a, b;
+    speed_profile_eval(&p, 3000, &a);  // 3 rad/s, theta = 0.45 rad
+    ASSERT_TRUE(speed_profile_retarget(&p, 3000, M(-2.0), M(20.0)));
+    speed_profile_eval(&p, 3000, &b);
+    EXPECT_NEAR(D(b.omega_rad_s), D(a.omega_rad_s), 1e-4);
+    EXPECT_NEAR(D(b.theta_rad), D(a.theta_rad), 1e-4);
+    EXPECT_NEAR(D(b.accel_rad_s2), -20.0, 1e-2);
+    // 5 rad/s at 20 rad/s^2: 0.25 s = 2500 samples
+    speed_profile_eval(&p, 5499, &b);
+    EXPECT_GT(D(b.omega_rad_s), -2.0);
+    speed_profile_eval(&p, 5500, &b);
+    EXPECT_NEAR(D(b.omega_rad_s), -2.0, 1e-4);
+    EXPECT_EQ(D(b.accel_rad_s2), 0.0);
+    // theta: 0.45 + 0.25 (3 - 2)/2 = 0.575 rad at the corner
+    EXPECT_NEAR(D(b.theta_rad), 0.575, 2e-4);
+    EXPECT_FALSE(speed_profile_retarget(&p, 6000, M(1.0), M(0.0)));
+}
+
+namespace {
+// paper 001's PMSM (sim/motors/paper001_pmsm.toml), 48 V bus, 8 A, its
+// profile 0 -> 5 rad/s in 1 s
+bool init_speed(paper001_drive_t* d)
+{
+    p001_design_input_t in;
+    p001_design_defaults(&in);
+    in.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
+    in.ts_s = 1e-4;
+    in.i_max_A = 8.0;
+    in.i_trip_A = 12.0;
+    in.n_points = 2;
+    in.t_s[0] = 0.0;
+    in.omega_rad_s[0] = 0.0;
+    in.t_s[1] = 1.0;
+    in.omega_rad_s[1] = 5.0;
+    paper001_config_t cfg;
+    p001_design_report_t rep;
+    char err[160];
+    if (!p001_design(&in, &cfg, &rep, err, sizeof err)) {
+        ADD_FAILURE() << err;
+        return false;
+    }
+    return paper001_drive_init(d, &cfg);
+}
+bool step_speed(paper001_drive_t* d, int k)
+{
+    hal_sample_t in{};
+    in.n_phases = 3;
+    in.tick = static_cast<uint32_t>(k);
+    in.i_A[0] = M(1e-3 * std::sin(0.1 * k));
+    in.i_A[1] = M(1e-3 * std::cos(0.1 * k));
+    in.i_A[2] = M(-1e-3 * (std::sin(0.1 * k) + std::cos(0.1 * k)));
+    in.v_bus_V = M(48.0);
+    hal_command_t out;
+    return paper001_drive_step(d, &in, &out);
+}
+}  // namespace
+
+// The speed drive: bad frames and refused commands leave it unchanged;
+// CmdSpeed retargets its profile, CmdStop ramps to 0 at the last ramp; a
+// speed beyond 90 % of what the bus gives (K_e w <= 0.9 * 48/sqrt(3) V:
+// w <= 48.9 rad/s) or a ramp beyond K_t i_max / J (510 rad/s^2) is refused.
+TEST(CanNode, SpeedDriveCommands)
+{
+    static paper001_drive_t d;
+    ASSERT_TRUE(init_speed(&d));
+    for (int k = 0; k < 10; ++k) ASSERT_TRUE(step_speed(&d, k));
+    can_node_t n = make_node();
+    const auto before = bytes_of(d);
+    for (const auto& [f, why] : bad_frames()) {
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), why) << std::hex << f.id;
+    }
+    for (const can_frame_t& f : {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(10.0, 600.0),
+                                 frame(0x240, {0xB8, 0x0B}) /* SetOmegaLim: flux estimator */}) {
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
+    }
+    EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed the speed drive";
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(-3.0, 10.0), &can_paper001_apply, &d),
+              CAN_REJECT_NONE);
+    speed_point_t p;
+    speed_profile_t look = d.profile;  // evaluated ahead on a copy: the drive's goes forward only
+    speed_profile_eval(&look, 10 + 3100, &p);
+    EXPECT_NEAR(D(p.omega_rad_s), -3.0, 1e-3);
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &can_paper001_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_NEAR(D(d.stop_ramp_rad_s2), 10.0, 1e-3);
+    look = d.profile;
+    speed_profile_eval(&look, 10 + 10, &p);
+    EXPECT_NEAR(D(p.accel_rad_s2), 0.0, 1e-3) << "stop from rest: no ramp";
+    can_telemetry_t t{};
+    can_paper001_telemetry(&d, M(48.0), M(3.0), &t);
+    EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P001);
+}

@@ -1,0 +1,329 @@
+#!/usr/bin/env python3
+"""SocketCAN end-to-end test of the drives on CAN (ctest label vcan; run in
+the VM fixture by tests/vcan/run_vcan_e2e.sh, or on any Linux with vcan):
+
+  for the paper-000 position drive and the paper-001 speed drive:
+  motorsim --can vcan0 --realtime runs a short scenario (tests/vcan/*.toml)
+  while candump -L records the bus and this script commands the drive
+  over python-can once the telemetry says it is ready. Then:
+  - every recorded telemetry frame, decoded with tools/can/drive.dbc by
+    cantools, equals the simulator's own CSV at the sample it was sent
+    at (the n-th frame of a message is sent at sample m + n * period, the
+    schedule of firmware/comm/can_tx.c), to one step of the signal;
+  - the valid commands changed the drive as the CSV shows (a new move, a
+    new speed, a stop), and the bad frames (wrong length, out of range,
+    unknown id, the other drive's command, a move during a move) were
+    refused: the heartbeat's RejectedCommands and motorsim's metrics count
+    them, and the CSV's reference did not move until the valid command;
+  - `cantools decode` reads the recording with the DBC as it is.
+
+    vcan_e2e.py --motorsim build/host/sim/motorsim --out DIR [--iface vcan0] [--plot PNG]
+
+Exit 0 pass, 1 fail (each failed check printed), 77 no SocketCAN here.
+"""
+import argparse
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "tools", "can"))
+import can  # noqa: E402
+import cantools  # noqa: E402
+
+DBC = os.path.join(ROOT, "tools", "can", "drive.dbc")
+SKIP = 77
+FS_HZ = 10000
+# firmware/comm/can_tx.c: message m first due at sample m; defaults 100 ms
+# (heartbeat) and 10 ms
+ORDER = ["Heartbeat", "Position", "Velocity", "Currents", "Observer", "Voltages", "Timing"]
+PERIOD = {"Heartbeat": 1000}
+DEFAULT_PERIOD = 100
+
+failures = []
+
+
+def check(ok, what):
+    print(("ok   " if ok else "FAIL ") + what)
+    if not ok:
+        failures.append(what)
+    return ok
+
+
+def ensure_iface(iface):
+    if os.path.exists(f"/sys/class/net/{iface}"):
+        return True
+    r = subprocess.run(["ip", "link", "add", "dev", iface, "type", "vcan"], capture_output=True, text=True)
+    if r.returncode != 0:
+        print(f"vcan_e2e: cannot create {iface}: {r.stderr.strip()} (no vcan module, or not root)", file=sys.stderr)
+        return False
+    subprocess.run(["ip", "link", "set", "up", iface], check=True)
+    return True
+
+
+class Drive:
+    """The bus side of one run: telemetry seen so far, commands out."""
+
+    def __init__(self, db, iface):
+        self.db = db
+        self.bus = can.Bus(interface="socketcan", channel=iface, receive_own_messages=False)
+        self.last = {}
+
+    def poll(self, timeout):
+        msg = self.bus.recv(timeout)
+        if msg is None or msg.is_extended_id:
+            return
+        try:
+            m = self.db.get_message_by_frame_id(msg.arbitration_id & ~0xF)
+        except KeyError:
+            return
+        if m.senders and m.senders[0] == "DRIVE":
+            self.last[m.name] = m.decode(bytes(msg.data), decode_choices=False)
+
+    def wait_for(self, cond, timeout_s, what):
+        t_end = time.monotonic() + timeout_s
+        while time.monotonic() < t_end:
+            self.poll(0.05)
+            try:
+                if cond(self.last):
+                    return True
+            except KeyError:
+                pass
+        return check(False, f"telemetry never showed {what} within {timeout_s:g} s")
+
+    def send(self, name, **values):
+        m = self.db.get_message_by_name(name)
+        self.bus.send(can.Message(arbitration_id=m.frame_id, data=m.encode(values), is_extended_id=False))
+
+    def send_raw(self, frame_id, data):
+        self.bus.send(can.Message(arbitration_id=frame_id, data=bytes(data), is_extended_id=False))
+
+    def close(self):
+        self.bus.shutdown()
+
+
+def read_log(path, db):
+    """{message: [decoded signals, ...]} of the drive's frames, in order."""
+    out = {n: [] for n in ORDER}
+    for msg in can.CanutilsLogReader(path):
+        try:
+            m = db.get_message_by_frame_id(msg.arbitration_id & ~0xF)
+        except KeyError:
+            continue
+        if m.name in out:
+            out[m.name].append(m.decode(bytes(msg.data), decode_choices=False))
+    return out
+
+
+def read_csv(path):
+    with open(path) as f:
+        r = csv.reader(f)
+        head = next(r)
+        cols = {h: i for i, h in enumerate(head)}
+        rows = [[float(x) for x in row] for row in r]
+    return cols, rows
+
+
+def compare(frames, cols, rows, mapping, what):
+    """Each frame of each message against the CSV row of its sample."""
+    worst = {}
+    n_cmp = 0
+    for msg, pairs in mapping.items():
+        m0 = ORDER.index(msg)
+        period = PERIOD.get(msg, DEFAULT_PERIOD)
+        for n, sig in enumerate(frames[msg]):
+            tick = m0 + n * period
+            if tick >= len(rows):
+                check(False, f"{what}: {msg} frame {n} is past the CSV's {len(rows)} samples")
+                return
+            for signal_name, col, lsb in pairs:
+                ref = rows[tick][cols[col]]
+                err = abs(sig[signal_name] - ref)
+                key = f"{msg}.{signal_name}"
+                worst[key] = max(worst.get(key, 0.0), err / lsb)
+                n_cmp += 1
+    bad = {k: v for k, v in worst.items() if v > 1.0}
+    check(n_cmp > 1000 and not bad,
+          f"{what}: {n_cmp} decoded values equal the CSV at their samples to one step (worst in steps: "
+          + ", ".join(f"{k} {v:.2f}" for k, v in sorted(worst.items())) + ")")
+
+
+def run_case(args, db, name, scenario, commander):
+    out = os.path.join(args.out, name)
+    os.makedirs(out, exist_ok=True)
+    log_path = os.path.join(out, f"{name}.log")
+    with open(log_path, "w") as log:
+        dump = subprocess.Popen(["candump", "-L", args.iface], stdout=log)
+    drive = Drive(db, args.iface)
+    time.sleep(0.3)  # candump bound before the first frame
+    err_path = os.path.join(out, "motorsim.stderr")
+    with open(err_path, "w") as err:
+        sim = subprocess.Popen([args.motorsim, "--scenario", scenario, "--can", args.iface, "--realtime",
+                                "--out", out, "--no-plot", "--no-expect"], stdout=subprocess.DEVNULL, stderr=err)
+    try:
+        commander(drive)
+        rc = sim.wait(timeout=120)
+    finally:
+        if sim.poll() is None:
+            sim.kill()
+        drive.close()
+        time.sleep(0.3)
+        dump.send_signal(signal.SIGINT)
+        dump.wait(timeout=10)
+    stderr = open(err_path).read()
+    check(rc == 0, f"{name}: motorsim exit status {rc} (0 expected)" + ("" if rc == 0 else ": " + stderr[-400:]))
+    stem = os.path.splitext(os.path.basename(scenario))[0]
+    metrics = json.load(open(os.path.join(out, f"{stem}_metrics.json")))
+    cols, rows = read_csv(os.path.join(out, f"{stem}.csv"))
+    frames = read_log(log_path, db)
+    print(f"{name}: {sum(len(v) for v in frames.values())} telemetry frames recorded, {len(rows)} CSV rows; "
+          f"motorsim said:\n  " + "\n  ".join(l for l in stderr.splitlines() if "CAN" in l))
+    return metrics, cols, rows, frames, stderr, log_path
+
+
+def position_case(args, db):
+    sent_bad = []
+
+    def commander(d):
+        # the configured move is over: 18 rad, at rest, back in open loop
+        if not d.wait_for(lambda s: abs(s["Position"]["ThetaRef"] - 18.0) < 1e-4 and s["Velocity"]["OmegaRef"] == 0,
+                          60, "the end of the 18 rad move"):
+            return
+        # the polynomial's last 50 ms move it by less than ThetaRef's step:
+        # wait them out (a move is refused while one is in progress)
+        time.sleep(0.15)
+        bad = [
+            ("CmdMove with 5 bytes (DLC)", 0x210, [0, 0, 0, 0, 0]),
+            ("CmdMove with Duration 0 (range)", 0x210, [0x40, 0x42, 0x0F, 0, 0, 0]),
+            ("unknown identifier 0x2F0", 0x2F0, [1, 2, 3]),
+            ("CmdStop with a non-zero reserved byte (range)", 0x230, [1]),
+            ("CmdEnable with bit 1 set (range)", 0x200, [2]),
+        ]
+        for what, fid, data in bad:
+            d.send_raw(fid, data)
+            sent_bad.append(what)
+        d.send("CmdSpeed", OmegaRef=5.0, Ramp=10.0)  # the speed drive's: mode
+        sent_bad.append("CmdSpeed to the position drive (mode)")
+        t_end = time.monotonic() + 0.2  # they are carried out (or not) before the move below
+        while time.monotonic() < t_end:
+            d.poll(0.05)
+        d.send("CmdMove", ThetaTo=6.0, Duration=2.0)
+        time.sleep(0.2)
+        d.send("CmdMove", ThetaTo=0.0, Duration=1.0)  # during the move: mode
+        sent_bad.append("CmdMove during a move (mode)")
+
+    metrics, cols, rows, frames, stderr, log = run_case(args, db, "position", os.path.join(HERE, "position_can.toml"),
+                                                         commander)
+    mapping = {
+        "Position": [("ThetaRef", "theta_ref", 1e-5), ("ThetaEst", "theta_est", 1e-5)],
+        "Velocity": [("OmegaRef", "omega_ref", 0.01), ("OmegaEst", "omega_est", 0.01),
+                     ("AccelEst", "accel_est", 1.0), ("LoadEst", "load_est_Nm", 1e-4)],
+        "Currents": [("I1", "i_f", 1e-3), ("I2", "i_g", 1e-3), ("I1Ref", "i_f_ref", 1e-3), ("I2Ref", "i_g_ref", 1e-3)],
+        "Observer": [("I1Est", "i_f_hat", 1e-3), ("I2Est", "i_g_hat", 1e-3)],
+        "Voltages": [("V1", "v_f", 2e-3), ("V2", "v_g", 2e-3)],
+        "Heartbeat": [("Mode", "mode", 1.0)],
+    }
+    compare(frames, cols, rows, mapping, "position")
+    hb = frames["Heartbeat"]
+    check(bool(hb) and all(h["MsgSetVersion"] == 1 and h["DriveKind"] == 0 for h in hb),
+          "position: heartbeats carry DriveKind 0 and MsgSetVersion 1")
+    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
+          f"position: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = the "
+          f"{len(sent_bad)} bad frames sent ({'; '.join(sent_bad)})")
+    check(metrics.get("can_commands_accepted") == 1 and metrics.get("can_commands_refused") == len(sent_bad),
+          f"position: motorsim counted {metrics.get('can_commands_accepted')} accepted, "
+          f"{metrics.get('can_commands_refused')} refused (1 and {len(sent_bad)} expected)")
+    # the reference: 18 until the accepted CmdMove, then a move to 6
+    th = [r[cols["theta_ref"]] for r in rows]
+    k18 = next((k for k, x in enumerate(th) if abs(x - 18.0) < 1e-6), None)
+    k_move = next((k for k in range(k18 or 0, len(th)) if abs(th[k] - 18.0) > 1e-6), None) if k18 else None
+    check(k18 is not None and k_move is not None and all(abs(x - 18.0) < 1e-6 for x in th[k18:k_move]),
+          "position: the CSV's reference held at 18 rad through the bad frames until the CmdMove")
+    check(abs(th[-1] - 6.0) < 1e-5, f"position: the CSV's final reference {th[-1]:.6f} rad is the commanded 6 rad")
+    theta_end = rows[-1][cols["theta"]]
+    check(abs(theta_end - 6.0) < 0.02, f"position: the rotor ended at {theta_end:.4f} rad (6 +- 0.02)")
+    check(metrics.get("theta_track_max_rad", 1.0) < 0.02 and metrics.get("fault") == 0,
+          f"position: tracking of the commanded move max {metrics.get('theta_track_max_rad'):.4f} rad < 0.02, no fault")
+    return log
+
+
+def speed_case(args, db):
+    sent_bad = []
+
+    def commander(d):
+        if not d.wait_for(lambda s: s["Heartbeat"]["Mode"] == 1 and s["Velocity"]["OmegaRef"] > 5.2, 60,
+                          "closed loop at 50 rpm"):
+            return
+        time.sleep(0.3)
+        d.send("CmdMove", ThetaTo=1.0, Duration=1.0)  # the position drive's: mode
+        sent_bad.append("CmdMove to the speed drive (mode)")
+        d.send("CmdSpeed", OmegaRef=10.0, Ramp=20.0)
+        if not d.wait_for(lambda s: abs(s["Velocity"]["OmegaRef"] - 10.0) < 0.01, 10, "the new reference 10 rad/s"):
+            return
+        time.sleep(0.6)
+        d.send("CmdStop", Reserved=0)
+
+    metrics, cols, rows, frames, stderr, log = run_case(args, db, "speed", os.path.join(HERE, "speed_can.toml"),
+                                                         commander)
+    mapping = {
+        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
+                     ("LoadEst", "load_est_Nm", 1e-4)],
+        "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
+        "Heartbeat": [("Mode", "mode", 1.0)],
+    }
+    compare(frames, cols, rows, mapping, "speed")
+    hb = frames["Heartbeat"]
+    check(bool(hb) and all(h["DriveKind"] == 1 for h in hb), "speed: heartbeats carry DriveKind 1")
+    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
+          f"speed: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
+    check(metrics.get("can_commands_accepted") == 2, f"speed: {metrics.get('can_commands_accepted')} commands "
+          "carried out (CmdSpeed, CmdStop)")
+    w_ref = [r[cols["omega_ref_rad_s"]] for r in rows]
+    w = [r[cols["omega_rad_s"]] for r in rows]
+    k10 = [k for k, x in enumerate(w_ref) if abs(x - 10.0) < 1e-6]
+    check(len(k10) > 3000, f"speed: the CSV's reference held 10 rad/s for {len(k10) / FS_HZ:.3f} s after CmdSpeed")
+    if k10:
+        k_end = k10[-1]
+        err = max(abs(w[k] - 10.0) for k in range(k_end - 2000, k_end + 1))
+        check(err < 0.1, f"speed: the rotor ran at 10 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
+    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < 0.1,
+          f"speed: after CmdStop the reference is {w_ref[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
+    check(metrics.get("fault") == 0, "speed: no fault")
+    return log
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--motorsim", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--iface", default="vcan0")
+    ap.add_argument("--plot", help="also plot the position run's recording into this PNG (docs/can.md)")
+    args = ap.parse_args()
+    if not ensure_iface(args.iface):
+        return SKIP
+    os.makedirs(args.out, exist_ok=True)
+    db = cantools.database.load_file(DBC)
+    pos_log = position_case(args, db)
+    speed_case(args, db)
+    # the DBC as it is with cantools' own command line
+    r = subprocess.run([sys.executable, "-m", "cantools", "decode", DBC], stdin=open(pos_log), capture_output=True,
+                       text=True)
+    check(r.returncode == 0 and "Position(" in r.stdout and "ThetaRef:" in r.stdout,
+          f"cantools decode reads the candump recording with tools/can/drive.dbc (exit {r.returncode}"
+          + (")" if r.returncode == 0 else f": {r.stderr[-300:]})"))
+    if args.plot:
+        r = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "can", "drivecan.py"), "plot", pos_log,
+                            "Position.Theta*", "Velocity.Omega*", "-o", args.plot], capture_output=True, text=True)
+        check(r.returncode == 0 and os.path.exists(args.plot),
+              f"drivecan.py plot wrote {args.plot} (exit {r.returncode}{': ' + r.stderr[-300:] if r.returncode else ''})")
+    print(f"vcan_e2e: {'FAILED: ' + str(len(failures)) + ' checks' if failures else 'all checks passed'}")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
