@@ -7,12 +7,25 @@
 // a command of our node, in the command space, with the DBC's length and
 // in-range fields; parsing twice gives the same answer (the parser keeps no
 // state: a bad frame cannot change anything).
+//
+// Then the same frame reaches a drive's node (comm/can_node.h) on node 0:
+// the paper-000 position drive in the middle of its move and the paper-001
+// speed drive in its start; a frame the node refuses (any reason) leaves
+// every byte of the drive as it was and is counted once (ignored when not
+// ours); after each frame the drive takes one sample and its voltages stay
+// finite and within the supply, whatever the commands before did.
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <vector>
 
 #include "comm/can_link.h"
+#include "comm/can_paper000.h"
+#include "comm/can_paper001.h"
 #include "comm/generated/drive_can.h"
+#include "design/drive_design.h"
+#include "design/paper001_design.h"
 #include "math/mc_convert.h"
 
 namespace {
@@ -20,10 +33,110 @@ void check(bool ok)
 {
     if (!ok) std::abort();
 }
+
+hal_sample_t sample(int n_phases, uint32_t k)
+{
+    hal_sample_t in{};
+    in.n_phases = static_cast<uint8_t>(n_phases);
+    in.tick = k;
+    in.i_A[0] = mc_from_double(1e-3 * std::sin(0.1 * k));
+    in.i_A[1] = mc_from_double(1e-3 * std::cos(0.1 * k));
+    if (n_phases == 3) in.i_A[2] = mc_from_double(-1e-3 * (std::sin(0.1 * k) + std::cos(0.1 * k)));
+    in.v_bus_V = mc_from_double(n_phases == 3 ? 48.0 : 30.0);
+    return in;
+}
+
+// The two drives, designed once and stepped into their runs (position:
+// 0.2 s into a 0 -> 18 rad move over 2 s; speed: 0.1 s into its start).
+struct Drives {
+    drive_t pos{};
+    paper001_drive_t speed{};
+    Drives()
+    {
+        drive_design_input_t in;
+        drive_design_defaults(&in);
+        in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+        in.ts_s = 1e-4;
+        in.v_max_V = 30.0;
+        in.i_max_A = 3.0;
+        in.i_trip_A = 4.5;
+        in.omega_lim_rad_s = 3.0;
+        in.n_segments = 1;
+        in.segments[0] = {0.0, 2.0, 18.0};
+        in.align_rotor = 0;
+        drive_config_t cfg;
+        char err[160];
+        check(drive_design(&in, &cfg, err, sizeof err) && drive_init(&pos, &cfg));
+        p001_design_input_t sp;
+        p001_design_defaults(&sp);
+        sp.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
+        sp.ts_s = 1e-4;
+        sp.i_max_A = 8.0;
+        sp.i_trip_A = 12.0;
+        sp.n_points = 2;
+        sp.t_s[0] = 0.0;
+        sp.omega_rad_s[0] = 0.0;
+        sp.t_s[1] = 1.0;
+        sp.omega_rad_s[1] = 5.0;
+        paper001_config_t scfg;
+        p001_design_report_t rep;
+        check(p001_design(&sp, &scfg, &rep, err, sizeof err) && paper001_drive_init(&speed, &scfg));
+        hal_command_t out;
+        for (uint32_t k = 0; k < 2000; ++k) {
+            hal_sample_t a = sample(2, k);
+            (void)drive_step(&pos, &a, &out);
+        }
+        for (uint32_t k = 0; k < 1000; ++k) {
+            hal_sample_t b = sample(3, k);
+            (void)paper001_drive_step(&speed, &b, &out);
+        }
+    }
+};
+
+template <class D>
+void through_node(can_node_t* n, D* d, can_apply_fn apply, const can_frame_t& f, uint32_t tick, int n_phases,
+                  double v_lim)
+{
+    std::vector<uint8_t> before(sizeof *d);
+    std::memcpy(before.data(), d, sizeof *d);
+    const uint32_t rej0 = n->rejected, ign0 = n->ignored, acc0 = n->accepted;
+    const can_reject_t r = can_node_receive(n, tick, &f, apply, d);
+    if (r == CAN_REJECT_NOT_OURS) {
+        check(n->ignored == ign0 + 1u && n->rejected == rej0 && n->accepted == acc0);
+    } else if (r != CAN_REJECT_NONE) {
+        check(n->rejected == rej0 + 1u && n->accepted == acc0 && n->last_reject == r);
+    } else {
+        check(n->accepted == acc0 + 1u && n->rejected == rej0);
+    }
+    if (r != CAN_REJECT_NONE) {
+        check(std::memcmp(before.data(), d, sizeof *d) == 0);
+    }
+    hal_sample_t in = sample(n_phases, tick);
+    hal_command_t out;
+    if constexpr (sizeof(D) == sizeof(drive_t)) {
+        (void)drive_step(reinterpret_cast<drive_t*>(d), &in, &out);
+    } else {
+        (void)paper001_drive_step(reinterpret_cast<paper001_drive_t*>(d), &in, &out);
+    }
+    for (int k = 0; k < n_phases; ++k) {
+        const double v = mc_to_double(out.v_V[k]);
+        check(std::isfinite(v) && std::fabs(v) <= v_lim);
+    }
+}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
+    static const Drives pristine;
+    static Drives work;  // a copy per input: commands of one input do not leak into the next
+    std::memcpy(&work.pos, &pristine.pos, sizeof work.pos);
+    std::memcpy(&work.speed, &pristine.speed, sizeof work.speed);
+    can_tx_config_t tc;
+    can_tx_defaults(&tc, 0, 10000);
+    can_node_t n_pos, n_speed;
+    can_node_init(&n_pos, &tc);
+    can_node_init(&n_speed, &tc);
+    uint32_t tick = 2000;
     constexpr size_t kFrame = 12;
     for (size_t off = 0; off + 4 <= size; off += kFrame) {
         can_frame_t f;
@@ -37,6 +150,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const can_reject_t r1 = can_link_parse(node, &f, &c1);
         const can_reject_t r2 = can_link_parse(node, &f, &c2);
         check(r1 == r2 && c1.kind == c2.kind);
+        through_node(&n_pos, &work.pos, &can_paper000_apply, f, tick, 2, 30.0);
+        through_node(&n_speed, &work.speed, &can_paper001_apply, f, tick, 3, 24.0);
+        ++tick;
         if (r1 != CAN_REJECT_NONE) {
             check(c1.kind == CAN_CMD_NONE);
             check(r1 == CAN_REJECT_NOT_OURS || r1 == CAN_REJECT_UNKNOWN_ID || r1 == CAN_REJECT_DLC ||
