@@ -152,10 +152,12 @@ def run_type(typ, args):
                    targets=["mc_firmware", "mc_pil", "mc_selftest"])
     elf = os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.elf")
     rc, out = cb.qemu(machine, elf, args.shift)
-    ticks, info = [], {}
+    ticks, can_ticks, info = [], [], {}
     for line in out.splitlines():
         if line.startswith("T "):
             ticks += [int(t) for t in line.split()[1:]]
+        elif line.startswith("C "):
+            can_ticks += [int(t) for t in line.split()[1:]]
         elif line.startswith("PIL "):
             for k, v in re.findall(r"(\w+)=(\S+)", line):
                 info[k] = v
@@ -163,6 +165,9 @@ def run_type(typ, args):
     to_instr = (lambda t: int(round(t * scale))) if args.shift >= 7 else (lambda t: t * scale)
     calib = to_instr(int(info.get("calib", 0)))
     instr = [to_instr(t) - calib for t in ticks]
+    # the CAN node's step after each control step (telemetry at the
+    # default rates, the queue drained), timed apart
+    can_instr = [to_instr(t) - calib for t in can_ticks]
     n = int(info.get("n", "0"))
     ok_run = (rc == 0 and "PIL PASS" in out and len(instr) == n and n > 0)
     res = {}
@@ -174,6 +179,9 @@ def run_type(typ, args):
         res[p + "_instr_max_at_period"] = instr.index(max(instr))
         srt = sorted(instr)
         res[p + "_instr_p99"] = srt[min(len(srt) - 1, int(0.99 * len(srt)))]
+    if can_instr:
+        res[p + "_can_instr_mean"] = round(sum(can_instr) / len(can_instr), 1)
+        res[p + "_can_instr_max"] = max(can_instr)
     res[p + "_periods"] = len(instr)
     res[p + "_bit_exact_vs_host"] = (info.get("mismatches") == "0" and ok_run)
     res[p + "_mismatches"] = int(info.get("mismatches", "-1"))

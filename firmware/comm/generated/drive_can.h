@@ -195,6 +195,8 @@ struct drive_can_heartbeat_t {
     uint8_t mode;
 
     /**
+     * 1 unless disabled by CmdEnable or in fault
+     *
      * Range: 0..1 (0..1 -)
      * Scale: 1
      * Offset: 0
@@ -234,7 +236,7 @@ struct drive_can_heartbeat_t {
     uint8_t fault_events;
 
     /**
-     * commands refused (wrong DLC, out of range, wrong mode), wrapping
+     * commands refused (wrong DLC, out of range, unknown id in the node's command space, or refused by the drive in its present mode or for its limits), wrapping
      *
      * Range: 0..255 (0..255 -)
      * Scale: 1
@@ -243,6 +245,8 @@ struct drive_can_heartbeat_t {
     uint8_t rejected_commands;
 
     /**
+     * heartbeats sent before this one, wrapping
+     *
      * Range: 0..65535 (0..65535 -)
      * Scale: 1
      * Offset: 0
@@ -350,7 +354,7 @@ struct drive_can_currents_t {
 /**
  * Signals in message Observer.
  *
- * Current-observer estimates in the control frame and the back-EMF estimates (position drive, e_hat = L d_hat of (28)) or the flux observer's (speed drive, Phi times rho_hat scaled to volts at the current speed).
+ * Position drive: the current observer's estimates in the (f-g) frame and its back-EMF estimates e_hat = L d_hat of paper 000 eq. (28). Speed drive: I1Est = I2Est = 0 (its flux observer estimates no current), Emf1 = 0 and Emf2 = K_e w_hat |rho_hat|, the flux observer's back-EMF in the estimated d-q frame.
  *
  * All signal values are as on the CAN bus.
  */
@@ -461,7 +465,7 @@ struct drive_can_timing_t {
 /**
  * Signals in message CmdEnable.
  *
- * Enable (1) or disable (0) the power stage. Disable puts the drive in its safe state (0 V).
+ * Enable (1) or disable (0) the power stage. Disable puts the drive in its safe state (0 V) until enabled; enabling a disabled drive starts it again as at power-up (alignment or probe, then its configured program): the rotor may have moved. Refused in fault (clear it first).
  *
  * All signal values are as on the CAN bus.
  */
@@ -477,7 +481,7 @@ struct drive_can_cmd_enable_t {
 /**
  * Signals in message CmdMove.
  *
- * Position drive: move to ThetaTo over Duration (the rest-to-rest polynomial of paper 000 eq. (70)) from where the reference is. Refused by the speed drive and during a move.
+ * Position drive: move to ThetaTo over Duration (the rest-to-rest polynomial of paper 000 eq. (70)) from where the reference rests. Refused by the speed drive, during a move, before the start is over (alignment, identification), in fault, and when its peak speed 2.1875 |d|/T or acceleration 7.5132 |d|/T^2 exceeds what the drive's gains were designed for.
  *
  * All signal values are as on the CAN bus.
  */
@@ -500,7 +504,7 @@ struct drive_can_cmd_move_t {
 /**
  * Signals in message CmdSpeed.
  *
- * Speed drive: go to OmegaRef at Ramp. Refused by the position drive.
+ * Speed drive: go to OmegaRef at Ramp from where the reference is; the ramp becomes the stop ramp. Refused by the position drive, in fault, when K_e |OmegaRef| exceeds 90 % of the phase voltage the measured bus gives, and when Ramp exceeds K_t i_max / J.
  *
  * All signal values are as on the CAN bus.
  */
@@ -523,7 +527,7 @@ struct drive_can_cmd_speed_t {
 /**
  * Signals in message CmdStop.
  *
- * Stop: the reference holds where it is (position) or ramps to 0 (speed).
+ * Stop. Position drive: the queued moves are dropped and the one in progress ends at its end point (eq. (70) is rest-to-rest; CmdEnable 0 is the emergency stop). Speed drive: ramp to 0 at the last commanded ramp (at first the profile's steepest). Refused in fault.
  *
  * All signal values are as on the CAN bus.
  */
@@ -539,7 +543,7 @@ struct drive_can_cmd_stop_t {
 /**
  * Signals in message CmdSetOmegaLim.
  *
- * Set omega_lim, the speed from which the loop closes (paper 000 section 5.1). Refused in closed loop.
+ * Set omega_lim, the speed from which the loop closes (paper 000 section 5.1). Refused in closed loop and below the designed omega_lim (the observer's gains hold from there up); the position drive also refuses it above its designed top speed, the speed drive with the flux estimator (it closes by its probe, not by a speed). The designed value returns at every restart.
  *
  * All signal values are as on the CAN bus.
  */
@@ -555,7 +559,7 @@ struct drive_can_cmd_set_omega_lim_t {
 /**
  * Signals in message CmdClearFaults.
  *
- * Clear a latched fault (the drive starts again from its alignment or probe).
+ * Clear a latched fault (the drive starts again from its alignment or probe). Refused when there is no fault.
  *
  * All signal values are as on the CAN bus.
  */

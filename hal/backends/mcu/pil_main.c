@@ -16,6 +16,7 @@
  */
 #include <string.h>
 
+#include "comm/can_paper000.h"
 #include "drives/paper000_drive.h"
 #include "hal/hal.h"
 #include "mcu_rt.h"
@@ -23,6 +24,7 @@
 #include "pil_vectors.h"
 
 static drive_t drive;
+static can_node_t can_node;
 
 /* The control callback of hal.h (hal_control_fn), as an MCU backend calls
  * it from its end-of-conversion interrupt: the drive's step, and the safe
@@ -50,6 +52,15 @@ int main(void)
         return 1;
     }
 
+    /* the drive's CAN node at the default rates (comm/can_node.h): its
+     * telemetry step and the transmit queue drained, timed apart from the
+     * control step ("C" lines) */
+    {
+        can_tx_config_t tc;
+        can_tx_defaults(&tc, 0u, (int32_t)cfg.model.fs_hz);
+        can_node_init(&can_node, &tc);
+    }
+
     /* calibration: the same timed region around nothing */
     uint32_t calib = 0xFFFFFFFFu;
     for (int k = 0; k < 8; ++k) {
@@ -64,6 +75,7 @@ int main(void)
     uint32_t mismatches = 0u;
     uint32_t first = 0xFFFFFFFFu;
     uint32_t col = 0u;
+    uint32_t can_times[32];
     for (uint32_t i = 0; i < pil_n; ++i) {
         /* the sample a backend hands to its control callback (hal_types.h) */
         hal_sample_t in;
@@ -88,12 +100,27 @@ int main(void)
             }
             ++mismatches;
         }
+        __asm__ volatile("" ::: "memory");
+        const uint32_t c0 = mcu_systick_now();
+        can_paper000_step(&can_node, &drive, i, MC_ZERO, MC_ZERO);
+        can_frame_t frame;
+        while (can_node_peek(&can_node, &frame)) {
+            can_node_pop(&can_node);
+        }
+        const uint32_t c1 = mcu_systick_now();
+        __asm__ volatile("" ::: "memory");
+        can_times[col] = mcu_systick_elapsed(c0, c1);
         if (col == 0u) {
             mcu_puts("T");
         }
         mcu_puts(" ");
         mcu_put_u32(mcu_systick_elapsed(t0, t1));
         if (++col == 32u || i + 1u == pil_n) {
+            mcu_puts("\nC");
+            for (uint32_t j = 0; j < col; ++j) {
+                mcu_puts(" ");
+                mcu_put_u32(can_times[j]);
+            }
             mcu_puts("\n");
             col = 0u;
         }
