@@ -318,7 +318,7 @@ def main():
           + (")" if r.returncode == 0 else f": {r.stderr[-300:]})"))
     if args.plot:
         r = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "can", "drivecan.py"), "plot", pos_log,
-                            "Position.Theta*", "Velocity.Omega*", "-o", args.plot], capture_output=True, text=True)
+                            "Position.Theta*", "-", "Velocity.Omega*", "-", "Currents.I1*", "Currents.I2*", "-o", args.plot], capture_output=True, text=True)
         check(r.returncode == 0 and os.path.exists(args.plot),
               f"drivecan.py plot wrote {args.plot} (exit {r.returncode}{': ' + r.stderr[-300:] if r.returncode else ''})")
     print(f"vcan_e2e: {'FAILED: ' + str(len(failures)) + ' checks' if failures else 'all checks passed'}")
