@@ -118,6 +118,7 @@ struct Options {
     bool no_csv = false;
     bool quiet = false;
     std::string can_iface;  // empty: no CAN
+    bool can_given = false;
     unsigned can_node = 0;
     bool realtime = false;
 };
@@ -400,6 +401,9 @@ int run(const Options& opt)
         std::fprintf(stderr, "motorsim: --realtime without --can: the run is paced to the wall clock\n");
     }
     std::unique_ptr<mcsim::SocketCan> can;
+    if (opt.can_given && opt.can_iface.empty()) {
+        throw std::invalid_argument("--can: empty interface name");
+    }
     if (!opt.can_iface.empty()) {
         can = std::make_unique<mcsim::SocketCan>(opt.can_iface, opt.can_node);
     }
@@ -676,6 +680,7 @@ int main(int argc, char** argv)
     opt.delay_given = delay_opt->count() > 0;
     opt.out_given = out_opt->count() > 0;
     opt.metrics_out_given = metrics_out_opt->count() > 0;
+    opt.can_given = can_opt->count() > 0;
 
     mcsim::install_output_signal_handlers();
     try {

@@ -115,3 +115,36 @@ def test_plot_from_a_log(tmp_path):
                        env={"MPLBACKEND": "Agg", "PATH": "/usr/bin:/bin"})
     assert r.returncode == 0, r.stderr
     assert png.exists() and png.stat().st_size > 5000
+
+
+def test_plot_live_from_the_bus(tmp_path):
+    """plot --channel: S seconds of the bus recorded next to the PNG, then plotted."""
+    rx = can.Bus(interface="virtual", channel="live")
+    tx = can.Bus(interface="virtual", channel="live")
+    stop = threading.Event()
+
+    def sender():
+        k = 0
+        while not stop.is_set():
+            for m in telemetry(2, k % 200):
+                tx.send(m)
+            k += 1
+            time.sleep(0.002)
+
+    th = threading.Thread(target=sender)
+    th.start()
+    png = tmp_path / "live.png"
+    try:
+        args = argparse.Namespace(
+            dbc=dc.DBC, items=["Velocity.Omega*"], output=str(png), channel="live", interface="virtual",
+            duration=0.5)
+        rc = dc.plot(args, bus=rx)
+    finally:
+        stop.set()
+        th.join()
+        rx.shutdown()
+        tx.shutdown()
+    assert rc == 0
+    assert png.exists() and png.stat().st_size > 5000
+    log = tmp_path / "live.log"
+    assert log.exists() and sum(1 for _ in can.CanutilsLogReader(str(log))) > 50

@@ -10,8 +10,11 @@
   drivecan.py decode run.log [--csv out.csv]
       a log of ours or of candump -L, decoded to CSV (t_s,node,message,signal,value)
   drivecan.py plot run.log SIGNAL... [-o run.png]
-      signals against time from a log, through `cantools plot` (a window,
-      or a PNG with -o); SIGNAL as cantools takes it, e.g. 'Velocity.Omega*'
+  drivecan.py plot --channel vcan0 --duration S SIGNAL... [-o run.png]
+      signals against time from a log, or from the bus for S seconds
+      (recorded to a log next to the PNG, or a temporary one), through
+      `cantools plot` (a window, or a PNG with -o); SIGNAL as cantools
+      takes it, e.g. 'Velocity.Omega*', '-' starts a new subplot
   drivecan.py send --channel vcan0 [--node N] MESSAGE [SIGNAL=VALUE ...]
       a command by name with physical values, checked against the DBC's
       ranges before anything is sent, e.g. `send CmdSpeed OmegaRef=10 Ramp=50`
@@ -167,12 +170,33 @@ def decode_log(args):
     return 0
 
 
-def plot(args):
+def plot(args, bus=None):
+    items = list(args.items)
+    if args.channel:
+        if not args.duration or args.duration <= 0:
+            print("drivecan: plot --channel needs --duration S > 0", file=sys.stderr)
+            return 2
+        log_path = (os.path.splitext(args.output)[0] + ".log") if args.output else None
+        tmp = None
+        if log_path is None:
+            import tempfile
+            tmp = tempfile.NamedTemporaryFile(suffix=".log", delete=False)
+            log_path = tmp.name
+            tmp.close()
+        rec = argparse.Namespace(dbc=args.dbc, channel=args.channel, interface=args.interface, log=log_path,
+                                 csv=None, node=None, duration=args.duration, count=0)
+        record(rec, bus=bus)
+        signals = items
+    else:
+        if len(items) < 2:
+            print("drivecan: plot needs a log and at least one signal (or --channel and --duration)", file=sys.stderr)
+            return 2
+        log_path, signals = items[0], items[1:]
     cmd = [sys.executable, "-m", "cantools", "plot", "--frame-id-mask", "0x7F0", "--ignore-unknown-frames",
-           args.dbc, *args.signals]
+           args.dbc, *signals]
     if args.output:
         cmd += ["--output-file", args.output]
-    with open(args.log) as log:
+    with open(log_path) as log:
         return subprocess.run(cmd, stdin=log).returncode
 
 
@@ -242,9 +266,11 @@ def main(argv=None):
     p.add_argument("--csv")
     p.add_argument("--node", type=int, default=None)
     p = sub.add_parser("plot")
-    p.add_argument("log")
-    p.add_argument("signals", nargs="+")
+    p.add_argument("items", nargs="+", metavar="LOG|SIGNAL", help="a log then signals; only signals with --channel")
     p.add_argument("-o", "--output")
+    p.add_argument("--channel", help="plot S seconds of this bus instead of a log")
+    p.add_argument("--interface", default="socketcan", help="python-can interface (default socketcan)")
+    p.add_argument("--duration", type=float, default=0.0)
     p = sub.add_parser("send")
     bus_args(p)
     p.add_argument("--node", type=int, default=0)
