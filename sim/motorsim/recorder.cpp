@@ -155,7 +155,6 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     if (drive_ref_) {
         ref.theta_rad = theta_ref;
         ref.omega_rad_s = to_double(tl.omega_ref_rad_s);
-        ref.accel_rad_s2 = to_double(tl.accel_ref_rad_s2);
     }
     drive_theta_ref_last_ = theta_ref;
     const double track = std::fabs(theta - ref.theta_rad);

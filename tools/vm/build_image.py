@@ -144,7 +144,6 @@ done
 H=/host
 mkdir -p $H
 mount -t 9p -o trans=virtio,version=9p2000.L,ro,msize=262144,cache=loose hostroot $H || echo "vm-init: host root not mounted"
-mount -t 9p -o trans=virtio,version=9p2000.L,msize=262144 share $H$SHARE || echo "vm-init: $SHARE not mounted"
 mount -t proc proc $H/proc
 mount -t sysfs sys $H/sys
 mount -t devtmpfs dev $H/dev
@@ -153,6 +152,9 @@ mount -t tmpfs shm $H/dev/shm
 mount -t tmpfs tmp $H/tmp
 mount -t tmpfs run $H/run
 mount -t tmpfs root $H/root
+# the shared folder last: a folder under /tmp is made in the VM's tmpfs
+mkdir -p $H$SHARE 2>/dev/null
+mount -t 9p -o trans=virtio,version=9p2000.L,msize=262144 share $H$SHARE || echo "vm-init: $SHARE not mounted"
 echo "vm-init: running $JOB/job.sh"
 chroot $H /usr/bin/env -i HOME=/tmp PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     LANG=C.UTF-8 /bin/sh "$JOB/job.sh" < /dev/console > /dev/console 2>&1

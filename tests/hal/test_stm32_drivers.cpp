@@ -1,0 +1,325 @@
+// The STM32F405 backend's peripheral drivers (hal/backends/stm32f405)
+// against fake register blocks in RAM: the values written for the clock
+// tree, a 20 kHz centre-aligned PWM with dead time, the ADC's injected
+// trigger, CAN at 1 Mbit/s and the watchdog, each checked bit by bit
+// against RM0090 by hand, and every timeout path (a flag that never comes
+// ends in the fault code, nothing waits for ever).
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+extern "C" {
+#include "adc_inj.h"
+#include "bxcan.h"
+#include "clock.h"
+#include "gpio.h"
+#include "iwdg.h"
+#include "pwm_tim1.h"
+}
+
+namespace {
+template <class T>
+T zeroed()
+{
+    T t;
+    std::memset(static_cast<void*>(&t), 0, sizeof t);
+    return t;
+}
+constexpr uint32_t kPolls = 1000;
+}  // namespace
+
+// 8 MHz crystal to 168 MHz: M = 4 (2 MHz into the PLL), N = 168 (VCO
+// 336 MHz), P = 2, Q = 7 (48 MHz), 5 wait states, APB1 42 MHz (timers 84),
+// APB2 84 MHz (timers 168).
+TEST(Stm32Clock, PlanFor168MHzFromAn8MHzCrystal)
+{
+    clock_plan_t p;
+    ASSERT_TRUE(clock_plan(8000000u, 168000000u, &p));
+    EXPECT_EQ(p.pll_m, 4u);
+    EXPECT_EQ(p.pll_n, 168u);
+    EXPECT_EQ(p.pll_p, 2u);
+    EXPECT_EQ(p.pll_q, 7u);
+    EXPECT_EQ(p.flash_ws, 5u);
+    EXPECT_EQ(p.apb1_hz, 42000000u);
+    EXPECT_EQ(p.apb2_hz, 84000000u);
+    EXPECT_EQ(p.apb1_timer_hz, 84000000u);
+    EXPECT_EQ(p.apb2_timer_hz, 168000000u);
+    EXPECT_FALSE(clock_plan(8000000u, 180000000u, &p)) << "beyond the F405's 168 MHz";
+    EXPECT_FALSE(clock_plan(7000000u, 168000000u, &p)) << "7 MHz is no whole multiple of the 2 MHz PLL input";
+}
+
+// The registers of a start-up whose flags all come: PLLCFGR = M | N << 6 |
+// (P/2 - 1) << 16 | PLLSRC_HSE | Q << 24, ACR = 5 WS + prefetch + caches,
+// CFGR = PPRE2 /2 | PPRE1 /4 | SW = PLL.
+TEST(Stm32Clock, StartUpWritesThePlan)
+{
+    clock_plan_t p;
+    ASSERT_TRUE(clock_plan(8000000u, 168000000u, &p));
+    auto rcc = zeroed<rcc_regs_t>();
+    auto flash = zeroed<flash_regs_t>();
+    rcc.CR = RCC_CR_HSERDY | RCC_CR_PLLRDY;  // the hardware's answers, already there
+    rcc.CFGR = RCC_CFGR_SWS_PLL;
+    ASSERT_EQ(clock_init(&rcc, &flash, &p, kPolls), STM32_OK);
+    EXPECT_EQ(rcc.PLLCFGR, 0x07402A04u);
+    EXPECT_EQ(flash.ACR, 0x705u);
+    EXPECT_EQ(rcc.CFGR, 0x9402u | RCC_CFGR_SWS_PLL);
+    EXPECT_TRUE(rcc.CR & RCC_CR_HSEON);
+    EXPECT_TRUE(rcc.CR & RCC_CR_PLLON);
+}
+
+// Each flag that never comes: the fault code, the chip left on HSI.
+TEST(Stm32Clock, EachTimeoutEndsInItsFault)
+{
+    clock_plan_t p;
+    ASSERT_TRUE(clock_plan(8000000u, 168000000u, &p));
+    {
+        auto rcc = zeroed<rcc_regs_t>();
+        auto flash = zeroed<flash_regs_t>();
+        EXPECT_EQ(clock_init(&rcc, &flash, &p, kPolls), STM32_FAULT_HSE_TIMEOUT);
+        EXPECT_FALSE(rcc.CR & RCC_CR_HSEON) << "crystal left on";
+        EXPECT_EQ(rcc.CFGR & 3u, 0u) << "not on HSI";
+    }
+    {
+        auto rcc = zeroed<rcc_regs_t>();
+        auto flash = zeroed<flash_regs_t>();
+        rcc.CR = RCC_CR_HSERDY;
+        EXPECT_EQ(clock_init(&rcc, &flash, &p, kPolls), STM32_FAULT_PLL_TIMEOUT);
+        EXPECT_FALSE(rcc.CR & RCC_CR_PLLON);
+    }
+    {
+        auto rcc = zeroed<rcc_regs_t>();
+        auto flash = zeroed<flash_regs_t>();
+        rcc.CR = RCC_CR_HSERDY | RCC_CR_PLLRDY;
+        EXPECT_EQ(clock_init(&rcc, &flash, &p, kPolls), STM32_FAULT_CLOCK_SWITCH);
+        EXPECT_EQ(rcc.CFGR & 3u, 0u);
+    }
+}
+
+// 20 kHz from the 168 MHz TIM1 clock: ARR = 168e6 / (2 * 20e3) = 4200;
+// 10 kHz control: RCR = 2 * 2 - 1 = 3; 500 ns dead time = 84 clocks,
+// DTG = 84 (first range); 1 us = 168 clocks: DTG = 0x80 | (84 - 64) =
+// 0x94, exactly 168; 3 us = 504 clocks: (32 + 31) * 8 = 504, DTG = 0xDF.
+TEST(Stm32Pwm, PlanFor20kHzAndTheDeadTimeEncoding)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 500u, &p));
+    EXPECT_EQ(p.arr, 4200u);
+    EXPECT_EQ(p.rcr, 3u);
+    EXPECT_EQ(p.dtg, 84u);
+    EXPECT_EQ(p.dead_ns, 500u);
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 1000u, &p));
+    EXPECT_EQ(p.dtg, 0x94u);
+    EXPECT_EQ(p.dead_ns, 1000u);
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 3000u, &p));
+    EXPECT_EQ(p.dtg, 0xDFu);
+    uint32_t dtg, actual;
+    ASSERT_TRUE(pwm_dtg(129u, &dtg, &actual));
+    EXPECT_EQ(actual, 130u) << "rounded up, never shorter";
+    EXPECT_FALSE(pwm_dtg(1009u, &dtg, &actual));
+    EXPECT_FALSE(pwm_plan(168000000u, 20000u, 7000u, 500u, &p)) << "7 kHz is no whole number of periods";
+    EXPECT_FALSE(pwm_plan(168000000u, 20000u, 10000u, 10000u, &p)) << "10 us: beyond DTG";
+    EXPECT_FALSE(pwm_plan(168000000u, 1000u, 1000u, 500u, &p)) << "ARR 84000 > 16 bits";
+}
+
+// Three half-bridges: CR1 = centre-aligned 1 | ARPE | URS, PWM mode 1 with
+// preload on CH1-3, CCER = CCxE | CCxNE, BDTR = OSSI | OSSR | DTG | BKE |
+// BKP and MOE off until asked, TRGO on update, the break interrupt.
+TEST(Stm32Pwm, ThreeHalfBridgesRegisters)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 500u, &p));
+    auto t = zeroed<tim_regs_t>();
+    pwm_init(&t, &p, PWM_THREE_HALF_BRIDGES, true, true);
+    EXPECT_EQ(t.CR1, 0xA4u);
+    EXPECT_EQ(t.CR2, 0x20u);
+    EXPECT_EQ(t.ARR, 4200u);
+    EXPECT_EQ(t.RCR, 3u);
+    EXPECT_EQ(t.CCMR1, 0x6868u);
+    EXPECT_EQ(t.CCMR2, 0x0068u);
+    EXPECT_EQ(t.CCER, 0x0555u);
+    EXPECT_EQ(t.BDTR, 0x3C00u | 84u);
+    EXPECT_EQ(t.DIER, TIM_DIER_BIE);
+    EXPECT_EQ(t.CCR[0], 2100u);
+    EXPECT_EQ(t.EGR, TIM_EGR_UG);
+    pwm_outputs(&t, true);
+    EXPECT_TRUE(t.BDTR & TIM_BDTR_MOE);
+    pwm_start(&t);
+    EXPECT_TRUE(t.CR1 & TIM_CR1_CEN);
+    const float d[3] = {0.25f, 1.5f, -0.1f};
+    pwm_set_duty(&t, &p, d, 3);
+    EXPECT_EQ(t.CCR[0], 1050u);
+    EXPECT_EQ(t.CCR[1], 4200u) << "clamped to 1";
+    EXPECT_EQ(t.CCR[2], 0u) << "clamped to 0";
+    pwm_outputs(&t, false);
+    EXPECT_FALSE(t.BDTR & TIM_BDTR_MOE);
+}
+
+// Two full bridges: four plain outputs, no complementary, no dead time
+// (the bridge IC's own), no break when the board has none.
+TEST(Stm32Pwm, TwoFullBridgesRegisters)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 500u, &p));
+    auto t = zeroed<tim_regs_t>();
+    pwm_init(&t, &p, PWM_TWO_FULL_BRIDGES, false, false);
+    EXPECT_EQ(t.CCMR1, 0x6868u);
+    EXPECT_EQ(t.CCMR2, 0x6868u);
+    EXPECT_EQ(t.CCER, 0x1111u);
+    EXPECT_EQ(t.BDTR, 0x0C00u);
+    EXPECT_EQ(t.DIER, 0u);
+}
+
+// Current on IN10 and the bus on IN13 (the VESC 6's PC0 and PC3): SCAN and
+// JEOCIE, 15-cycle sampling of both (SMPR1 bits 0-2 and 9-11), JSQR = JL
+// 1 | IN10 in JSQ3 | IN13 in JSQ4, JEXTSEL = TIM1 TRGO, rising edge, ADON;
+// ADCCLK = APB2 / 4.
+TEST(Stm32Adc, InjectedSequenceOnTim1Trgo)
+{
+    auto c = zeroed<adc_common_regs_t>();
+    auto a = zeroed<adc_regs_t>();
+    const adc_sequence_t seq = {2, {10, 13, 0, 0}};
+    adc_inj_init(&c, &a, &seq, true, true);
+    EXPECT_EQ(c.CCR, 0x10000u);
+    EXPECT_EQ(a.CR1, 0x180u);
+    EXPECT_EQ(a.SMPR1, 0x201u);
+    EXPECT_EQ(a.SMPR2, 0u);
+    EXPECT_EQ(a.JSQR, 0x16A800u);
+    EXPECT_EQ(a.CR2, 0x110001u);
+    a.JDR[0] = 2047;
+    a.JDR[1] = 1234;
+    uint16_t codes[2];
+    adc_inj_read(&a, codes, 2);
+    EXPECT_EQ(codes[0], 2047);
+    EXPECT_EQ(codes[1], 1234);
+}
+
+// The start-up zero: within tolerance passes, outside fails with
+// ADC_OFFSET, a conversion that never ends with ADC_TIMEOUT.
+TEST(Stm32Adc, SensorZeroAndItsFaults)
+{
+    uint32_t zero[2];
+    {
+        auto a = zeroed<adc_regs_t>();
+        a.SR = ADC_SR_JEOC;
+        a.JDR[0] = 2060;
+        a.JDR[1] = 2030;
+        EXPECT_EQ(adc_inj_zero(&a, 2, 1, 2048, 100, kPolls, zero), STM32_OK);
+        EXPECT_EQ(zero[0], 2060u);
+        EXPECT_TRUE(a.CR2 & ADC_CR2_JSWSTART);
+    }
+    {
+        auto a = zeroed<adc_regs_t>();
+        a.SR = ADC_SR_JEOC;
+        a.JDR[0] = 2048;
+        a.JDR[1] = 2600;
+        EXPECT_EQ(adc_inj_zero(&a, 2, 1, 2048, 100, kPolls, zero), STM32_FAULT_ADC_OFFSET);
+    }
+    {
+        auto a = zeroed<adc_regs_t>();
+        EXPECT_EQ(adc_inj_zero(&a, 2, 4, 2048, 100, kPolls, zero), STM32_FAULT_ADC_TIMEOUT);
+    }
+}
+
+// 1 Mbit/s from APB1 = 42 MHz: 42 = 3 x 14 quanta, BS1 = 11, BS2 = 2,
+// sample point 12/14 = 85.7 % (the nearest to 87.5 % any exact setting
+// gives), SJW 2: BTR = BRP 2 | TS1 10 << 16 | TS2 1 << 20 | SJW 1 << 24.
+// 500 kbit/s: 42 = 6 x 14 again; 84 MHz (APB2 by mistake) finds 1 Mbit/s
+// with other numbers; 1 Mbit/s from 7 MHz has no setting (7 quanta < 8).
+TEST(Stm32Can, BitTimingFor1MbitFromApb1)
+{
+    bxcan_timing_t t;
+    ASSERT_TRUE(bxcan_timing(42000000u, 1000000u, BXCAN_SAMPLE_PERMILLE, &t));
+    EXPECT_EQ(t.brp, 3u);
+    EXPECT_EQ(t.tq, 14u);
+    EXPECT_EQ(t.bs1, 11u);
+    EXPECT_EQ(t.bs2, 2u);
+    EXPECT_EQ(t.sample_permille, 857u);
+    EXPECT_EQ(t.btr, 0x011A0002u);
+    EXPECT_EQ(42000000u / (t.brp * t.tq), 1000000u);
+    ASSERT_TRUE(bxcan_timing(42000000u, 500000u, BXCAN_SAMPLE_PERMILLE, &t));
+    EXPECT_EQ(t.brp * t.tq * 500000u, 42000000u);
+    EXPECT_FALSE(bxcan_timing(7000000u, 1000000u, BXCAN_SAMPLE_PERMILLE, &t)) << "7 quanta at most: fewer than 8";
+}
+
+// Init: a controller that never acknowledges initialisation, or never
+// leaves it (no bus: 11 recessive bits never seen), times out; the filter
+// takes node 5's command ids, standard data frames only.
+TEST(Stm32Can, InitFilterAndTimeouts)
+{
+    bxcan_timing_t t;
+    ASSERT_TRUE(bxcan_timing(42000000u, 1000000u, BXCAN_SAMPLE_PERMILLE, &t));
+    auto c = zeroed<can_regs_t>();
+    EXPECT_EQ(bxcan_init(&c, &t, 5, kPolls), STM32_FAULT_CAN_TIMEOUT) << "INAK never set";
+    c = zeroed<can_regs_t>();
+    c.MSR = CAN_MSR_INAK;  // stays in initialisation
+    EXPECT_EQ(bxcan_init(&c, &t, 5, kPolls), STM32_FAULT_CAN_TIMEOUT);
+    EXPECT_EQ(c.BTR, 0x011A0002u);
+    EXPECT_EQ(c.FILTER[0].FR1, 0x205u << 21);
+    EXPECT_EQ(c.FILTER[0].FR2, (0x70Fu << 21) | 0x6u);
+    EXPECT_EQ(c.FA1R & 1u, 1u);
+    EXPECT_EQ(c.FS1R & 1u, 1u);
+    EXPECT_EQ(c.FMR & CAN_FMR_FINIT, 0u);
+    EXPECT_TRUE(c.MCR & CAN_MCR_ABOM);
+}
+
+TEST(Stm32Can, SendAndReceive)
+{
+    auto c = zeroed<can_regs_t>();
+    hal_can_frame_t f{0x115, 8, {1, 2, 3, 4, 5, 6, 7, 8}};
+    EXPECT_FALSE(bxcan_send(&c, &f)) << "three busy mailboxes";
+    c.TSR = CAN_TSR_TME(1);
+    ASSERT_TRUE(bxcan_send(&c, &f));
+    EXPECT_EQ(c.TX[1].TIR, (0x115u << 21) | CAN_TIR_TXRQ);
+    EXPECT_EQ(c.TX[1].TDTR, 8u);
+    EXPECT_EQ(c.TX[1].TDLR, 0x04030201u);
+    EXPECT_EQ(c.TX[1].TDHR, 0x08070605u);
+    hal_can_frame_t r{};
+    EXPECT_FALSE(bxcan_receive(&c, &r));
+    c.RF0R = 1;
+    c.RX[0].RIR = 0x235u << 21;
+    c.RX[0].RDTR = 1;
+    c.RX[0].RDLR = 0xAB;
+    ASSERT_TRUE(bxcan_receive(&c, &r));
+    EXPECT_EQ(r.id, 0x235u);
+    EXPECT_EQ(r.dlc, 1u);
+    EXPECT_EQ(r.data[0], 0xAB);
+    EXPECT_EQ(c.RF0R, CAN_RFR_RFOM);
+    c.RF0R = 1;
+    c.RX[0].RIR = (0x235u << 21) | CAN_RIR_RTR;
+    ASSERT_TRUE(bxcan_receive(&c, &r));
+    EXPECT_EQ(r.id, 0xFFFFFFFFu) << "a remote frame reaches no node";
+}
+
+// 10 ms at 32 kHz: /4, 80 counts (RLR 79); 1 s: /8, 4000 (RLR 3999); the
+// registers that never update time out.
+TEST(Stm32Iwdg, PlanStartAndTimeout)
+{
+    uint32_t pr, rlr;
+    ASSERT_TRUE(iwdg_plan(IWDG_LSI_NOMINAL_HZ, 10000u, &pr, &rlr));
+    EXPECT_EQ(pr, 0u);
+    EXPECT_EQ(rlr, 79u);
+    ASSERT_TRUE(iwdg_plan(IWDG_LSI_NOMINAL_HZ, 1000000u, &pr, &rlr));
+    EXPECT_EQ(pr, 1u);
+    EXPECT_EQ(rlr, 3999u);
+    EXPECT_FALSE(iwdg_plan(IWDG_LSI_NOMINAL_HZ, 60000000u, &pr, &rlr));
+    auto w = zeroed<iwdg_regs_t>();
+    EXPECT_EQ(iwdg_start(&w, 0, 79, kPolls), STM32_OK);
+    EXPECT_EQ(w.PR, 0u);
+    EXPECT_EQ(w.RLR, 79u);
+    EXPECT_EQ(w.KR, IWDG_KEY_REFRESH);
+    w = zeroed<iwdg_regs_t>();
+    w.SR = IWDG_SR_RVU;
+    EXPECT_EQ(iwdg_start(&w, 0, 79, kPolls), STM32_FAULT_IWDG_TIMEOUT);
+}
+
+// PA8 as TIM1_CH1 (AF1): MODER bits 16-17 = 2, AFRH bits 0-3 = 1.
+TEST(Stm32Gpio, AlternateFunction)
+{
+    auto g = zeroed<gpio_regs_t>();
+    gpio_config(&g, 8, GPIO_AF, 1, GPIO_NO_PULL);
+    EXPECT_EQ(g.MODER, 2u << 16);
+    EXPECT_EQ(g.AFR[1], 1u);
+    EXPECT_EQ(g.AFR[0], 0u);
+    gpio_write(&g, 8, false);
+    EXPECT_EQ(g.BSRR, 1u << 24);
+}
