@@ -101,10 +101,12 @@ if want cppcheck; then
     # assembly on the M3), each PIL main with the drive its CMake gives it.
     m4f=(--std=c11 --platform=unix32 -I hal/backends/mcu -DMC_FIXED_POINT=0 -D__arm__ -D__ARM_ARCH_7EM__ -D__ARM_FP=4)
     m3=(--std=c11 --platform=unix32 -I hal/backends/mcu -DMC_FIXED_POINT=1 -D__arm__ -D__ARM_ARCH_7M__)
-    mcu=(hal/backends/mcu/mcu_rt.c hal/backends/mcu/selftest.c hal/backends/mcu/pil_main.c)
+    mcu=(hal/backends/mcu/mcu_rt.c hal/backends/mcu/mcu_semihost.c hal/backends/mcu/selftest.c hal/backends/mcu/pil_main.c)
     run_cppcheck "hal/backends/mcu (C11, Cortex-M4F float)" "${m4f[@]}" "${mcu[@]}"
     run_cppcheck "hal/backends/mcu/pil_paper001_main.c (C11, Cortex-M4F float)" "${m4f[@]}" \
         -DMC_PIL_DRIVE_PAPER001=1 hal/backends/mcu/pil_paper001_main.c
+    run_cppcheck "hal/backends/stm32f405 (C11, Cortex-M4F float)" "${m4f[@]}" -I hal/backends/stm32f405 \
+        -I hal/include -I firmware -DMC_PIL_DRIVE_PAPER001=1 hal/backends/stm32f405/*.c hal/backends/stm32f405/boards/*.c
     run_cppcheck "hal/backends/mcu (C11, Cortex-M3 fixed point)" "${m3[@]}" "${mcu[@]}"
     run_cppcheck "hal/backends/mcu/pil_paper001_main.c (C11, Cortex-M3 fixed point)" "${m3[@]}" \
         -DMC_PIL_DRIVE_PAPER001=1 hal/backends/mcu/pil_paper001_main.c

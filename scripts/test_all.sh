@@ -17,6 +17,7 @@ PRESETS=(
     host-asan
     cortex-m4f
     cortex-m3-fixed
+    stm32f405
 )
 
 usage() {

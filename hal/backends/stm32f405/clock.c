@@ -34,7 +34,7 @@ bool clock_plan(uint32_t hse_hz, uint32_t sysclk_hz, clock_plan_t *p)
 }
 
 /* polls (*reg & mask) == want at most n times */
-static bool wait_for(volatile uint32_t *reg, uint32_t mask, uint32_t want, uint32_t n)
+static bool wait_for(const volatile uint32_t *reg, uint32_t mask, uint32_t want, uint32_t n)
 {
     for (uint32_t k = 0; k < n; ++k) {
         if ((*reg & mask) == want) {

@@ -1,0 +1,44 @@
+#include "app_drive.h"
+
+#include <string.h>
+
+#include "comm/can_paper001.h"
+#include "stm32f405_regs.h"
+
+bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint8_t node, bool can)
+{
+    paper001_config_t cfg;
+    memcpy(&cfg, cfg_words, sizeof cfg);
+    can_tx_config_t tc;
+    can_tx_defaults(&tc, node, (int32_t)cfg.model.fs_hz);
+    can_node_init(&a->node, &tc);
+    a->can = can;
+    a->step_cycles = 0u;
+    return paper001_drive_init(&a->drive, &cfg);
+}
+
+void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
+{
+    app_drive_t *a = (app_drive_t *)ctx;
+    const uint32_t t0 = SYST_CVR;
+    const bool ok = paper001_drive_step(&a->drive, in, out);
+    const uint32_t t1 = SYST_CVR;
+    a->step_cycles = (t0 - t1) & 0x00FFFFFFu; /* SysTick counts down */
+    if (!ok && !a->can) {
+        hal_safe_state();
+        return;
+    }
+    if (!a->can) {
+        return;
+    }
+    /* on CAN a latched fault keeps the node alive (0 V from the drive):
+     * the heartbeat reports it and CmdClearFaults can clear it */
+    hal_can_frame_t f;
+    for (uint32_t k = 0; k < CAN_NODE_RX_PER_STEP && hal_can_receive(&f); ++k) {
+        (void)can_node_receive(&a->node, in->tick, &f, &can_paper001_apply, &a->drive);
+    }
+    can_paper001_step(&a->node, &a->drive, in->tick, in->v_bus_V, MC_ZERO);
+    while (can_node_peek(&a->node, &f) && hal_can_send(&f)) {
+        can_node_pop(&a->node);
+    }
+}

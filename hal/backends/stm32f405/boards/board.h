@@ -1,0 +1,64 @@
+/*
+ * board.h - what differs between boards with an STM32F405: one constant
+ * table per board (boards/<name>.c), chosen at link time. Pins, the
+ * current and bus-voltage signal chains, the power stage (topology, PWM
+ * frequency, dead time, break input), CAN, the watchdog, and the drive
+ * configuration (the generated words of boards/<name>_drive_config.c,
+ * designed on the host from the board's scenario file).
+ */
+#ifndef STM32_BOARD_H
+#define STM32_BOARD_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gpio.h"
+#include "pwm_tim1.h"
+
+typedef enum {
+    BOARD_CONTROL_ADC = 0, /* the control step on ADC1's end of injected conversions (TIM1 TRGO) */
+    BOARD_CONTROL_TIM2 = 1 /* on TIM2's update (QEMU: no TIM1, no triggered ADC modelled) */
+} board_control_source_t;
+
+typedef struct {
+    const char *name;
+    /* clocks: hse_hz 0 runs on the internal 16 MHz oscillator (QEMU) */
+    uint32_t hse_hz, sysclk_hz;
+    /* power stage */
+    pwm_topology_t topology;
+    uint8_t n_phases;                 /* 3 (three half-bridges) or 2 (two full bridges) */
+    uint32_t pwm_hz, control_hz, dead_time_ns;
+    gpio_pin_t pwm_pins[6];           /* CH1-3 then CH1N-3N (3 phases), or CH1-4 (2 phases) */
+    bool break_enable, break_active_high;
+    gpio_pin_t break_pin;
+    bool has_gate_enable;
+    gpio_pin_t gate_enable;           /* the gate driver's enable, high = on */
+    gpio_pin_t led_status, led_fault;
+    /* currents: phase k on ADC(k+1), channel current_channel[k]; the bus on
+     * ADC1 after phase a */
+    board_control_source_t control;
+    uint32_t control_timer_hz;        /* BOARD_CONTROL_TIM2: TIM2's input clock */
+    uint8_t current_channel[3];
+    uint8_t vbus_channel;
+    gpio_pin_t analog_pins[4];
+    float adc_vref_V;                 /* full scale of the 12-bit converter */
+    float shunt_ohm, amp_gain;        /* i = (code - zero) vref/4096 / (gain R) * current_sign */
+    float current_sign;
+    float vbus_divider;               /* (R1 + R2)/R2 */
+    uint32_t zero_nominal_code, zero_tolerance_code;
+    /* CAN */
+    bool can_enable;
+    gpio_pin_t can_rx, can_tx;
+    uint32_t can_bitrate;
+    uint8_t can_node;
+    /* watchdog: 0 = none */
+    uint32_t watchdog_us;
+} board_t;
+
+extern const board_t board;
+
+/* The drive's configuration for this board (paper001_config_t, float). */
+extern const uint32_t board_drive_cfg_words[];
+extern const char board_drive_cfg_source[];
+
+#endif /* STM32_BOARD_H */

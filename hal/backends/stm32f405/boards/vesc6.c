@@ -1,0 +1,68 @@
+/*
+ * vesc6.c - the board table of the VESC 6 (Benjamin Vedder's open
+ * hardware ESC: STM32F405RG, DRV8301 gate driver with its current
+ * amplifiers, three low-side phase shunts; the values below are from its
+ * published schematic and the hardware configuration hw_60.h of the VESC
+ * firmware, github.com/vedderb/bldc and vedderb/bldc-hardware):
+ *   - 8 MHz crystal; TIM1 CH1-3 on PA8, PA9, PA10 and CH1N-3N on PB13,
+ *     PB14, PB15 (AF1); DRV8301 EN_GATE on PB5; LEDs green PB0, red PB1;
+ *   - phase currents on PC0, PC1, PC2 (ADC123_IN10, IN11, IN12): 0.5 mOhm
+ *     shunts, amplifier gain 20, 3.3 V reference, zero at mid-scale;
+ *   - bus voltage on PC3 (ADC123_IN13) through 39 kOhm / 2.2 kOhm;
+ *   - CAN1 on PB8 (RX), PB9 (TX), AF9.
+ * The VESC 6 routes no comparator to a TIM1 break pin (the DRV8301 limits
+ * the current cycle by cycle itself): the break input is enabled on PA6
+ * (TIM1_BKIN, AF1), active low with the pull-up, for a board that wires
+ * the DRV8301's nOCTW to it; leave it unconnected and it never fires.
+ * Dead time 500 ns (the DRV8301's own minimum is 50 ns; 500 ns covers
+ * the VESC 6's MOSFETs' turn-off). 20 kHz PWM, control at 10 kHz.
+ * The drive: paper 001's speed drive; its configuration is designed on
+ * the host from boards/vesc6_paper001.toml (vesc6_drive_config.c).
+ */
+#include "boards/board.h"
+
+#define PIN(port, pin, af) {(port), (pin), (af)}
+#define NO_PIN {0xFFu, 0u, 0u}
+enum { PA = 0, PB = 1, PC = 2 };
+
+const board_t board = {
+    .name = "VESC 6 (STM32F405RG, DRV8301)",
+    .hse_hz = 8000000u,
+    .sysclk_hz = 168000000u,
+    .topology = PWM_THREE_HALF_BRIDGES,
+    .n_phases = 3u,
+    .pwm_hz = 20000u,
+    .control_hz = 10000u,
+    .dead_time_ns = 500u,
+    .pwm_pins = {PIN(PA, 8, 1), PIN(PA, 9, 1), PIN(PA, 10, 1), PIN(PB, 13, 1), PIN(PB, 14, 1), PIN(PB, 15, 1)},
+    .break_enable = true,
+    .break_active_high = false,
+    .break_pin = PIN(PA, 6, 1),
+    .has_gate_enable = true,
+    .gate_enable = PIN(PB, 5, 0),
+    .led_status = PIN(PB, 0, 0),
+    .led_fault = PIN(PB, 1, 0),
+    .control = BOARD_CONTROL_ADC,
+    .current_channel = {10u, 11u, 12u},
+    .vbus_channel = 13u,
+    .analog_pins = {PIN(PC, 0, 0), PIN(PC, 1, 0), PIN(PC, 2, 0), PIN(PC, 3, 0)},
+    .adc_vref_V = 3.3f,
+    .shunt_ohm = 0.0005f,
+    .amp_gain = 20.0f,
+    /* the DRV8301's amplifiers: a current out of the phase (into the low
+     * side) lowers the output */
+    .current_sign = -1.0f,
+    .vbus_divider = (39000.0f + 2200.0f) / 2200.0f,
+    /* zero at mid-scale 2048 +- 150 codes (+-0.12 V: the amplifiers'
+     * offset after the DRV8301's DC calibration is a few mV; 150 codes is
+     * 12 A here, a current that should not be flowing with the bridges off) */
+    .zero_nominal_code = 2048u,
+    .zero_tolerance_code = 150u,
+    .can_enable = true,
+    .can_rx = PIN(PB, 8, 9),
+    .can_tx = PIN(PB, 9, 9),
+    .can_bitrate = 1000000u,
+    .can_node = 0u,
+    /* 10 ms: 100 control periods; LSI at its 47 kHz worst case makes it 6.8 ms */
+    .watchdog_us = 10000u,
+};

@@ -1,0 +1,31 @@
+/*
+ * main_board.c - the flashable image: the board's start-up, the drive of
+ * its configuration (boards/<board>_drive_config.c), the control interrupt;
+ * the main loop only blinks the LEDs. Any start-up failure leaves the
+ * bridges off and the fault code blinking (stm32_backend.h).
+ */
+#include "app_drive.h"
+#include "boards/board.h"
+#include "stm32_backend.h"
+#include "stm32f405_regs.h"
+
+static app_drive_t app;
+
+int main(void)
+{
+    /* SysTick free-running at the core clock: the step's cycle count */
+    SYST_RVR = 0x00FFFFFFu;
+    SYST_CVR = 0u;
+    SYST_CSR = 5u;
+    if (stm32_backend_init()) {
+        if (!app_drive_init(&app, board_drive_cfg_words, board.can_node, board.can_enable)) {
+            stm32_backend_fault(STM32_FAULT_DRIVE);
+        } else if (!hal_start(&app_drive_control, &app)) {
+            stm32_backend_fault(STM32_FAULT_DRIVE);
+        }
+    }
+    for (;;) {
+        stm32_backend_idle();
+        __asm__ volatile("wfi");
+    }
+}

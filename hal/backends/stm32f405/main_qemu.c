@@ -1,0 +1,159 @@
+/*
+ * main_qemu.c - the image's test under QEMU (-M netduinoplus2): the same
+ * start-up code, vector table, backend control path and application as
+ * main_board.c, on the QEMU board (boards/qemu_netduinoplus2.c). TIM2's
+ * update interrupt at 10 kHz plays the ADC's part: it hands the backend
+ * the next sample recorded on the host (the PIL vectors of
+ * tools/bench/pil_gen.cpp, paper 001's drive), and the voltages the drive
+ * returns are compared with the host's, bit for bit. Timed with SysTick as
+ * the PIL tool times: the whole interrupt body (the backend around the
+ * step included) and the drive's step alone. Output by semihosting:
+ *   "Q <isr cycles> ..." / "D <step cycles> ..." lines, then
+ *   "STM32QEMU steps=.. mismatches=.. calib=.. boot=.." and PASS or FAIL.
+ */
+#include <string.h>
+
+#include "app_drive.h"
+#include "boards/board.h"
+#include "mcu_rt.h"
+#include "pil_vectors.h"
+#include "stm32_backend.h"
+#include "stm32f405_regs.h"
+
+static app_drive_t app;
+static volatile uint32_t next;       /* the next recorded period */
+static volatile uint32_t mismatches;
+static volatile uint32_t first_mismatch = 0xFFFFFFFFu;
+static volatile bool done;
+static uint32_t isr_cycles[32], step_cycles[32];
+static uint32_t col;
+static uint32_t last_entry, period_min = 0xFFFFFFFFu, period_max;
+
+static mc_t from_bits(uint32_t u)
+{
+    mc_t v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+static uint32_t to_bits(mc_t v)
+{
+    uint32_t u;
+    memcpy(&u, &v, sizeof u);
+    return u;
+}
+
+/* the recorded output of period k, checked against what the drive returned */
+static hal_command_t last_out;
+static void checking_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
+{
+    app_drive_control(ctx, in, out);
+    last_out = *out;
+}
+
+static void put_line(char tag, const uint32_t *v, uint32_t n)
+{
+    char t[3] = {tag, 0, 0};
+    mcu_puts(t);
+    for (uint32_t j = 0; j < n; ++j) {
+        mcu_puts(" ");
+        mcu_put_u32(v[j]);
+    }
+    mcu_puts("\n");
+}
+
+void TIM2_IRQHandler(void)
+{
+    const uint32_t t0 = SYST_CVR;
+    ((tim_regs_t *)STM32_TIM2_BASE)->SR = 0u;
+    const uint32_t k = next;
+    /* the interrupt's period in SysTick ticks (after the first) */
+    if (k > 0u) {
+        const uint32_t p = (last_entry - t0) & 0x00FFFFFFu;
+        period_min = p < period_min ? p : period_min;
+        period_max = p > period_max ? p : period_max;
+    }
+    last_entry = t0;
+    if (k >= pil_n) {
+        done = true;
+        return;
+    }
+    hal_sample_t in;
+    memset(&in, 0, sizeof in);
+    in.n_phases = (uint8_t)pil_n_phases;
+    in.i_A[0] = from_bits(pil_io[k][0]);
+    in.i_A[1] = from_bits(pil_io[k][1]);
+    in.i_A[2] = from_bits(pil_io[k][2]);
+    in.v_bus_V = from_bits(pil_io[k][3]);
+    stm32_backend_control(&in);
+    for (uint32_t p = 0; p < 3u; ++p) {
+        if (to_bits(last_out.v_V[p]) != pil_io[k][4u + p]) {
+            if (mismatches == 0u) first_mismatch = k;
+            mismatches = mismatches + 1u;
+            break;
+        }
+    }
+    next = k + 1u;
+    const uint32_t t1 = SYST_CVR;
+    isr_cycles[col] = (t0 - t1) & 0x00FFFFFFu;
+    step_cycles[col] = app.step_cycles;
+    col += 1u;
+    if (col == 32u || k + 1u == pil_n) {
+        put_line('Q', isr_cycles, col);
+        put_line('D', step_cycles, col);
+        col = 0u;
+    }
+}
+
+int main(void)
+{
+    SYST_RVR = 0x00FFFFFFu;
+    SYST_CVR = 0u;
+    SYST_CSR = 5u;
+    /* calibration: the timed region around nothing */
+    uint32_t calib = 0xFFFFFFFFu;
+    for (int j = 0; j < 8; ++j) {
+        __asm__ volatile("" ::: "memory");
+        const uint32_t a = SYST_CVR;
+        __asm__ volatile("" ::: "memory");
+        const uint32_t b = SYST_CVR;
+        const uint32_t d = (a - b) & 0x00FFFFFFu;
+        calib = d < calib ? d : calib;
+    }
+    /* 1000 instructions timed: SysTick ticks per instruction under -icount */
+    __asm__ volatile("" ::: "memory");
+    const uint32_t n0 = SYST_CVR;
+    __asm__ volatile(".rept 1000\n nop\n .endr" ::: "memory");
+    const uint32_t n1 = SYST_CVR;
+    const uint32_t nop1000 = ((n0 - n1) & 0x00FFFFFFu) - calib;
+    mcu_puts("STM32QEMU board=");
+    mcu_puts(board.name);
+    mcu_puts(" source=");
+    mcu_puts(pil_source);
+    mcu_puts("\n");
+    if (!stm32_backend_init()) {
+        mcu_puts("STM32QEMU init failed: ");
+        mcu_puts(hal_last_error());
+        mcu_puts("\nSTM32QEMU FAIL\n");
+        mcu_exit(1);
+    }
+    if (!app_drive_init(&app, pil_cfg_words, 0u, false) || !hal_start(&checking_control, &app)) {
+        mcu_puts("STM32QEMU drive or hal_start failed\nSTM32QEMU FAIL\n");
+        mcu_exit(1);
+    }
+    while (!done) {
+        __asm__ volatile("wfi");
+    }
+    mcu_puts("STM32QEMU");
+    mcu_put_kv("steps", stm32_backend_steps());
+    mcu_put_kv("periods", pil_n);
+    mcu_put_kv("mismatches", mismatches);
+    mcu_put_kv("first", first_mismatch);
+    mcu_put_kv("overruns", stm32_backend_overruns());
+    mcu_put_kv("calib", calib);
+    mcu_put_kv("nop1000", nop1000);
+    mcu_put_kv("period_min", period_min);
+    mcu_put_kv("period_max", period_max);
+    const bool ok = mismatches == 0u && stm32_backend_steps() == pil_n;
+    mcu_puts(ok ? "\nSTM32QEMU PASS\n" : "\nSTM32QEMU FAIL\n");
+    mcu_exit(ok ? 0 : 1);
+}

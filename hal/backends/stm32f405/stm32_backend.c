@@ -1,0 +1,376 @@
+/* stm32_backend.c - see stm32_backend.h. Backend state (one power stage
+ * per chip) lives here; no algorithm state. */
+#include "stm32_backend.h"
+
+#include "adc_inj.h"
+#include "boards/board.h"
+#include "bxcan.h"
+#include "clock.h"
+#include "gpio.h"
+#include "iwdg.h"
+#include "pwm_tim1.h"
+#include "stm32f405_regs.h"
+
+#define RCC ((rcc_regs_t *)STM32_RCC_BASE)
+#define FLASH_IF ((flash_regs_t *)STM32_FLASH_IF_BASE)
+#define TIM1 ((tim_regs_t *)STM32_TIM1_BASE)
+#define TIM2 ((tim_regs_t *)STM32_TIM2_BASE)
+#define ADC_COMMON ((adc_common_regs_t *)STM32_ADC_COMMON_BASE)
+#define CAN1 ((can_regs_t *)STM32_CAN1_BASE)
+#define IWDG ((iwdg_regs_t *)STM32_IWDG_BASE)
+#define GPIO(port) ((gpio_regs_t *)STM32_GPIO_BASE(port))
+
+static adc_regs_t *const adc_of[3] = {(adc_regs_t *)STM32_ADC1_BASE, (adc_regs_t *)STM32_ADC2_BASE,
+                                      (adc_regs_t *)STM32_ADC3_BASE};
+
+/* Polls of a ready flag before it counts as a timeout: at most 168 MHz and
+ * a few cycles a poll, 200000 polls are over 2 ms, beyond every start-up
+ * time of the datasheet (HSE 2 ms typ., PLL lock 0.1 ms, ADC 3 us, IWDG
+ * register update 5 LSI periods = 0.2 ms); bxCAN's leaving initialisation
+ * waits for 11 recessive bits (11 us at 1 Mbit/s). */
+#define STM32_TIMEOUT_POLLS 200000u
+/* Conversions averaged for the current sensors' zero: 256, 12 bits of
+ * noise averaged to well under a code. */
+#define STM32_ZERO_SAMPLES 256u
+/* Share of the PWM period a duty may not exceed: the low-side switches
+ * conduct at least 2 % (1 us at 20 kHz) around the sampling instant, so
+ * that the shunt sees the phase current. */
+#define STM32_DUTY_MAX 0.98f
+/* LED blink: status every 0.5 s of steps; fault code: code flashes, pause. */
+#define STM32_LED_BLINK_STEPS 5000u
+
+static struct {
+    hal_control_fn fn;
+    void *ctx;
+    bool running;
+    volatile stm32_status_t fault;
+    const char *error;
+    uint32_t tick;
+    uint32_t steps;
+    uint32_t overruns;
+    uint32_t status_next;       /* HAL_STATUS_* bits for the next sample */
+    uint32_t zero[3];
+    float amps_per_code, volts_per_code;
+    pwm_plan_t pwm;
+    clock_plan_t clocks;
+    bool watchdog;
+    hal_can_frame_t can_rx[16];
+    uint32_t can_rx_head, can_rx_count, can_rx_dropped;
+} g;
+
+stm32_status_t stm32_backend_status(void) { return g.fault; }
+uint32_t stm32_backend_overruns(void) { return g.overruns; }
+uint32_t stm32_backend_steps(void) { return g.steps; }
+
+static void bridges_off(void)
+{
+    pwm_outputs(TIM1, false);
+    if (board.has_gate_enable) {
+        gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, false);
+    }
+}
+
+void stm32_backend_fault(stm32_status_t why)
+{
+    bridges_off();
+    if (g.fault == STM32_OK) {
+        g.fault = why;
+        g.error = stm32_status_text(why);
+    }
+    g.running = false;
+    if (board.led_fault.port != 0xFFu) {
+        gpio_write(GPIO(board.led_fault.port), board.led_fault.pin, true);
+    }
+}
+
+static bool fail(stm32_status_t why)
+{
+    stm32_backend_fault(why);
+    return false;
+}
+
+static void pin_af(gpio_pin_t p, gpio_pull_t pull)
+{
+    if (p.port != 0xFFu) gpio_config(GPIO(p.port), p.pin, GPIO_AF, p.af, pull);
+}
+
+bool stm32_backend_init(void)
+{
+    g.error = "";
+    /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
+    const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
+    RCC->CSR |= RCC_CSR_RMVF;
+    /* 2. clocks */
+    uint32_t apb1 = 16000000u, apb2_timer = 16000000u;
+    if (board.hse_hz != 0u) {
+        if (!clock_plan(board.hse_hz, board.sysclk_hz, &g.clocks)) return fail(STM32_FAULT_CLOCK_PLAN);
+        const stm32_status_t st = clock_init(RCC, FLASH_IF, &g.clocks, STM32_TIMEOUT_POLLS);
+        if (st != STM32_OK) return fail(st);
+        apb1 = g.clocks.apb1_hz;
+        apb2_timer = g.clocks.apb2_timer_hz;
+    }
+    RCC->AHB1ENR |= RCC_AHB1ENR_GPIO(0) | RCC_AHB1ENR_GPIO(1) | RCC_AHB1ENR_GPIO(2);
+    RCC->APB2ENR |= RCC_APB2ENR_TIM1EN | RCC_APB2ENR_ADC1EN | RCC_APB2ENR_ADC2EN | RCC_APB2ENR_ADC3EN;
+    RCC->APB1ENR |= RCC_APB1ENR_CAN1EN | RCC_APB1ENR_TIM2EN;
+    /* 3. outputs off first: LEDs, gate driver disabled, PWM configured with MOE = 0 */
+    if (board.led_status.port != 0xFFu)
+        gpio_config(GPIO(board.led_status.port), board.led_status.pin, GPIO_OUTPUT, 0, GPIO_NO_PULL);
+    if (board.led_fault.port != 0xFFu)
+        gpio_config(GPIO(board.led_fault.port), board.led_fault.pin, GPIO_OUTPUT, 0, GPIO_NO_PULL);
+    if (board.has_gate_enable) {
+        gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, false);
+        gpio_config(GPIO(board.gate_enable.port), board.gate_enable.pin, GPIO_OUTPUT, 0, GPIO_PULL_DOWN);
+    }
+    if (!pwm_plan(apb2_timer, board.pwm_hz, board.pwm_hz >= board.control_hz ? board.control_hz : board.pwm_hz,
+                  board.dead_time_ns, &g.pwm)) {
+        return fail(STM32_FAULT_PWM_PLAN);
+    }
+    pwm_init(TIM1, &g.pwm, board.topology, board.break_enable, board.break_active_high);
+    for (uint32_t k = 0; k < 6u; ++k) pin_af(board.pwm_pins[k], GPIO_NO_PULL);
+    if (board.break_enable) pin_af(board.break_pin, board.break_active_high ? GPIO_PULL_DOWN : GPIO_PULL_UP);
+    if (wd_reset) return fail(STM32_FAULT_WATCHDOG_RESET);
+    /* 4. the ADCs: the currents' zero with the bridges off, then the trigger */
+    g.amps_per_code = board.current_sign * board.adc_vref_V / 4096.0f / (board.amp_gain * board.shunt_ohm);
+    g.volts_per_code = board.adc_vref_V / 4096.0f * board.vbus_divider;
+    if (board.control == BOARD_CONTROL_ADC) {
+        for (uint32_t k = 0; k < 4u; ++k) {
+            const gpio_pin_t p = board.analog_pins[k];
+            if (p.port != 0xFFu) gpio_config(GPIO(p.port), p.pin, GPIO_ANALOG, 0, GPIO_NO_PULL);
+        }
+        for (uint32_t k = 0; k < board.n_phases; ++k) {
+            const adc_sequence_t seq = {1u, {board.current_channel[k], 0, 0, 0}};
+            adc_inj_init(ADC_COMMON, adc_of[k], &seq, false, false);
+            uint32_t zero = 0;
+            const stm32_status_t st = adc_inj_zero(adc_of[k], 1u, STM32_ZERO_SAMPLES, board.zero_nominal_code,
+                                                   board.zero_tolerance_code, STM32_TIMEOUT_POLLS, &zero);
+            if (st != STM32_OK) return fail(st);
+            g.zero[k] = zero;
+        }
+        for (uint32_t k = 0; k < board.n_phases; ++k) {
+            /* ADC1 also converts the bus after phase a, and interrupts */
+            const adc_sequence_t seq = (k == 0u) ? (adc_sequence_t){2u, {board.current_channel[0], board.vbus_channel, 0, 0}}
+                                                 : (adc_sequence_t){1u, {board.current_channel[k], 0, 0, 0}};
+            adc_inj_init(ADC_COMMON, adc_of[k], &seq, true, k == 0u);
+        }
+    }
+    /* 5. CAN */
+    if (board.can_enable) {
+        bxcan_timing_t t;
+        if (!bxcan_timing(apb1, board.can_bitrate, BXCAN_SAMPLE_PERMILLE, &t)) return fail(STM32_FAULT_CAN_TIMING);
+        pin_af(board.can_rx, GPIO_PULL_UP);
+        pin_af(board.can_tx, GPIO_NO_PULL);
+        const stm32_status_t st = bxcan_init(CAN1, &t, board.can_node, STM32_TIMEOUT_POLLS);
+        if (st != STM32_OK) return fail(st);
+    }
+    /* 6. the watchdog, last: from here the control step must come */
+    if (board.watchdog_us != 0u) {
+        uint32_t pr, rlr;
+        if (!iwdg_plan(IWDG_LSI_NOMINAL_HZ, board.watchdog_us, &pr, &rlr)) return fail(STM32_FAULT_IWDG_TIMEOUT);
+        const stm32_status_t st = iwdg_start(IWDG, pr, rlr, STM32_TIMEOUT_POLLS);
+        if (st != STM32_OK) return fail(st);
+        g.watchdog = true;
+    }
+    return true;
+}
+
+static void nvic_enable(uint32_t irq, uint8_t prio)
+{
+    NVIC_IPR8(irq) = prio;
+    NVIC_ISER(irq / 32u) = 1u << (irq % 32u);
+}
+
+/* ---- hal.h ---- */
+
+uint32_t hal_control_rate_hz(void) { return board.control_hz; }
+
+bool hal_start(hal_control_fn fn, void *ctx)
+{
+    if (g.fault != STM32_OK) {
+        g.error = stm32_status_text(g.fault);
+        return false;
+    }
+    if (fn == 0) {
+        g.error = "hal_start: control callback is NULL";
+        return false;
+    }
+    g.fn = fn;
+    g.ctx = ctx;
+    g.tick = 0;
+    g.running = true;
+    /* the break first (highest priority), the control step, CAN below it */
+    if (board.break_enable) nvic_enable(IRQ_TIM1_BRK_TIM9, 0x00u);
+    if (board.control == BOARD_CONTROL_ADC) {
+        nvic_enable(IRQ_ADC, 0x10u);
+        if (board.has_gate_enable) gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, true);
+        pwm_outputs(TIM1, true);
+        pwm_start(TIM1);
+    } else {
+        /* TIM2 update at control_hz */
+        TIM2->PSC = 0u;
+        TIM2->ARR = board.control_timer_hz / board.control_hz - 1u;
+        TIM2->DIER = TIM_DIER_UIE;
+        TIM2->CR1 = TIM_CR1_CEN;
+        nvic_enable(IRQ_TIM2, 0x10u);
+    }
+    if (board.can_enable) {
+        CAN1->IER = CAN_IER_FMPIE0 | CAN_IER_BOFIE | CAN_IER_ERRIE;
+        nvic_enable(IRQ_CAN1_RX0, 0x20u);
+        nvic_enable(IRQ_CAN1_SCE, 0x20u);
+    }
+    return true;
+}
+
+void hal_safe_state(void)
+{
+    bridges_off();
+    g.running = false;
+}
+
+uint32_t hal_time_us(void) { return (uint32_t)((uint64_t)g.tick * 1000000u / board.control_hz); }
+
+const char *hal_last_error(void) { return g.error != 0 ? g.error : ""; }
+
+bool hal_can_send(const hal_can_frame_t *f) { return board.can_enable && f != 0 && bxcan_send(CAN1, f); }
+
+bool hal_can_receive(hal_can_frame_t *f)
+{
+    bool got = false;
+    __asm__ volatile("cpsid i" ::: "memory");
+    if (g.can_rx_count > 0u && f != 0) {
+        *f = g.can_rx[g.can_rx_head];
+        g.can_rx_head = (g.can_rx_head + 1u) & 15u;
+        g.can_rx_count -= 1u;
+        got = true;
+    }
+    __asm__ volatile("cpsie i" ::: "memory");
+    return got;
+}
+
+/* ---- the control step ---- */
+
+void stm32_backend_control(hal_sample_t *in)
+{
+    in->tick = g.tick;
+    in->status |= g.status_next;
+    g.status_next = 0u;
+    if (!g.running) {
+        return;
+    }
+    hal_command_t out;
+    out.n_phases = board.n_phases;
+    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) out.v_V[k] = MC_ZERO;
+    g.fn(g.ctx, in, &out);
+    if (g.running && board.control == BOARD_CONTROL_ADC) {
+        /* phase voltages to duties: a leg about the bus midpoint (3 phases),
+         * or a winding across a full bridge driven in opposition (2) */
+        const float vbus = (float)in->v_bus_V;
+        float duty[4];
+        if (vbus > 1.0f) {
+            if (board.n_phases == 3u) {
+                for (uint32_t k = 0; k < 3u; ++k) duty[k] = 0.5f + (float)out.v_V[k] / vbus;
+            } else {
+                for (uint32_t k = 0; k < 2u; ++k) {
+                    duty[2u * k] = 0.5f + 0.5f * (float)out.v_V[k] / vbus;
+                    duty[2u * k + 1u] = 0.5f - 0.5f * (float)out.v_V[k] / vbus;
+                }
+            }
+        } else {
+            for (uint32_t k = 0; k < 4u; ++k) duty[k] = 0.5f;
+        }
+        for (uint32_t k = 0; k < 4u; ++k) duty[k] = duty[k] > STM32_DUTY_MAX ? STM32_DUTY_MAX : duty[k];
+        pwm_set_duty(TIM1, &g.pwm, duty, board.n_phases == 3u ? 3u : 4u);
+    }
+    if (g.watchdog) iwdg_refresh(IWDG);
+    g.tick += 1u;
+    g.steps += 1u;
+}
+
+void ADC_IRQHandler(void)
+{
+    adc_regs_t *a1 = adc_of[0];
+    uint32_t status = 0u;
+    if ((a1->SR & ADC_SR_OVR) != 0u) status |= HAL_STATUS_ADC_FAULT;
+    uint16_t c0[2] = {0u, 0u}, c1 = 0u, c2 = 0u;
+    adc_inj_read(a1, c0, 2u);
+    a1->SR = 0u;
+    adc_inj_read(adc_of[1], &c1, 1u);
+    adc_of[1]->SR = 0u;
+    if (board.n_phases == 3u) {
+        adc_inj_read(adc_of[2], &c2, 1u);
+        adc_of[2]->SR = 0u;
+    }
+    hal_sample_t in = {0};
+    in.n_phases = board.n_phases;
+    in.i_A[0] = (mc_t)(((float)c0[0] - (float)g.zero[0]) * g.amps_per_code);
+    in.i_A[1] = (mc_t)(((float)c1 - (float)g.zero[1]) * g.amps_per_code);
+    if (board.n_phases == 3u) in.i_A[2] = (mc_t)(((float)c2 - (float)g.zero[2]) * g.amps_per_code);
+    in.v_bus_V = (mc_t)((float)c0[1] * g.volts_per_code);
+    in.status = status;
+    if ((TIM1->SR & TIM_SR_BIF) != 0u) in.status |= HAL_STATUS_PWM_TRIP;
+    stm32_backend_control(&in);
+    /* a new end of conversion during the step: the step took longer than a period */
+    if ((a1->SR & ADC_SR_JEOC) != 0u) {
+        g.overruns += 1u;
+        g.status_next |= HAL_STATUS_OVERRUN;
+    }
+}
+
+void TIM1_BRK_TIM9_IRQHandler(void)
+{
+    /* the hardware already forced the outputs off (MOE = 0) */
+    TIM1->SR &= ~TIM_SR_BIF;
+    TIM1->DIER &= ~TIM_DIER_BIE;
+    g.status_next |= HAL_STATUS_PWM_TRIP;
+    stm32_backend_fault(STM32_FAULT_OVERCURRENT_BREAK);
+}
+
+void CAN1_RX0_IRQHandler(void)
+{
+    hal_can_frame_t f;
+    while (bxcan_receive(CAN1, &f)) {
+        if (g.can_rx_count >= 16u) {
+            g.can_rx_dropped += 1u;
+            continue;
+        }
+        g.can_rx[(g.can_rx_head + g.can_rx_count) & 15u] = f;
+        g.can_rx_count += 1u;
+    }
+}
+
+void CAN1_SCE_IRQHandler(void)
+{
+    /* errors and bus-off: automatic recovery (ABOM); clear the interrupt */
+    CAN1->MSR = 1u << 2; /* ERRI */
+}
+
+/* a busy wait of about n core cycles (the fault state has nothing else to do) */
+static void spin(uint32_t n)
+{
+    for (volatile uint32_t k = 0; k < n / 4u; ++k) {
+    }
+}
+
+void stm32_backend_idle(void)
+{
+    const stm32_status_t f = g.fault;
+    if (f == STM32_OK) {
+        const uint32_t phase = g.steps / STM32_LED_BLINK_STEPS;
+        if (board.led_status.port != 0xFFu) {
+            gpio_write(GPIO(board.led_status.port), board.led_status.pin, (phase & 1u) != 0u);
+        }
+        return;
+    }
+    /* the fault code: that many flashes of 0.2 s, then 1 s dark */
+    if (board.led_fault.port == 0xFFu) {
+        return;
+    }
+    const uint32_t hz = (board.hse_hz != 0u) ? board.sysclk_hz : 16000000u;
+    gpio_regs_t *led = GPIO(board.led_fault.port);
+    for (uint32_t k = 0; k < (uint32_t)f; ++k) {
+        gpio_write(led, board.led_fault.pin, true);
+        spin(hz / 5u);
+        gpio_write(led, board.led_fault.pin, false);
+        spin(hz / 5u);
+    }
+    spin(hz);
+}

@@ -1,0 +1,47 @@
+/*
+ * stm32_backend.h - the STM32F405 backend of hal/include/hal/hal.h: the
+ * start-up of the board (boards/board.h) and the control interrupt.
+ *
+ * stm32_backend_init() reads why the chip was reset, sets the clocks, the
+ * pins, the PWM with its outputs off, the ADC, measures the current
+ * sensors' zero with the bridges off, starts CAN and the watchdog. Any
+ * failure ends in the fault state: bridges off (TIM1 MOE = 0, the gate
+ * driver disabled), the fault code kept and blinked on the fault LED.
+ * Then hal_start() enables the outputs and the control interrupt: at each
+ * end of conversion the sample (currents, bus voltage, status bits) goes to
+ * the registered callback and its phase voltages to the PWM duties;
+ * the watchdog is refreshed by the step, overruns are counted and reported
+ * in the next sample's status.
+ */
+#ifndef STM32_BACKEND_H
+#define STM32_BACKEND_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal/hal.h"
+#include "stm32_status.h"
+
+/* Start-up of the board; false (and the fault state) on any failure. */
+bool stm32_backend_init(void);
+
+/* The fault state: bridges off, code kept; callable from any context.
+ * Does not return when called from a handler of a CPU fault (it blinks). */
+void stm32_backend_fault(stm32_status_t why);
+
+/* The code of the fault state, STM32_OK if none. */
+stm32_status_t stm32_backend_status(void);
+
+/* The body of the control interrupt: sample in, callback, PWM out.
+ * Called by the board's interrupt (ADC or TIM2) with the sample it read. */
+void stm32_backend_control(hal_sample_t *in);
+
+/* Counters for telemetry and tests. */
+uint32_t stm32_backend_overruns(void);
+uint32_t stm32_backend_steps(void);
+
+/* Idle work of the main loop: the LEDs (status blinks at 1 Hz while
+ * running; the fault LED blinks the fault code). */
+void stm32_backend_idle(void);
+
+#endif /* STM32_BACKEND_H */
