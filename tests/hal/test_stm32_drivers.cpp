@@ -96,7 +96,7 @@ TEST(Stm32Clock, EachTimeoutEndsInItsFault)
 }
 
 // 20 kHz from the 168 MHz TIM1 clock: ARR = 168e6 / (2 * 20e3) = 4200;
-// 10 kHz control: RCR = 2 * 2 - 1 = 3; 500 ns dead time = 84 clocks,
+// 10 kHz control: every 2nd conversion; 500 ns dead time = 84 clocks,
 // DTG = 84 (first range); 1 us = 168 clocks: DTG = 0x80 | (84 - 64) =
 // 0x94, exactly 168; 3 us = 504 clocks: (32 + 31) * 8 = 504, DTG = 0xDF.
 TEST(Stm32Pwm, PlanFor20kHzAndTheDeadTimeEncoding)
@@ -104,7 +104,7 @@ TEST(Stm32Pwm, PlanFor20kHzAndTheDeadTimeEncoding)
     pwm_plan_t p;
     ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 500u, &p));
     EXPECT_EQ(p.arr, 4200u);
-    EXPECT_EQ(p.rcr, 3u);
+    EXPECT_EQ(p.decimation, 2u);
     EXPECT_EQ(p.dtg, 84u);
     EXPECT_EQ(p.dead_ns, 500u);
     ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 1000u, &p));
@@ -122,8 +122,10 @@ TEST(Stm32Pwm, PlanFor20kHzAndTheDeadTimeEncoding)
 }
 
 // Three half-bridges: CR1 = centre-aligned 1 | ARPE | URS, PWM mode 1 with
-// preload on CH1-3, CCER = CCxE | CCxNE, BDTR = OSSI | OSSR | DTG | BKE |
-// BKP and MOE off until asked, TRGO on update, the break interrupt.
+// preload on CH1-3, CH4 internal in PWM mode 2 at ARR - 1 (0x7800 in
+// CCMR2's high byte with preload), CCER = CCxE | CCxNE, BDTR = OSSI | OSSR |
+// DTG | BKE | BKP and MOE off until asked, TRGO = OC4REF, the break
+// interrupt.
 TEST(Stm32Pwm, ThreeHalfBridgesRegisters)
 {
     pwm_plan_t p;
@@ -131,11 +133,12 @@ TEST(Stm32Pwm, ThreeHalfBridgesRegisters)
     auto t = zeroed<tim_regs_t>();
     pwm_init(&t, &p, PWM_THREE_HALF_BRIDGES, true, true);
     EXPECT_EQ(t.CR1, 0xA4u);
-    EXPECT_EQ(t.CR2, 0x20u);
+    EXPECT_EQ(t.CR2, 0x70u);
     EXPECT_EQ(t.ARR, 4200u);
-    EXPECT_EQ(t.RCR, 3u);
+    EXPECT_EQ(t.RCR, 0u);
     EXPECT_EQ(t.CCMR1, 0x6868u);
-    EXPECT_EQ(t.CCMR2, 0x0068u);
+    EXPECT_EQ(t.CCMR2, 0x7868u);
+    EXPECT_EQ(t.CCR[3], 4199u);
     EXPECT_EQ(t.CCER, 0x0555u);
     EXPECT_EQ(t.BDTR, 0x3C00u | 84u);
     EXPECT_EQ(t.DIER, TIM_DIER_BIE);
@@ -154,8 +157,9 @@ TEST(Stm32Pwm, ThreeHalfBridgesRegisters)
     EXPECT_FALSE(t.BDTR & TIM_BDTR_MOE);
 }
 
-// Two full bridges: four plain outputs, no complementary, no dead time
-// (the bridge IC's own), no break when the board has none.
+// Two full bridges, bipolar: CH1/CH1N and CH2/CH2N (each pair the two legs
+// of one bridge) with the dead time, CH4 the trigger, no break when the
+// board has none.
 TEST(Stm32Pwm, TwoFullBridgesRegisters)
 {
     pwm_plan_t p;
@@ -163,9 +167,9 @@ TEST(Stm32Pwm, TwoFullBridgesRegisters)
     auto t = zeroed<tim_regs_t>();
     pwm_init(&t, &p, PWM_TWO_FULL_BRIDGES, false, false);
     EXPECT_EQ(t.CCMR1, 0x6868u);
-    EXPECT_EQ(t.CCMR2, 0x6868u);
-    EXPECT_EQ(t.CCER, 0x1111u);
-    EXPECT_EQ(t.BDTR, 0x0C00u);
+    EXPECT_EQ(t.CCMR2, 0x7800u);
+    EXPECT_EQ(t.CCER, 0x0055u);
+    EXPECT_EQ(t.BDTR, 0x0C00u | 84u);
     EXPECT_EQ(t.DIER, 0u);
 }
 

@@ -45,9 +45,7 @@ bool pwm_plan(uint32_t f_tim_hz, uint32_t f_pwm_hz, uint32_t f_ctrl_hz, uint32_t
         return false;
     }
     p->arr = arr;
-    /* centre-aligned: the repetition counter counts half periods (RM0090
-     * 17.3.3); 2 n - 1 (odd) puts every update at the same end */
-    p->rcr = 2u * periods - 1u;
+    p->decimation = periods;
     p->dtg = dtg;
     p->dead_ns = (uint32_t)(((uint64_t)actual * 1000000000u) / f_tim_hz);
     p->f_pwm_hz = f_pwm_hz;
@@ -60,36 +58,32 @@ void pwm_init(tim_regs_t *t, const pwm_plan_t *p, pwm_topology_t topo, bool brea
     t->BDTR = 0; /* MOE = 0 */
     t->PSC = 0;
     t->ARR = p->arr;
-    t->RCR = p->rcr;
-    const uint32_t n_ch = (topo == PWM_THREE_HALF_BRIDGES) ? 3u : 4u;
+    t->RCR = 0u; /* an update (shadow registers loaded) at both ends */
+    const uint32_t n_ch = (topo == PWM_THREE_HALF_BRIDGES) ? 3u : 2u;
     uint32_t ccmr[2] = {0u, 0u};
     uint32_t ccer = 0u;
     for (uint32_t ch = 0; ch < n_ch; ++ch) {
         ccmr[ch / 2u] |= TIM_CCMR_OC_PWM1(ch) | TIM_CCMR_OC_PE(ch);
-        ccer |= TIM_CCER_CCE(ch);
-        if (topo == PWM_THREE_HALF_BRIDGES) {
-            ccer |= TIM_CCER_CCNE(ch);
-        }
+        ccer |= TIM_CCER_CCE(ch) | TIM_CCER_CCNE(ch);
         t->CCR[ch] = p->arr / 2u;
     }
+    /* CH4 internal (no output enabled): OC4REF high from ARR - 1 up to the
+     * top and back, the ADC's trigger through TRGO */
+    ccmr[1] |= TIM_CCMR_OC_PWM2(3u) | TIM_CCMR_OC_PE(3u);
+    t->CCR[3] = p->arr - 1u;
     t->CCMR1 = ccmr[0];
     t->CCMR2 = ccmr[1];
     t->CCER = ccer;
-    /* TRGO on update: the ADC's injected trigger */
-    t->CR2 = TIM_CR2_MMS_UPDATE;
+    t->CR2 = TIM_CR2_MMS_OC4REF;
     /* off-state selection: the outputs are driven to their inactive level
-     * when MOE = 0 (OSSI) and while a channel is disabled (OSSR); dead
-     * time only with complementary outputs */
-    uint32_t bdtr = TIM_BDTR_OSSI | TIM_BDTR_OSSR;
-    if (topo == PWM_THREE_HALF_BRIDGES) {
-        bdtr |= p->dtg & TIM_BDTR_DTG_MASK;
-    }
+     * when MOE = 0 (OSSI) and while a channel is disabled (OSSR) */
+    uint32_t bdtr = TIM_BDTR_OSSI | TIM_BDTR_OSSR | (p->dtg & TIM_BDTR_DTG_MASK);
     if (break_enable) {
         bdtr |= TIM_BDTR_BKE | (break_active_high ? TIM_BDTR_BKP : 0u);
     }
     t->BDTR = bdtr;
     t->CR1 = TIM_CR1_CMS_CENTER1 | TIM_CR1_ARPE;
-    /* load ARR, RCR, CCRs now (UG), without an interrupt (URS) */
+    /* load ARR, CCRs now (UG), without an interrupt (URS) */
     t->CR1 |= TIM_CR1_URS;
     t->EGR = TIM_EGR_UG;
     t->SR = 0u;

@@ -48,6 +48,7 @@ static struct {
     uint32_t tick;
     uint32_t steps;
     uint32_t overruns;
+    uint32_t conversions;       /* ADC1 JEOC interrupts */
     uint32_t status_next;       /* HAL_STATUS_* bits for the next sample */
     uint32_t zero[3];
     float amps_per_code, volts_per_code;
@@ -264,21 +265,15 @@ void stm32_backend_control(hal_sample_t *in)
         /* phase voltages to duties: a leg about the bus midpoint (3 phases),
          * or a winding across a full bridge driven in opposition (2) */
         const float vbus = (float)in->v_bus_V;
-        float duty[4];
-        if (vbus > 1.0f) {
-            if (board.n_phases == 3u) {
-                for (uint32_t k = 0; k < 3u; ++k) duty[k] = 0.5f + (float)out.v_V[k] / vbus;
-            } else {
-                for (uint32_t k = 0; k < 2u; ++k) {
-                    duty[2u * k] = 0.5f + 0.5f * (float)out.v_V[k] / vbus;
-                    duty[2u * k + 1u] = 0.5f - 0.5f * (float)out.v_V[k] / vbus;
-                }
-            }
-        } else {
-            for (uint32_t k = 0; k < 4u; ++k) duty[k] = 0.5f;
+        /* a leg about the bus midpoint: d = 1/2 + v/v_bus (3 phases); a
+         * bipolar full bridge: v = (2 d - 1) v_bus, d = 1/2 + v/(2 v_bus) */
+        const float gain = (board.n_phases == 3u) ? 1.0f : 0.5f;
+        float duty[3] = {0.5f, 0.5f, 0.5f};
+        for (uint32_t k = 0; k < board.n_phases && k < 3u; ++k) {
+            if (vbus > 1.0f) duty[k] = 0.5f + gain * (float)out.v_V[k] / vbus;
+            duty[k] = duty[k] > STM32_DUTY_MAX ? STM32_DUTY_MAX : duty[k];
         }
-        for (uint32_t k = 0; k < 4u; ++k) duty[k] = duty[k] > STM32_DUTY_MAX ? STM32_DUTY_MAX : duty[k];
-        pwm_set_duty(TIM1, &g.pwm, duty, board.n_phases == 3u ? 3u : 4u);
+        pwm_set_duty(TIM1, &g.pwm, duty, board.n_phases);
     }
     if (g.watchdog) iwdg_refresh(IWDG);
     g.tick += 1u;
@@ -287,7 +282,15 @@ void stm32_backend_control(hal_sample_t *in)
 
 void ADC_IRQHandler(void)
 {
+    const uint32_t t0 = SYST_CVR;
     adc_regs_t *a1 = adc_of[0];
+    /* a conversion every PWM period; the control step takes every
+     * decimation-th (f_pwm / f_ctrl) */
+    g.conversions += 1u;
+    if ((g.conversions % g.pwm.decimation) != 0u) {
+        for (uint32_t k = 0; k < board.n_phases; ++k) adc_of[k]->SR = 0u;
+        return;
+    }
     uint32_t status = 0u;
     if ((a1->SR & ADC_SR_OVR) != 0u) status |= HAL_STATUS_ADC_FAULT;
     uint16_t c0[2] = {0u, 0u}, c1 = 0u, c2 = 0u;
@@ -308,8 +311,10 @@ void ADC_IRQHandler(void)
     in.status = status;
     if ((TIM1->SR & TIM_SR_BIF) != 0u) in.status |= HAL_STATUS_PWM_TRIP;
     stm32_backend_control(&in);
-    /* a new end of conversion during the step: the step took longer than a period */
-    if ((a1->SR & ADC_SR_JEOC) != 0u) {
+    /* the step longer than a control period (SysTick at SYSCLK, free-running
+     * 24-bit down counter: main starts it) */
+    const uint32_t took = (t0 - SYST_CVR) & 0x00FFFFFFu;
+    if (took > board.sysclk_hz / board.control_hz) {
         g.overruns += 1u;
         g.status_next |= HAL_STATUS_OVERRUN;
     }

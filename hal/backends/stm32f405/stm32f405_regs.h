@@ -89,12 +89,14 @@ STM32_ASSERT(offsetof(tim_regs_t, BDTR) == 0x44, "TIM1_BDTR at 0x44");
 #define TIM_CR1_CMS_MASK (3u << 5)
 #define TIM_CR1_ARPE (1u << 7)
 #define TIM_CR2_MMS_UPDATE (2u << 4)  /* TRGO on the update event */
+#define TIM_CR2_MMS_OC4REF (7u << 4)  /* TRGO = OC4REF */
 #define TIM_DIER_UIE (1u << 0)
 #define TIM_DIER_BIE (1u << 7)
 #define TIM_SR_UIF (1u << 0)
 #define TIM_SR_BIF (1u << 7)
 #define TIM_EGR_UG (1u << 0)
 #define TIM_CCMR_OC_PWM1(ch) ((6u << 4) << (8u * ((ch) & 1u))) /* in CCMR1 (ch 0, 1) or CCMR2 (2, 3) */
+#define TIM_CCMR_OC_PWM2(ch) ((7u << 4) << (8u * ((ch) & 1u)))
 #define TIM_CCMR_OC_PE(ch) ((1u << 3) << (8u * ((ch) & 1u)))
 #define TIM_CCER_CCE(ch) (1u << (4u * (ch)))
 #define TIM_CCER_CCNE(ch) (1u << (4u * (ch) + 2u))
