@@ -54,7 +54,7 @@ def main():
     vec = os.path.join(a.build_root, "pil_vectors_paper001.c")
     cb.run([gen, "--drive", "paper001", a.scenario, vec, str(a.max_samples)])
     bdir = os.path.join(a.build_root, "stm32f405")
-    cb.cross_build("stm32f405", bdir, {"MC_PIL_VECTORS": vec}, targets=["stm32_qemu"])
+    cb.cross_build("stm32f405", bdir, {"MC_PIL_VECTORS": vec}, targets=["stm32_qemu", "stm32_qemu_hse"])
     elf = os.path.join(bdir, "stm32_qemu.elf")
     # sleep=off: while the core waits for the interrupt (wfi), virtual time
     # jumps to the next timer event instead of following the host's clock,
@@ -64,6 +64,11 @@ def main():
     cb.log("+", " ".join(cmd))
     r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
     rc, out = r.returncode, r.stdout
+    # the image asking for a crystal QEMU's RCC never reports: fault 1, the
+    # bridges off, no control step
+    hse = subprocess.run(cmd[:-1] + [os.path.join(bdir, "stm32_qemu_hse.elf")], stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True, timeout=600).stdout
+    hse_ok = "init failed: HSE crystal did not start fault=1" in hse and "STM32QEMU FAIL" in hse
     isr, step, info = [], [], {}
     for line in out.splitlines():
         if line.startswith("Q "):
@@ -93,12 +98,13 @@ def main():
     period_us = [int(info.get(k, "0")) / systick_hz * 1e6 if systick_hz else 0.0
                  for k in ("period_min", "period_max")]
     clocks_ok = abs(nop_ratio - 1.0) < 0.01 and all(abs(p - 100.0) < 0.5 for p in period_us)
-    ok = rc == 0 and "STM32QEMU PASS" in out and clocks_ok
+    ok = rc == 0 and "STM32QEMU PASS" in out and clocks_ok and hse_ok
     res = {"machine": MACHINE, "icount_shift": a.shift, "scenario": os.path.relpath(a.scenario, cb.ROOT),
            "periods": int(info.get("periods", "0")), "steps": int(info.get("steps", "0")),
            "mismatches": int(info.get("mismatches", "-1")), "overruns": int(info.get("overruns", "-1")),
            "systick_hz_measured": round(systick_hz), "control_period_us_min": round(period_us[0], 2),
            "control_period_us_max": round(period_us[1], 2),
+           "crystal_missing_gives_fault_1": hse_ok,
            "pass": ok}
     res.update(stats(isr, "isr"))
     res.update(stats(step, "drive_step"))

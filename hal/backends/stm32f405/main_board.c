@@ -17,7 +17,7 @@ int main(void)
     SYST_RVR = 0x00FFFFFFu;
     SYST_CVR = 0u;
     SYST_CSR = 5u;
-    if (stm32_backend_init()) {
+    if (stm32_backend_init(&stm32_hw)) {
         if (!app_drive_init(&app, board_drive_cfg_words, board.can_node, board.can_enable)) {
             stm32_backend_fault(STM32_FAULT_DRIVE);
         } else if (!hal_start(&app_drive_control, &app)) {

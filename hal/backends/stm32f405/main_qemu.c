@@ -130,9 +130,10 @@ int main(void)
     mcu_puts(" source=");
     mcu_puts(pil_source);
     mcu_puts("\n");
-    if (!stm32_backend_init()) {
+    if (!stm32_backend_init(&stm32_hw)) {
         mcu_puts("STM32QEMU init failed: ");
         mcu_puts(hal_last_error());
+        mcu_put_kv("fault", (uint32_t)stm32_backend_status());
         mcu_puts("\nSTM32QEMU FAIL\n");
         mcu_exit(1);
     }

@@ -11,17 +11,29 @@
 #include "pwm_tim1.h"
 #include "stm32f405_regs.h"
 
-#define RCC ((rcc_regs_t *)STM32_RCC_BASE)
-#define FLASH_IF ((flash_regs_t *)STM32_FLASH_IF_BASE)
-#define TIM1 ((tim_regs_t *)STM32_TIM1_BASE)
-#define TIM2 ((tim_regs_t *)STM32_TIM2_BASE)
-#define ADC_COMMON ((adc_common_regs_t *)STM32_ADC_COMMON_BASE)
-#define CAN1 ((can_regs_t *)STM32_CAN1_BASE)
-#define IWDG ((iwdg_regs_t *)STM32_IWDG_BASE)
-#define GPIO(port) ((gpio_regs_t *)STM32_GPIO_BASE(port))
+/* the chip's peripherals; host tests pass fake blocks to stm32_backend_init */
+const stm32_periph_t stm32_hw = {
+    .rcc = (rcc_regs_t *)STM32_RCC_BASE,
+    .flash = (flash_regs_t *)STM32_FLASH_IF_BASE,
+    .tim1 = (tim_regs_t *)STM32_TIM1_BASE,
+    .tim2 = (tim_regs_t *)STM32_TIM2_BASE,
+    .adc_common = (adc_common_regs_t *)STM32_ADC_COMMON_BASE,
+    .adc = {(adc_regs_t *)STM32_ADC1_BASE, (adc_regs_t *)STM32_ADC2_BASE, (adc_regs_t *)STM32_ADC3_BASE},
+    .can1 = (can_regs_t *)STM32_CAN1_BASE,
+    .iwdg = (iwdg_regs_t *)STM32_IWDG_BASE,
+    .gpio = {(gpio_regs_t *)STM32_GPIO_BASE(0), (gpio_regs_t *)STM32_GPIO_BASE(1), (gpio_regs_t *)STM32_GPIO_BASE(2),
+             (gpio_regs_t *)STM32_GPIO_BASE(3), (gpio_regs_t *)STM32_GPIO_BASE(4)},
+};
 
-static adc_regs_t *const adc_of[3] = {(adc_regs_t *)STM32_ADC1_BASE, (adc_regs_t *)STM32_ADC2_BASE,
-                                      (adc_regs_t *)STM32_ADC3_BASE};
+#define RCC (g.hw->rcc)
+#define FLASH_IF (g.hw->flash)
+#define TIM1 (g.hw->tim1)
+#define TIM2 (g.hw->tim2)
+#define ADC_COMMON (g.hw->adc_common)
+#define CAN1 (g.hw->can1)
+#define IWDG (g.hw->iwdg)
+#define GPIO(port) (g.hw->gpio[(port)])
+#define adc_of (g.hw->adc)
 
 /* Polls of a ready flag before it counts as a timeout: at most 168 MHz and
  * a few cycles a poll, 200000 polls are over 2 ms, beyond every start-up
@@ -40,6 +52,7 @@ static adc_regs_t *const adc_of[3] = {(adc_regs_t *)STM32_ADC1_BASE, (adc_regs_t
 #define STM32_LED_BLINK_STEPS 5000u
 
 static struct {
+    const stm32_periph_t *hw;
     hal_control_fn fn;
     void *ctx;
     bool running;
@@ -57,7 +70,7 @@ static struct {
     bool watchdog;
     hal_can_frame_t can_rx[16];
     uint32_t can_rx_head, can_rx_count, can_rx_dropped;
-} g;
+} g = {.hw = &stm32_hw};
 
 stm32_status_t stm32_backend_status(void) { return g.fault; }
 uint32_t stm32_backend_overruns(void) { return g.overruns; }
@@ -95,8 +108,11 @@ static void pin_af(gpio_pin_t p, gpio_pull_t pull)
     if (p.port != 0xFFu) gpio_config(GPIO(p.port), p.pin, GPIO_AF, p.af, pull);
 }
 
-bool stm32_backend_init(void)
+bool stm32_backend_init(const stm32_periph_t *hw)
 {
+    g.hw = hw;
+    g.fault = STM32_OK;
+    g.running = false;
     g.error = "";
     /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
     const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
@@ -236,14 +252,14 @@ bool hal_can_send(const hal_can_frame_t *f) { return board.can_enable && f != 0 
 bool hal_can_receive(hal_can_frame_t *f)
 {
     bool got = false;
-    __asm__ volatile("cpsid i" ::: "memory");
+    stm32_irq_disable();
     if (g.can_rx_count > 0u && f != 0) {
         *f = g.can_rx[g.can_rx_head];
         g.can_rx_head = (g.can_rx_head + 1u) & 15u;
         g.can_rx_count -= 1u;
         got = true;
     }
-    __asm__ volatile("cpsie i" ::: "memory");
+    stm32_irq_enable();
     return got;
 }
 
@@ -320,7 +336,9 @@ void ADC_IRQHandler(void)
     }
 }
 
-void TIM1_BRK_TIM9_IRQHandler(void)
+void TIM1_BRK_TIM9_IRQHandler(void) { stm32_backend_break(); }
+
+void stm32_backend_break(void)
 {
     /* the hardware already forced the outputs off (MOE = 0) */
     TIM1->SR &= ~TIM_SR_BIF;

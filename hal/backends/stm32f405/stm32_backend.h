@@ -21,9 +21,29 @@
 
 #include "hal/hal.h"
 #include "stm32_status.h"
+#include "stm32f405_regs.h"
 
-/* Start-up of the board; false (and the fault state) on any failure. */
-bool stm32_backend_init(void);
+/* The peripherals the backend drives: the chip's (stm32_hw), or fake
+ * blocks in a host test. */
+typedef struct {
+    rcc_regs_t *rcc;
+    flash_regs_t *flash;
+    tim_regs_t *tim1, *tim2;
+    adc_common_regs_t *adc_common;
+    adc_regs_t *adc[3];
+    can_regs_t *can1;
+    iwdg_regs_t *iwdg;
+    gpio_regs_t *gpio[5]; /* ports A-E */
+} stm32_periph_t;
+
+extern const stm32_periph_t stm32_hw;
+
+/* Start-up of the board on hw; false (and the fault state) on any failure. */
+bool stm32_backend_init(const stm32_periph_t *hw);
+
+/* TIM1's break: what its interrupt does (the hardware already turned the
+ * outputs off): the fault state with STM32_FAULT_OVERCURRENT_BREAK. */
+void stm32_backend_break(void);
 
 /* The fault state: bridges off, code kept; callable from any context.
  * Does not return when called from a handler of a CPU fault (it blinks). */

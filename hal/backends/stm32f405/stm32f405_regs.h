@@ -203,14 +203,14 @@ typedef struct {
 #define STM32_FLASH_IF_BASE 0x40023C00u
 
 /* ---- Cortex-M4 system control (ARMv7-M ARM B3) ---- */
-#define SCB_CPACR (*(volatile uint32_t *)0xE000ED88u)
-#define SCB_VTOR (*(volatile uint32_t *)0xE000ED08u)
-#define NVIC_ISER(n) (*(volatile uint32_t *)(0xE000E100u + 4u * (uint32_t)(n)))
-#define NVIC_ICER(n) (*(volatile uint32_t *)(0xE000E180u + 4u * (uint32_t)(n)))
-#define NVIC_IPR8(irq) (*(volatile uint8_t *)(0xE000E400u + (uint32_t)(irq)))
-#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
-#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
-#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+#define SCB_CPACR (*(volatile uint32_t *)(uintptr_t)0xE000ED88u)
+#define SCB_VTOR (*(volatile uint32_t *)(uintptr_t)0xE000ED08u)
+#define NVIC_ISER(n) (*(volatile uint32_t *)(uintptr_t)(0xE000E100u + 4u * (uint32_t)(n)))
+#define NVIC_ICER(n) (*(volatile uint32_t *)(uintptr_t)(0xE000E180u + 4u * (uint32_t)(n)))
+#define NVIC_IPR8(irq) (*(volatile uint8_t *)(uintptr_t)(0xE000E400u + (uint32_t)(irq)))
+#define SYST_CSR (*(volatile uint32_t *)(uintptr_t)0xE000E010u)
+#define SYST_RVR (*(volatile uint32_t *)(uintptr_t)0xE000E014u)
+#define SYST_CVR (*(volatile uint32_t *)(uintptr_t)0xE000E018u)
 
 /* Interrupt numbers of the STM32F405 (RM0090 table 61) the backend uses. */
 #define IRQ_ADC 18
@@ -220,5 +220,20 @@ typedef struct {
 #define IRQ_TIM1_BRK_TIM9 24
 #define IRQ_TIM2 28
 #define STM32F405_N_IRQ 82
+
+/* Interrupts off and on around a short critical section (no-ops in a host
+ * build of the drivers' tests). */
+static inline void stm32_irq_disable(void)
+{
+#if defined(__arm__)
+    __asm__ volatile("cpsid i" ::: "memory");
+#endif
+}
+static inline void stm32_irq_enable(void)
+{
+#if defined(__arm__)
+    __asm__ volatile("cpsie i" ::: "memory");
+#endif
+}
 
 #endif /* STM32F405_REGS_H */
