@@ -122,6 +122,7 @@ struct Options {
     bool quiet = false;
     bool can_given = false;
     bool realtime = false;
+    std::string backend = "plant";
 };
 
 // Refuses output paths that cannot work before anything runs; creates nothing.
@@ -460,6 +461,19 @@ int run(const Options& opt)
     const mcsim::Amplifier& amp = rig.amp;
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
     (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
+    // --backend board-emulated: the DAC/ADC board between drive and plant,
+    // its sensors calibrated with the outputs at zero before the drive
+    // starts (a sensor out of range: nothing runs, nothing is written)
+    std::unique_ptr<mcsim::BoardEmulation> board;
+    if (opt.backend == "board-emulated") {
+        board = std::make_unique<mcsim::BoardEmulation>(sc.board, sc.seed);
+        std::string why;
+        if (!board->calibrate(&why)) {
+            hal_sw_plant_detach();
+            throw std::runtime_error(sc.path + ": board calibration refused to start: " + why);
+        }
+        hal_sw_plant_set_board(board.get());
+    }
     mcsim::FaultInjector injector(sc.faults, sc.seed);
     if (sc.faults.any()) {
         hal_sw_plant_set_faults(&injector);
@@ -539,6 +553,17 @@ int run(const Options& opt)
     hal_safe_state();
     hal_sw_plant_detach();
     mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
+    if (board) {
+        // the calibration against the emulated sensors' true offsets, and
+        // the A/D converter's step
+        const board_chain_t& ch = board->chain();
+        double err_max = 0.0;
+        for (int k = 0; k < ch.cfg.n_phases; ++k) {
+            err_max = std::max(err_max, std::fabs(ch.offset_V[k] - sc.board.sensor_offset_V[k]));
+        }
+        metrics.emplace_back("board_offset_error_max_V", err_max);
+        metrics.emplace_back("board_adc_step_V", 2.0 * ch.cfg.adc_range_V / (std::ldexp(1.0, ch.cfg.adc_bits) - 1.0));
+    }
     if (can_ctx) {
         const can_node_t& nd = can_ctx->node;
         metrics.emplace_back("can_frames_sent", static_cast<std::int64_t>(can->sent()));
@@ -657,6 +682,12 @@ int main(int argc, char** argv)
         ->type_name("N")
         ->check(CLI::Range(0u, 15u))
         ->needs(can_opt);
+    app.add_option("--backend", opt.backend,
+                   "plant (default: the drive on the plant's sensor and amplifier models) or board-emulated (through "
+                   "an emulated DAC/ADC board, [board] of the scenario: Hall sensors, 16-bit converters, linear "
+                   "amplifiers, the sensors' offsets calibrated at start-up)")
+        ->check(CLI::IsMember({"plant", "board-emulated"}))
+        ->type_name("NAME");
     app.add_flag("--realtime", opt.realtime, "pace the simulation to the wall clock (default: as fast as it runs)");
     app.add_flag("--no-plot", opt.no_plot, "do not write the PNG plot");
     app.add_flag("--no-csv", opt.no_csv, "do not record or write the CSV log (and so no PNG either)");

@@ -594,6 +594,125 @@ std::uint32_t Scenario::n_ticks() const
 
 MotorParams load_motor_file(const std::string& path) { return read_motor_file(path); }
 
+// [board]: the DAC/ADC board of motorsim --backend board-emulated (and of
+// the Comedi backend). Every key has a default: a DS1104-like card (8 A/D
+// and 8 D/A channels, 16 bits, +-10 V), the amplifier's gain that puts the
+// D/A range on the supply, a Hall sensor gain that puts 1.25 i_trip on the
+// A/D range, the bus through a divider that puts 1.25 times it there, and
+// as the emulated hardware's imperfections: offsets of 2 % of full scale,
+// gain errors of 1 % (Hall sensors), 1 mV of noise (3 codes).
+void read_board(const View& root, Scenario* sc)
+{
+    BoardParams& b = sc->board;
+    board_chain_config_t& c = b.chain;
+    const int n_ph = sc->motor.n_phases();
+    const double v_phase = sc->v_max_V;                     // a phase's largest voltage
+    const double v_bus = n_ph == 3 ? 2.0 * v_phase : v_phase; // the bus (hal_sw_plant.h)
+    c.n_phases = n_ph;
+    c.ai_channels = 8;
+    c.ao_channels = 8;
+    for (int k = 0; k < 3; ++k) {
+        c.current_ai[k] = k;
+        c.voltage_ao[k] = k;
+    }
+    c.vbus_ai = n_ph;
+    c.adc_bits = 16;
+    c.dac_bits = 16;
+    c.adc_range_V = 10.0;
+    c.dac_range_V = 10.0;
+    c.supply_V = v_phase;
+    c.offset_max_V = 0.5;
+    b.calibration_samples = 1000;
+    const double offsets[3] = {0.2, -0.15, 0.1};
+    const double gains[3] = {0.01, -0.01, 0.005};
+    for (int k = 0; k < 3; ++k) {
+        b.sensor_offset_V[k] = offsets[k];
+        b.sensor_gain_error[k] = gains[k];
+    }
+    b.noise_V = 1e-3;
+    const auto v = root.table("board");
+    if (v) {
+        v->only({"ai_channels", "ao_channels", "current_channels", "vbus_channel", "voltage_channels", "adc_bits",
+                 "dac_bits", "adc_range_V", "dac_range_V", "sensor_V_per_A", "amplifier_V_per_V", "vbus_V_per_V",
+                 "offset_max_V", "calibration_samples", "sensor_offset_V", "sensor_gain_error", "noise_V"});
+        sc->board_given = true;
+        auto int_of = [&](const char* k, int* out) {
+            if (const auto x = v->integer(k)) {
+                if (*x < -1000000 || *x > 1000000) v->fail(k, "out of range");
+                *out = static_cast<int>(*x);
+            }
+        };
+        auto num_of = [&](const char* k, double* out) {
+            if (const auto x = v->number(k)) *out = *x;
+        };
+        auto ints_of = [&](const char* k, int* out) {
+            const toml::node* n = v->raw().get(k);
+            if (n == nullptr) return;
+            const toml::array* a = n->as_array();
+            if (a == nullptr || static_cast<int>(a->size()) != n_ph) {
+                v->fail(k, "expected an array of " + std::to_string(n_ph) + " channel numbers, one per phase");
+            }
+            for (int i = 0; i < n_ph; ++i) {
+                const toml::node& e = (*a)[static_cast<std::size_t>(i)];
+                if (!e.is_integer()) v->fail(k, "expected integers (channel numbers)");
+                out[i] = static_cast<int>(e.as_integer()->get());
+            }
+        };
+        auto nums_of = [&](const char* k, double* out) {
+            const toml::node* n = v->raw().get(k);
+            if (n == nullptr) return;
+            const toml::array* a = n->as_array();
+            if (a == nullptr || static_cast<int>(a->size()) != n_ph) {
+                v->fail(k, "expected an array of " + std::to_string(n_ph) + " numbers, one per phase");
+            }
+            for (int i = 0; i < n_ph; ++i) {
+                const toml::node& e = (*a)[static_cast<std::size_t>(i)];
+                if (!e.is_number()) v->fail(k, "expected numbers");
+                out[i] = e.is_floating_point() ? e.as_floating_point()->get() : static_cast<double>(e.as_integer()->get());
+                if (!std::isfinite(out[i])) v->fail(k, "must be finite");
+            }
+        };
+        int_of("ai_channels", &c.ai_channels);
+        int_of("ao_channels", &c.ao_channels);
+        ints_of("current_channels", c.current_ai);
+        int_of("vbus_channel", &c.vbus_ai);
+        ints_of("voltage_channels", c.voltage_ao);
+        int_of("adc_bits", &c.adc_bits);
+        int_of("dac_bits", &c.dac_bits);
+        num_of("adc_range_V", &c.adc_range_V);
+        num_of("dac_range_V", &c.dac_range_V);
+        num_of("offset_max_V", &c.offset_max_V);
+        int_of("calibration_samples", &b.calibration_samples);
+        nums_of("sensor_offset_V", b.sensor_offset_V);
+        nums_of("sensor_gain_error", b.sensor_gain_error);
+        num_of("noise_V", &b.noise_V);
+        if (b.calibration_samples < 1) v->fail("calibration_samples", "must be >= 1");
+        if (!(b.noise_V >= 0.0)) v->fail("noise_V", "must be >= 0");
+        for (int k = 0; k < n_ph; ++k) {
+            if (!(b.sensor_gain_error[k] > -1.0)) v->fail("sensor_gain_error", "must be > -1 (a gain of 0 or below)");
+        }
+    }
+    // the derived gains, unless given
+    c.amplifier_V_per_V = c.dac_range_V > 0.0 ? v_phase / c.dac_range_V : 0.0;
+    c.sensor_V_per_A = sc->i_trip_A > 0.0 ? c.adc_range_V / (1.25 * sc->i_trip_A) : 0.0;
+    c.vbus_V_per_V = c.adc_range_V > 0.0 ? 1.25 * v_bus / c.adc_range_V : 0.0;
+    if (v) {
+        if (const auto x = v->number("sensor_V_per_A")) c.sensor_V_per_A = *x;
+        if (const auto x = v->number("amplifier_V_per_V")) c.amplifier_V_per_V = *x;
+        if (const auto x = v->number("vbus_V_per_V")) c.vbus_V_per_V = *x;
+    }
+    char err[240];
+    if (!board_chain_check(&c, err, sizeof err)) {
+        throw ScenarioError(sc->path + ": " + err);
+    }
+    // the bus is 2 v_max with three legs (board_chain_check looked at v_max)
+    if (c.vbus_ai >= 0 && c.adc_range_V * c.vbus_V_per_V < v_bus) {
+        throw ScenarioError(sc->path + ": board.vbus_V_per_V: the A/D range through the divider holds " +
+                            fmt_num(c.adc_range_V * c.vbus_V_per_V) + " V, less than the " + fmt_num(v_bus) +
+                            " V bus");
+    }
+}
+
 Scenario load_scenario(const std::string& path)
 {
     Scenario sc;
@@ -607,7 +726,7 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed", "expect", "faults"});
+               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board"});
     // [speed] makes it the speed drive (paper 001); else the position drive
     // of paper 000 with its [trajectory].
     sc.speed_drive = root.has("speed");
@@ -1080,6 +1199,7 @@ Scenario load_scenario(const std::string& path)
             }
         }
     }
+    read_board(root, &sc);
     return sc;
 }
 

@@ -14,6 +14,7 @@
 
 #include "model/current_sensor.h"
 #include "model/fault_injection.h"
+#include "model/board_emulation.h"
 #include "model/load_profile.h"
 #include "model/motor_params.h"
 #include "model/reference.h"
@@ -129,6 +130,8 @@ struct Scenario {
     SensorParams sensor;
     std::vector<LoadStep> load;
     FaultInjection faults;  // [faults]: none unless given
+    BoardParams board;      // [board]: defaults (DS1104-like) unless given
+    bool board_given = false;
     std::vector<Segment> segments;
 
     // [gains] and [bounds]: (field name, value) in file order; names are

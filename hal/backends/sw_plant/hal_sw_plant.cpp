@@ -24,6 +24,7 @@ struct Backend {
     double v_prev[3] = {0.0, 0.0, 0.0};  // voltage applied over the last sample
     mcsim::FaultInjector* faults = nullptr;  // injected faults, or none
     const hal_sw_plant_can_t* can = nullptr;  // CAN bus, or none
+    mcsim::BoardEmulation* board = nullptr;   // DAC/ADC board, or none
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -59,6 +60,8 @@ void hal_sw_plant_set_faults(mcsim::FaultInjector* faults) { g_hal.faults = faul
 
 void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus) { g_hal.can = bus; }
 
+void hal_sw_plant_set_board(mcsim::BoardEmulation* board) { g_hal.board = board; }
+
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
     g_hal.monitor = fn;
@@ -90,15 +93,23 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
             plant.set_open_winding(fi->open_phase(p.t_s, g_hal.ts_s));
         }
         plant.phase_currents(i_true);
-        if (fi != nullptr) {
-            double i_sensed[3] = {i_true[0], i_true[1], i_true[2]};
-            fi->analog(p.t_s, g_hal.ts_s, n_ph, i_sensed);
-            g_hal.sensor->measure_phases(n_ph, i_sensed, i_meas);
-            fi->digital(p.t_s, g_hal.ts_s, n_ph, i_meas);
-        } else {
-            g_hal.sensor->measure_phases(n_ph, i_true, i_meas);
-        }
         const double v_supply = fi != nullptr ? fi->v_max_V(p.t_s, g_hal.amp.v_max_V) : g_hal.amp.v_max_V;
+        // The simulated supply is stiff: an H-bridge swings +-v_bus, a leg
+        // +-v_bus/2 about the midpoint.
+        const double v_bus_true = n_ph == 3 ? 2.0 * v_supply : v_supply;
+        double v_bus_meas = v_bus_true;
+        double i_sensed[3] = {i_true[0], i_true[1], i_true[2]};
+        if (fi != nullptr) {
+            fi->analog(p.t_s, g_hal.ts_s, n_ph, i_sensed);
+        }
+        if (g_hal.board != nullptr) {
+            g_hal.board->measure(n_ph, i_sensed, v_bus_true, i_meas, &v_bus_meas);
+        } else {
+            g_hal.sensor->measure_phases(n_ph, i_sensed, i_meas);
+        }
+        if (fi != nullptr) {
+            fi->digital(p.t_s, g_hal.ts_s, n_ph, i_meas);
+        }
         p.n_phases = n_ph;
         p.i_a_meas_A = i_meas[0];
         p.i_b_meas_A = i_meas[1];
@@ -116,9 +127,7 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
                 // float drive as NaN, whose fault monitor must catch it
                 in.i_A[k] = mc_from_double(i_meas[k]);
             }
-            // The simulated supply is stiff: an H-bridge swings +-v_bus, a
-            // leg +-v_bus/2 about the midpoint.
-            in.v_bus_V = mcsim::to_mc(n_ph == 3 ? 2.0 * v_supply : v_supply);
+            in.v_bus_V = mcsim::to_mc(v_bus_meas);
             in.has_angle = false;
             in.status = (fi != nullptr && fi->overrun(p.t_s, g_hal.ts_s)) ? HAL_STATUS_OVERRUN : 0u;
             hal_command_t out{};
@@ -135,8 +144,12 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         double v_app[3] = {0.0, 0.0, 0.0};
         mcsim::Amplifier amp = g_hal.amp;
         amp.v_max_V = v_supply;
-        for (int k = 0; k < n_ph; ++k) {
-            v_app[k] = amp.apply(v_cmd[k]);
+        if (g_hal.board != nullptr) {
+            g_hal.board->apply(n_ph, v_cmd, v_supply, v_app);
+        } else {
+            for (int k = 0; k < n_ph; ++k) {
+                v_app[k] = amp.apply(v_cmd[k]);
+            }
         }
         p.v_a_cmd_V = v_cmd[0];
         p.v_b_cmd_V = v_cmd[1];

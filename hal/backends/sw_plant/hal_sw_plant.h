@@ -17,6 +17,7 @@
 
 #include "hal/hal.h"
 #include "model/amplifier.h"
+#include "model/board_emulation.h"
 #include "model/current_sensor.h"
 #include "model/fault_injection.h"
 #include "model/pm_plant.h"
@@ -72,6 +73,14 @@ void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus);
 void hal_sw_plant_set_faults(mcsim::FaultInjector* faults);
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx);
+
+// A DAC/ADC board between the drive and the plant (motorsim --backend
+// board-emulated, model/board_emulation.h): the currents and the bus the
+// drive gets come through its sensors and A/D converters instead of the
+// current sensor model, the voltages the plant gets through its D/A
+// converters and amplifiers instead of the amplifier model. nullptr (or
+// none set since attach): the sensor and amplifier models. Not owned.
+void hal_sw_plant_set_board(mcsim::BoardEmulation* board);
 
 // Runs n periods synchronously and returns how many ran (0 if no plant is
 // attached or hal_start() was not called). After hal_safe_state() the plant
