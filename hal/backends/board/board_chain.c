@@ -105,19 +105,32 @@ uint32_t board_volts_to_code(double v, int bits, double range_V)
     return (uint32_t)floor(c + 0.5);
 }
 
+double board_current_from_V(const board_chain_t *b, int k, double v_adc)
+{
+    return (v_adc - b->offset_V[k]) / b->cfg.sensor_V_per_A;
+}
+
+double board_vbus_from_V(const board_chain_t *b, double v_adc)
+{
+    return (b->cfg.vbus_ai < 0) ? b->cfg.supply_V : v_adc * b->cfg.vbus_V_per_V;
+}
+
 double board_current_A(const board_chain_t *b, int k, uint32_t code)
 {
-    const double v = board_code_to_volts(code, b->cfg.adc_bits, b->cfg.adc_range_V);
-    return (v - b->offset_V[k]) / b->cfg.sensor_V_per_A;
+    return board_current_from_V(b, k, board_code_to_volts(code, b->cfg.adc_bits, b->cfg.adc_range_V));
 }
 
 double board_vbus_V(const board_chain_t *b, uint32_t code)
 {
-    if (b->cfg.vbus_ai < 0) return b->cfg.supply_V;
-    return board_code_to_volts(code, b->cfg.adc_bits, b->cfg.adc_range_V) * b->cfg.vbus_V_per_V;
+    return board_vbus_from_V(b, board_code_to_volts(code, b->cfg.adc_bits, b->cfg.adc_range_V));
 }
 
 uint32_t board_voltage_code(const board_chain_t *b, double v, bool *clamped)
+{
+    return board_volts_to_code(board_dac_V(b, v, clamped), b->cfg.dac_bits, b->cfg.dac_range_V);
+}
+
+double board_dac_V(const board_chain_t *b, double v, bool *clamped)
 {
     const board_chain_config_t *c = &b->cfg;
     bool cl = false;
@@ -131,7 +144,7 @@ uint32_t board_voltage_code(const board_chain_t *b, double v, bool *clamped)
     if (u > c->dac_range_V) { u = c->dac_range_V; cl = true; }
     if (u < -c->dac_range_V) { u = -c->dac_range_V; cl = true; }
     if (clamped != NULL) *clamped = cl;
-    return board_volts_to_code(u, c->dac_bits, c->dac_range_V);
+    return u;
 }
 
 bool board_chain_calibrate(board_chain_t *b, const double *sum_V, int n, char *err, int err_len)

@@ -61,6 +61,13 @@ void board_chain_init(board_chain_t *b, const board_chain_config_t *cfg);
 double board_code_to_volts(uint32_t code, int bits, double range_V);
 uint32_t board_volts_to_code(double v, int bits, double range_V);
 
+/* The same at the level of volts (a card whose driver converts codes to
+ * volts with its own calibration, board_comedi.h): phase k's A/D volts to
+ * amperes; the bus's A/D volts to volts; phase volts to D/A volts. */
+double board_current_from_V(const board_chain_t *b, int k, double v_adc);
+double board_vbus_from_V(const board_chain_t *b, double v_adc);
+double board_dac_V(const board_chain_t *b, double v_phase_V, bool *clamped);
+
 /* A/D codes of phase k's current to amperes: (volts - offset)/gain. */
 double board_current_A(const board_chain_t *b, int k, uint32_t code);
 /* A/D code of the bus voltage to volts (the supply if there is no channel). */
