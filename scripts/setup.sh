@@ -46,9 +46,10 @@ say() { [ "$quiet" = 1 ] || echo "setup: $*"; }
 die() { echo "setup: error: $*" >&2; exit 1; }
 
 # Host build: compilers, CMake/Ninja, GoogleTest, Eigen (plant), toml++
-# (scenarios), CLI11 (command line), python3-venv (the venv below).
+# (scenarios), CLI11 (command line), python3-venv (the venv below),
+# libcomedi (the DAC/ADC board's driver for real cards through Comedi).
 BASE_PKGS=(cmake ninja-build gcc g++ googletest libgtest-dev python3-venv
-           libeigen3-dev libtomlplusplus-dev libcli11-dev)
+           libeigen3-dev libtomlplusplus-dev libcli11-dev libcomedi-dev)
 # Static analysis and fuzzing (scripts/check_static.sh, scripts/fuzz.sh, both
 # in CI): cppcheck, clang-tidy; clang with libFuzzer and the sanitizer
 # runtimes (libclang-rt-14-dev: clang 14 only recommends it, and packages are
