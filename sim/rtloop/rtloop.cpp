@@ -6,6 +6,7 @@
 // max), the step time (mean, max) and whether real-time scheduling was
 // granted. tools/bench/rtloop.py runs it.
 //   usage: rtloop [--seconds N] [--scenario FILE] [--priority P]
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -32,12 +33,15 @@ int main(int argc, char** argv)
     std::string scenario = std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_experiment.toml";
     for (int a = 1; a < argc; ++a) {
         const std::string s = argv[a];
+        char* end = nullptr;
         if (s == "--seconds" && a + 1 < argc) {
-            seconds = std::atof(argv[++a]);
+            seconds = std::strtod(argv[++a], &end);
+            if (end == argv[a] || *end != '\0') seconds = -1.0;
         } else if (s == "--scenario" && a + 1 < argc) {
             scenario = argv[++a];
         } else if (s == "--priority" && a + 1 < argc) {
-            priority = std::atoi(argv[++a]);
+            const long p = std::strtol(argv[++a], &end, 10);
+            priority = (end == argv[a] || *end != '\0' || p < 1 || p > 99) ? -1 : static_cast<int>(p);
         } else {
             std::fprintf(stderr, "usage: rtloop [--seconds N] [--scenario FILE] [--priority 1-99]\n");
             return 2;
@@ -59,9 +63,9 @@ int main(int argc, char** argv)
         if (!board.calibrate(&why)) throw std::runtime_error("board calibration: " + why);
         hal_sw_plant_set_board(&board);
         if (!hal_start(&mcsim::drive_control_callback, drive.get())) throw std::runtime_error(hal_last_error());
-        rt_loop_config_t cfg{static_cast<std::uint32_t>(sc.ts_s * 1e9 + 0.5), priority};
+        rt_loop_config_t cfg{static_cast<std::uint32_t>(std::lround(sc.ts_s * 1e9)), priority};
         static rt_loop_stats_t st;
-        const auto n = static_cast<std::uint64_t>(seconds / sc.ts_s + 0.5);
+        const auto n = static_cast<std::uint64_t>(std::llround(seconds / sc.ts_s));
         rt_loop_run(&cfg, &one_period, nullptr, n, &st);
         if (!st.realtime || !st.locked) {
             std::fprintf(stderr, "rtloop: warning: %s: ran with the default scheduler, the jitter is not a real-time "
