@@ -2,10 +2,13 @@
 // Comedi card (comedi_test in the VM fixture; ctest hal.comedi_closed_loop,
 // label comedi). Two processes in lock-step (virtual time: the VM is not
 // real time), a token on a pipe each way per control period:
-//   the drive process: reads the phase currents on A/D channels 2, 3 (the
-//     Hall sensors' volts through the board chain, offsets calibrated at
-//     start-up with the outputs at zero), runs the paper-000 drive, writes
-//     the phase voltages through the chain on D/A channels 0, 1;
+//   the drive process: the board backend of the HAL (hal_board.h) with the
+//     paper-000 drive as its control callback: it opens the card,
+//     calibrates the Hall sensors' offsets with the outputs at zero, and
+//     each period reads the phase currents on A/D channels 2, 3 through the
+//     board chain, runs the drive, writes the phase voltages through the
+//     chain on D/A channels 0, 1 (hal_board_period: stepped here, paced by
+//     the real-time loop on a real rig, sim/board_drive);
 //   the plant process: reads D/A 0, 1 back on A/D 0, 1 (comedi_test loops
 //     each analog output back to the input of the same channel), drives
 //     the plant through the amplifiers' gain and the supply's clamp for one
@@ -27,6 +30,8 @@
 
 #include "board_chain.h"
 #include "board_comedi.h"
+#include "hal_board.h"
+#include "motorsim/drive_glue.h"
 #include "drives/paper000_drive.h"
 #include "mc_convert.h"
 #include "scenario/design_input.h"
@@ -125,59 +130,30 @@ int main(int argc, char** argv)
     ::close(p2d[1]);
     ::close(d2p[0]);
     const int from_plant = p2d[0], to_plant = d2p[1];
-    const int ai[2] = {kCurrentCh[0], kCurrentCh[1]};
-    const int ao[2] = {kVoltageCh[0], kVoltageCh[1]};
-    board_comedi_t* card = board_comedi_open(dev, cfg.adc_range_V, ai, 2, ao, 2, err, sizeof err);
-    if (card == nullptr) die(std::string("drive: ") + err);
-    board_chain_t chain;
-    board_chain_init(&chain, &cfg);
-
-    // calibration: the outputs at zero, the plant at rest
-    const int n_cal = sc.board.calibration_samples;
-    double sum[3] = {0.0, 0.0, 0.0};
+    // the plant has written its sensors' volts at rest: open and calibrate
     double theta = 0.0;
     const char go = 1;
-    for (int s = 0; s < n_cal; ++s) {
-        if (!read_all(from_plant, &theta, sizeof theta)) die("the plant process stopped");
-        for (int k = 0; k < 2; ++k) {
-            double v = 0.0;
-            if (!board_comedi_read(card, kCurrentCh[k], &v, nullptr)) die(board_comedi_error(card));
-            sum[k] += v;
-            (void)board_comedi_write(card, kVoltageCh[k], 0.0, nullptr);
-        }
-        if (!write_all(to_plant, &go, 1)) die("the plant process stopped");
-    }
-    if (!board_chain_calibrate(&chain, sum, n_cal, err, sizeof err)) die(err);
+    if (!read_all(from_plant, &theta, sizeof theta)) die("the plant process stopped");
+    const auto fs = static_cast<std::uint32_t>(std::lround(1.0 / sc.ts_s));
+    if (!hal_board_open(&cfg, dev, sc.board.calibration_samples, fs, err, sizeof err)) die(err);
+    if (!hal_start(&mcsim::drive_control_callback, drive.get())) die(hal_last_error());
+    const board_chain_t& chain = *hal_board_chain();
+    const int n_cal = sc.board.calibration_samples;
 
-    // the run
+    // the run: one period of the board backend per token
     const std::uint32_t n = sc.n_ticks();
-    double track_max = 0.0, theta_ref = 0.0;
+    double track_max = 0.0;
     std::uint32_t closed = 0;
     bool faulted = false;
     for (std::uint32_t t = 0; t < n; ++t) {
-        if (!read_all(from_plant, &theta, sizeof theta)) die("the plant process stopped");
-        hal_sample_t in{};
-        in.tick = t;
-        in.n_phases = 2;
-        for (int k = 0; k < 2; ++k) {
-            double v = 0.0;
-            if (!board_comedi_read(card, kCurrentCh[k], &v, nullptr)) die(board_comedi_error(card));
-            in.i_A[k] = mcsim::to_mc(board_current_from_V(&chain, k, v));
-        }
-        in.v_bus_V = mcsim::to_mc(sc.v_max_V);
-        hal_command_t out{};
-        out.n_phases = 2;
-        if (!drive_step(drive.get(), &in, &out)) faulted = true;
+        if (t > 0 && !read_all(from_plant, &theta, sizeof theta)) die("the plant process stopped");
+        if (!hal_board_period()) faulted = true;
         drive_telemetry_t tl;
         drive_get_telemetry(drive.get(), &tl);
-        theta_ref = mcsim::to_double(tl.theta_ref_rad);
+        faulted = faulted || tl.fault != DRIVE_FAULT_NONE;
         if (tl.mode == DRIVE_MODE_CLOSED_LOOP) {
             ++closed;
-            track_max = std::fmax(track_max, std::fabs(theta - theta_ref));
-        }
-        for (int k = 0; k < 2; ++k) {
-            const double u = board_dac_V(&chain, mcsim::to_double(out.v_V[k]), nullptr);
-            if (!board_comedi_write(card, kVoltageCh[k], u, nullptr)) die(board_comedi_error(card));
+            track_max = std::fmax(track_max, std::fabs(theta - mcsim::to_double(tl.theta_ref_rad)));
         }
         if (!write_all(to_plant, &go, 1)) die("the plant process stopped");
     }
@@ -186,14 +162,15 @@ int main(int argc, char** argv)
     ::close(from_plant);
     int status = 0;
     ::waitpid(pid, &status, 0);
-    board_comedi_close(card);
+    const double offset_a = chain.offset_V[0], offset_b = chain.offset_V[1];
+    hal_board_close();
     const double theta_end = sc.segments.empty() ? 0.0 : sc.segments.back().theta_to_rad;
     const double final_err = std::fabs(theta - theta_end);
     const bool ok = !faulted && closed > 0 && track_max < 0.02 && final_err < 0.02;
     std::printf("{\"samples\": %u, \"calibration_samples\": %d, \"offset_a_V\": %.6f, \"offset_b_V\": %.6f, "
                 "\"offset_true_V\": [%.3f, %.3f], \"closed_loop_samples\": %u, \"theta_track_max_rad\": %.6f, "
                 "\"final_theta_rad\": %.6f, \"final_theta_err_rad\": %.6f, \"fault\": %s, \"pass\": %s}\n",
-                n, n_cal, chain.offset_V[0], chain.offset_V[1], kTrueOffsetV[0], kTrueOffsetV[1], closed, track_max,
+                n, n_cal, offset_a, offset_b, kTrueOffsetV[0], kTrueOffsetV[1], closed, track_max,
                 theta, final_err, faulted ? "true" : "false", ok ? "true" : "false");
     return ok ? 0 : 1;
 }
