@@ -1,0 +1,212 @@
+#include "estimators/ekf_ipmsm.h"
+
+bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg)
+{
+    const ekf_ipmsm_config_t *c = cfg;
+    bool ok = mc_gt(c->R_ohm, MC_ZERO) && mc_gt(c->Ld_H, MC_ZERO) && mc_gt(c->Lq_H, MC_ZERO) &&
+              mc_ge(c->psi_Wb, MC_ZERO) && c->p >= 1 && mc_gt(c->J_kgm2, MC_ZERO) && mc_ge(c->d_Nms, MC_ZERO) &&
+              mc_gt(c->ts_s, MC_ZERO);
+    for (int i = 0; i < EKF_N; ++i) {
+        ok = ok && mc_gt(c->q[i], MC_ZERO) && mc_gt(c->p0[i], MC_ZERO);
+    }
+    for (int i = 0; i < EKF_M; ++i) {
+        ok = ok && mc_gt(c->r[i], MC_ZERO);
+    }
+    e->cfg = *cfg;
+    for (int i = 0; i < EKF_N; ++i) {
+        e->x[i] = c->x0[i];
+        for (int j = 0; j < EKF_N; ++j) {
+            e->P[i][j] = (i == j) ? c->p0[i] : MC_ZERO;
+        }
+    }
+    e->x[EKF_THETA] = mc_wrap_pi(e->x[EKF_THETA]);
+    for (int i = 0; i < EKF_M; ++i) {
+        e->innovation[i] = MC_ZERO;
+    }
+    e->spd_ok = ok;
+    return ok;
+}
+
+/* f(x) + B u of (37) */
+static void ekf_f(const ekf_ipmsm_config_t *c, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
+{
+    const mc_t w_el = mc_mul_i(x[EKF_OMEGA], c->p);
+    /* L_d di_d/dt = u_d - R i_d + L_q p w i_q ; L_q di_q/dt = u_q - R i_q - L_d p w i_d - psi p w  (2) */
+    f[EKF_ID] = mc_div(mc_add(mc_sub(u_d, mc_mul(c->R_ohm, x[EKF_ID])), mc_mul(mc_mul(c->Lq_H, w_el), x[EKF_IQ])), c->Ld_H);
+    f[EKF_IQ] = mc_div(mc_sub(mc_sub(mc_sub(u_q, mc_mul(c->R_ohm, x[EKF_IQ])), mc_mul(mc_mul(c->Ld_H, w_el), x[EKF_ID])),
+                              mc_mul(c->psi_Wb, w_el)),
+                       c->Lq_H);
+    f[EKF_THETA] = x[EKF_OMEGA];
+    /* J dw/dt = 3/2 p ((Ld - Lq) i_d i_q + psi i_q) - d w - M_0   (6), (7) */
+    const mc_t torque = mc_mul(mc_mul_i(mc_mac(c->psi_Wb, mc_sub(c->Ld_H, c->Lq_H), x[EKF_ID]), c->p),
+                               mc_mul(MC_C(1.5), x[EKF_IQ]));
+    f[EKF_OMEGA] = mc_div(mc_sub(mc_sub(torque, mc_mul(c->d_Nms, x[EKF_OMEGA])), x[EKF_M0]), c->J_kgm2);
+    f[EKF_M0] = MC_ZERO;
+}
+
+mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e)
+{
+    mc_t f[EKF_N];
+    ekf_f(&e->cfg, e->x, MC_ZERO, MC_ZERO, f);
+    return f[EKF_OMEGA];
+}
+
+void ekf_ipmsm_predict(ekf_ipmsm_t *e, mc_t u_d_V, mc_t u_q_V)
+{
+    const ekf_ipmsm_config_t *c = &e->cfg;
+    const mc_t ts = c->ts_s;
+    const mc_t *x = e->x;
+    /* A_d = I + Ts F(x+) (the Jacobian at the a posteriori estimate) */
+    mc_t A[EKF_N][EKF_N];
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = 0; j < EKF_N; ++j) {
+            A[i][j] = (i == j) ? MC_ONE : MC_ZERO;
+        }
+    }
+    const mc_t w_el = mc_mul_i(x[EKF_OMEGA], c->p);
+    const mc_t k_t = mc_div(mc_mul_i(MC_C(1.5), c->p), c->J_kgm2); /* 3p/(2J) */
+    const mc_t dL = mc_sub(c->Ld_H, c->Lq_H);
+    A[EKF_ID][EKF_ID] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->R_ohm, c->Ld_H)));
+    A[EKF_ID][EKF_IQ] = mc_mul(ts, mc_div(mc_mul(c->Lq_H, w_el), c->Ld_H));
+    A[EKF_ID][EKF_OMEGA] = mc_mul(ts, mc_div(mc_mul_i(mc_mul(c->Lq_H, x[EKF_IQ]), c->p), c->Ld_H));
+    A[EKF_IQ][EKF_ID] = mc_neg(mc_mul(ts, mc_div(mc_mul(c->Ld_H, w_el), c->Lq_H)));
+    A[EKF_IQ][EKF_IQ] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->R_ohm, c->Lq_H)));
+    A[EKF_IQ][EKF_OMEGA] =
+        mc_neg(mc_mul(ts, mc_div(mc_mul_i(mc_mac(c->psi_Wb, c->Ld_H, x[EKF_ID]), c->p), c->Lq_H)));
+    A[EKF_THETA][EKF_OMEGA] = ts;
+    A[EKF_OMEGA][EKF_ID] = mc_mul(ts, mc_mul(k_t, mc_mul(dL, x[EKF_IQ])));
+    A[EKF_OMEGA][EKF_IQ] = mc_mul(ts, mc_mul(k_t, mc_mac(c->psi_Wb, dL, x[EKF_ID])));
+    A[EKF_OMEGA][EKF_OMEGA] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->d_Nms, c->J_kgm2)));
+    A[EKF_OMEGA][EKF_M0] = mc_neg(mc_div(ts, c->J_kgm2));
+
+    /* the state: Heun's method, x- = x + Ts/2 (f(x) + f(x + Ts f(x))) */
+    mc_t f1[EKF_N], xe[EKF_N], f2[EKF_N];
+    ekf_f(c, x, u_d_V, u_q_V, f1);
+    for (int i = 0; i < EKF_N; ++i) {
+        xe[i] = mc_mac(x[i], ts, f1[i]);
+    }
+    ekf_f(c, xe, u_d_V, u_q_V, f2);
+    const mc_t half_ts = mc_div_i(ts, 2);
+    for (int i = 0; i < EKF_N; ++i) {
+        e->x[i] = mc_mac(e->x[i], half_ts, mc_add(f1[i], f2[i]));
+    }
+    e->x[EKF_THETA] = mc_wrap_pi(e->x[EKF_THETA]);
+
+    /* P- = A P+ A^T + Q  (39) */
+    mc_t AP[EKF_N][EKF_N];
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = 0; j < EKF_N; ++j) {
+            mc_t s = MC_ZERO;
+            for (int k = 0; k < EKF_N; ++k) {
+                s = mc_mac(s, A[i][k], e->P[k][j]);
+            }
+            AP[i][j] = s;
+        }
+    }
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = i; j < EKF_N; ++j) {
+            mc_t s = (i == j) ? c->q[i] : MC_ZERO;
+            for (int k = 0; k < EKF_N; ++k) {
+                s = mc_mac(s, AP[i][k], A[j][k]);
+            }
+            e->P[i][j] = s;
+            e->P[j][i] = s;
+        }
+    }
+}
+
+bool ekf_ipmsm_correct(ekf_ipmsm_t *e, mc_t i_d_A, mc_t i_q_A, mc_t theta_rad)
+{
+    const ekf_ipmsm_config_t *c = &e->cfg;
+    /* S = C P- C^T + R: the top-left 3x3 of P- plus diag(r) */
+    mc_t S[EKF_M][EKF_M];
+    for (int i = 0; i < EKF_M; ++i) {
+        for (int j = 0; j < EKF_M; ++j) {
+            S[i][j] = (i == j) ? mc_add(e->P[i][j], c->r[i]) : e->P[i][j];
+        }
+    }
+    /* Cholesky S = G G^T (lower G); false if S is not positive definite */
+    mc_t G[EKF_M][EKF_M] = {{MC_ZERO}};
+    for (int j = 0; j < EKF_M; ++j) {
+        mc_t d = S[j][j];
+        for (int k = 0; k < j; ++k) {
+            d = mc_sub(d, mc_mul(G[j][k], G[j][k]));
+        }
+        if (!mc_gt(d, MC_ZERO)) {
+            e->spd_ok = false;
+            return false;
+        }
+        G[j][j] = mc_sqrt(d);
+        for (int i = j + 1; i < EKF_M; ++i) {
+            mc_t s = S[i][j];
+            for (int k = 0; k < j; ++k) {
+                s = mc_sub(s, mc_mul(G[i][k], G[j][k]));
+            }
+            G[i][j] = mc_div(s, G[j][j]);
+        }
+    }
+    /* K = P- C^T S^-1 (40): for each row of P-'s first three columns b,
+     * solve S k = b through G (forward, then backward) */
+    mc_t K[EKF_N][EKF_M];
+    for (int r = 0; r < EKF_N; ++r) {
+        mc_t z[EKF_M];
+        for (int i = 0; i < EKF_M; ++i) {
+            mc_t s = e->P[r][i];
+            for (int k = 0; k < i; ++k) {
+                s = mc_sub(s, mc_mul(G[i][k], z[k]));
+            }
+            z[i] = mc_div(s, G[i][i]);
+        }
+        for (int i = EKF_M - 1; i >= 0; --i) {
+            mc_t s = z[i];
+            for (int k = i + 1; k < EKF_M; ++k) {
+                s = mc_sub(s, mc_mul(G[k][i], K[r][k]));
+            }
+            K[r][i] = mc_div(s, G[i][i]);
+        }
+    }
+    /* innovation (44): the angle's wrapped */
+    e->innovation[0] = mc_sub(i_d_A, e->x[EKF_ID]);
+    e->innovation[1] = mc_sub(i_q_A, e->x[EKF_IQ]);
+    e->innovation[2] = mc_wrap_pi(mc_sub(theta_rad, e->x[EKF_THETA]));
+    for (int r = 0; r < EKF_N; ++r) {
+        mc_t dx = MC_ZERO;
+        for (int i = 0; i < EKF_M; ++i) {
+            dx = mc_mac(dx, K[r][i], e->innovation[i]);
+        }
+        e->x[r] = mc_add(e->x[r], dx); /* (43) */
+    }
+    e->x[EKF_THETA] = mc_wrap_pi(e->x[EKF_THETA]);
+    /* Joseph form: P+ = (I - K C) P- (I - K C)^T + K R K^T; (I - K C) =
+     * I minus K in the first three columns */
+    mc_t IKC[EKF_N][EKF_N], T[EKF_N][EKF_N];
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = 0; j < EKF_N; ++j) {
+            const mc_t kc = (j < EKF_M) ? K[i][j] : MC_ZERO;
+            IKC[i][j] = mc_sub((i == j) ? MC_ONE : MC_ZERO, kc);
+        }
+    }
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = 0; j < EKF_N; ++j) {
+            mc_t s = MC_ZERO;
+            for (int k = 0; k < EKF_N; ++k) {
+                s = mc_mac(s, IKC[i][k], e->P[k][j]);
+            }
+            T[i][j] = s;
+        }
+    }
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = i; j < EKF_N; ++j) {
+            mc_t s = MC_ZERO;
+            for (int k = 0; k < EKF_N; ++k) {
+                s = mc_mac(s, T[i][k], IKC[j][k]);
+            }
+            for (int k = 0; k < EKF_M; ++k) {
+                s = mc_mac(s, mc_mul(K[i][k], c->r[k]), K[j][k]);
+            }
+            e->P[i][j] = s;
+            e->P[j][i] = s; /* symmetric by construction */
+        }
+    }
+    return true;
+}
