@@ -1,0 +1,40 @@
+#include "control/ibcc.h"
+
+bool ibcc_init(ibcc_t *s, const ibcc_config_t *c)
+{
+    s->i_dd_prev_A = MC_ZERO;
+    s->i_qd_prev_A = MC_ZERO;
+    s->first = true;
+    s->saturated = false;
+    return mc_gt(c->Ld_H, MC_ZERO) && mc_gt(c->Lq_H, MC_ZERO) && mc_ge(c->R_ohm, MC_ZERO) && c->fs_hz > 0 &&
+           mc_gt(c->lambda_per_s, MC_ZERO) && !mc_gt(mc_div_i(c->lambda_per_s, c->fs_hz), IBCC_LAMBDA_TS_MAX);
+}
+
+void ibcc_step(ibcc_t *s, const ibcc_config_t *c, mc_t i_dd_A, mc_t i_qd_A, mc_t i_d_A, mc_t i_q_A, mc_t w_hat_rad_s,
+               mc_t u_max_V, mc_t *u_d_V, mc_t *u_q_V)
+{
+    /* the references' derivatives: their change over the last sample */
+    const mc_t did = s->first ? MC_ZERO : mc_mul_i(mc_sub(i_dd_A, s->i_dd_prev_A), c->fs_hz);
+    const mc_t diq = s->first ? MC_ZERO : mc_mul_i(mc_sub(i_qd_A, s->i_qd_prev_A), c->fs_hz);
+    s->first = false;
+    s->i_dd_prev_A = i_dd_A;
+    s->i_qd_prev_A = i_qd_A;
+    const mc_t w_el = mc_mul_i(w_hat_rad_s, c->p);
+    /* (9) with (3)'s u_p */
+    mc_t ud = mc_mul(c->Ld_H, mc_mac(did, c->lambda_per_s, mc_sub(i_dd_A, i_d_A)));
+    ud = mc_mac(ud, c->R_ohm, i_d_A);
+    ud = mc_sub(ud, mc_mul(mc_mul(c->Lq_H, w_el), i_q_A));
+    mc_t uq = mc_mul(c->Lq_H, mc_mac(diq, c->lambda_per_s, mc_sub(i_qd_A, i_q_A)));
+    uq = mc_mac(uq, c->R_ohm, i_q_A);
+    uq = mc_add(uq, mc_mul(w_el, mc_mac(c->psi_Wb, c->Ld_H, i_d_A)));
+    /* the bus's limit, the direction kept */
+    const mc_t mag = mc_hypot(ud, uq);
+    s->saturated = mc_gt(mag, u_max_V);
+    if (s->saturated) {
+        const mc_t k = mc_div(u_max_V, mag);
+        ud = mc_mul(ud, k);
+        uq = mc_mul(uq, k);
+    }
+    *u_d_V = ud;
+    *u_q_V = uq;
+}

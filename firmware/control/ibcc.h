@@ -1,0 +1,54 @@
+/*
+ * ibcc.h - paper 002's inversion-based current control, eq. (9), with the
+ * cross-coupling terms of (3) the paper's (9) leaves out (errata):
+ *   u_d = L_d (di_dd/dt + lambda (i_dd - i_d)) + R i_d - L_q p w_hat i_q
+ *   u_q = L_q (di_qd/dt + lambda (i_qd - i_q)) + R i_q + L_d p w_hat i_d + psi p w_hat
+ * with w_hat the EKF's speed (the back-EMF compensation of (9)), the
+ * references' derivatives as their change over the last sample, and the
+ * result limited to the voltage the bus gives (|u| <= u_max, the direction
+ * kept). The error dynamics are d(i_d - i)/dt = -lambda (i_d - i) (8):
+ * lambda Ts must stay well below 1 for the sampled loop (ibcc_init checks
+ * lambda Ts <= IBCC_LAMBDA_TS_MAX).
+ */
+#ifndef CONTROL_IBCC_H
+#define CONTROL_IBCC_H
+
+#include <stdbool.h>
+
+#include "math/mc_num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* lambda Ts at most 0.5: the sampled first-order loop with a sample of
+ * computation delay is well damped below it (poles of z^2 - z + lambda Ts
+ * inside 0.71 of the unit circle). */
+#define IBCC_LAMBDA_TS_MAX MC_C(0.5)
+
+typedef struct {
+    mc_t R_ohm, Ld_H, Lq_H, psi_Wb;
+    int32_t p;
+    mc_t lambda_per_s;   /* the current error's decay rate (8) */
+    int32_t fs_hz;
+} ibcc_config_t;
+
+typedef struct {
+    mc_t i_dd_prev_A, i_qd_prev_A;
+    bool first;
+    bool saturated;      /* the last step was limited */
+} ibcc_t;
+
+bool ibcc_init(ibcc_t *s, const ibcc_config_t *c);
+
+/* The dq voltages for the references i_dd, i_qd, the measured (or
+ * estimated) currents i_d, i_q and the estimated speed, limited to
+ * |u| <= u_max_V. */
+void ibcc_step(ibcc_t *s, const ibcc_config_t *c, mc_t i_dd_A, mc_t i_qd_A, mc_t i_d_A, mc_t i_q_A, mc_t w_hat_rad_s,
+               mc_t u_max_V, mc_t *u_d_V, mc_t *u_q_V);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CONTROL_IBCC_H */

@@ -1,0 +1,57 @@
+/*
+ * mtpa.h - paper 002's current references from a torque demand: maximum
+ * torque per ampere, eqs. (15)/(18), i_d from i_q (i_d = 0 when L_d = L_q),
+ * and the inversion the paper leaves out (errata): the i_q that gives the
+ * demanded torque (10) with that i_d, by Newton's method on
+ *   g(i_q) = 3/2 p (psi i_q + (L_d - L_q) i_d(i_q) i_q) - M_d,
+ *   g'(i_q) = 3/2 p (psi + (L_d - L_q)(i_d + i_q di_d/di_q)),
+ *   di_d/di_q = -2 i_q / sqrt(a^2 + 4 i_q^2),  a = psi/(L_d - L_q) < 0,
+ * from the non-salient guess M_d/(3/2 p psi), a fixed number of steps
+ * (MTPA_NEWTON_STEPS: bounded cost; g is convex in i_q on each side of 0,
+ * the iteration converges monotonically from the guess). The result is
+ * limited to |i| <= i_max along the MTPA curve (the torque then falls
+ * short: out->limited).
+ */
+#ifndef CONTROL_MTPA_H
+#define CONTROL_MTPA_H
+
+#include <stdbool.h>
+
+#include "math/mc_num.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Newton steps: 3 reach float32 resolution on the reference motor's whole
+ * current range (L_d/L_q = 1/3); 4 leave margin. */
+#define MTPA_NEWTON_STEPS 4
+/* Halvings that put |i| on i_max when limited: 16 leave 2^-16 of the range
+ * (0.3 mA at 20 A). */
+#define MTPA_LIMIT_STEPS 16
+
+typedef struct {
+    mc_t Ld_H, Lq_H, psi_Wb;
+    int32_t p;
+    mc_t i_max_A;        /* |i| limit */
+} mtpa_config_t;
+
+typedef struct {
+    mc_t i_d_A, i_q_A;   /* the references */
+    bool limited;        /* |i| was limited to i_max */
+} mtpa_out_t;
+
+/* i_d of (18) (L_d < L_q) for i_q; 0 when L_d = L_q. */
+mc_t mtpa_id_of_iq(const mtpa_config_t *c, mc_t i_q_A);
+
+/* The torque (10) of the currents. */
+mc_t mtpa_torque(const mtpa_config_t *c, mc_t i_d_A, mc_t i_q_A);
+
+/* The MTPA currents for torque M_d. */
+void mtpa_step(const mtpa_config_t *c, mc_t M_d_Nm, mtpa_out_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CONTROL_MTPA_H */
