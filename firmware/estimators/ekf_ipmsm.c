@@ -92,25 +92,31 @@ void ekf_ipmsm_predict(ekf_ipmsm_t *e, mc_t u_d_V, mc_t u_q_V)
     }
     e->x[EKF_THETA] = mc_wrap_pi(e->x[EKF_THETA]);
 
-    /* P- = A P+ A^T + Q  (39) */
+    /* P- = A P+ A^T + Q  (39), written out over A's structural non-zeros
+     * (A = I + Ts F: rows i_d, i_q: columns i_d, i_q, omega; theta: theta,
+     * omega; omega: i_d, i_q, omega, M_0; M_0: M_0): 13 of 25 entries */
     mc_t AP[EKF_N][EKF_N];
-    for (int i = 0; i < EKF_N; ++i) {
-        for (int j = 0; j < EKF_N; ++j) {
-            mc_t s = MC_ZERO;
-            for (int k = 0; k < EKF_N; ++k) {
-                s = mc_mac(s, A[i][k], e->P[k][j]);
-            }
-            AP[i][j] = s;
-        }
+    for (int j = 0; j < EKF_N; ++j) {
+        const mc_t p0 = e->P[EKF_ID][j], p1 = e->P[EKF_IQ][j], p2 = e->P[EKF_THETA][j], p3 = e->P[EKF_OMEGA][j],
+                   p4 = e->P[EKF_M0][j];
+        AP[EKF_ID][j] = mc_mac(mc_mac(mc_mul(A[0][0], p0), A[0][1], p1), A[0][3], p3);
+        AP[EKF_IQ][j] = mc_mac(mc_mac(mc_mul(A[1][0], p0), A[1][1], p1), A[1][3], p3);
+        AP[EKF_THETA][j] = mc_mac(p2, A[2][3], p3);
+        AP[EKF_OMEGA][j] = mc_mac(mc_mac(mc_mac(mc_mul(A[3][0], p0), A[3][1], p1), A[3][3], p3), A[3][4], p4);
+        AP[EKF_M0][j] = p4;
     }
     for (int i = 0; i < EKF_N; ++i) {
+        const mc_t *r = AP[i];
+        mc_t v[EKF_N];
+        v[EKF_ID] = mc_mac(mc_mac(mc_mul(r[0], A[0][0]), r[1], A[0][1]), r[3], A[0][3]);
+        v[EKF_IQ] = mc_mac(mc_mac(mc_mul(r[0], A[1][0]), r[1], A[1][1]), r[3], A[1][3]);
+        v[EKF_THETA] = mc_mac(r[2], r[3], A[2][3]);
+        v[EKF_OMEGA] = mc_mac(mc_mac(mc_mac(mc_mul(r[0], A[3][0]), r[1], A[3][1]), r[3], A[3][3]), r[4], A[3][4]);
+        v[EKF_M0] = r[4];
         for (int j = i; j < EKF_N; ++j) {
-            mc_t s = (i == j) ? c->q[i] : MC_ZERO;
-            for (int k = 0; k < EKF_N; ++k) {
-                s = mc_mac(s, AP[i][k], A[j][k]);
-            }
-            e->P[i][j] = s;
-            e->P[j][i] = s;
+            const mc_t pij = (i == j) ? mc_add(v[j], c->q[i]) : v[j];
+            e->P[i][j] = pij;
+            e->P[j][i] = pij;
         }
     }
 }
@@ -177,31 +183,24 @@ bool ekf_ipmsm_correct(ekf_ipmsm_t *e, mc_t i_d_A, mc_t i_q_A, mc_t theta_rad)
         e->x[r] = mc_add(e->x[r], dx); /* (43) */
     }
     e->x[EKF_THETA] = mc_wrap_pi(e->x[EKF_THETA]);
-    /* Joseph form: P+ = (I - K C) P- (I - K C)^T + K R K^T; (I - K C) =
-     * I minus K in the first three columns */
-    mc_t IKC[EKF_N][EKF_N], T[EKF_N][EKF_N];
+    /* Joseph form: P+ = (I - K C) P- (I - K C)^T + K R K^T, with C = [I 0]:
+     * T = (I - K C) P- = P- - K P-[0:3, :], then P+ = T - T[:, 0:3] K^T +
+     * K R K^T (upper triangle, mirrored) */
+    mc_t T[EKF_N][EKF_N];
     for (int i = 0; i < EKF_N; ++i) {
         for (int j = 0; j < EKF_N; ++j) {
-            const mc_t kc = (j < EKF_M) ? K[i][j] : MC_ZERO;
-            IKC[i][j] = mc_sub((i == j) ? MC_ONE : MC_ZERO, kc);
-        }
-    }
-    for (int i = 0; i < EKF_N; ++i) {
-        for (int j = 0; j < EKF_N; ++j) {
-            mc_t s = MC_ZERO;
-            for (int k = 0; k < EKF_N; ++k) {
-                s = mc_mac(s, IKC[i][k], e->P[k][j]);
+            mc_t s = e->P[i][j];
+            for (int k = 0; k < EKF_M; ++k) {
+                s = mc_sub(s, mc_mul(K[i][k], e->P[k][j]));
             }
             T[i][j] = s;
         }
     }
     for (int i = 0; i < EKF_N; ++i) {
         for (int j = i; j < EKF_N; ++j) {
-            mc_t s = MC_ZERO;
-            for (int k = 0; k < EKF_N; ++k) {
-                s = mc_mac(s, T[i][k], IKC[j][k]);
-            }
+            mc_t s = T[i][j];
             for (int k = 0; k < EKF_M; ++k) {
+                s = mc_sub(s, mc_mul(T[i][k], K[j][k]));
                 s = mc_mac(s, mc_mul(K[i][k], c->r[k]), K[j][k]);
             }
             e->P[i][j] = s;
