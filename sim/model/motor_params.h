@@ -27,6 +27,16 @@ struct MotorParams {
     // C sgn(omega) that keeps the ODE Lipschitz so RK4 converges at rest.
     double coulomb_omega_s_rad_s = 0.05;
     int n_p = 1;                  // pole pairs (rotor teeth)
+    // LuGre friction, paper 002 eqs. (45)-(46) (sigma0 = 0: none):
+    //   dz/dt = w - sigma0 |w| z / g(w),  g(w) = M_c + (M_s - M_c) exp(-(w/w_s)^2)
+    //   M_LuGre = sigma0 z + sigma1 dz/dt + sigma2 w
+    double lugre_sigma0_Nm_per_rad = 0.0;
+    double lugre_sigma1_Nms_per_rad = 0.0;
+    double lugre_sigma2_Nms_per_rad = 0.0;
+    double lugre_Mc_Nm = 0.0;     // Coulomb level
+    double lugre_Ms_Nm = 0.0;     // stiction level
+    double lugre_ws_rad_s = 0.0;  // Stribeck speed
+    bool lugre() const { return lugre_sigma0_Nm_per_rad > 0.0; }
 
     int n_phases() const { return type == MotorType::kPmsm3 ? 3 : 2; }
     // Torque per (K i) of the alpha-beta model: m/2 for m phases.

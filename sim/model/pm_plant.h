@@ -88,6 +88,12 @@ public:
     // The same, for an arbitrary speed and time.
     double load_torque_Nm(double omega_rad_s, double t_s) const;
 
+    // The LuGre friction of the current state (0 without LuGre) [N m] and
+    // its bristle deflection z [rad] (paper 002 (45)-(46)); part of
+    // load_torque_Nm().
+    double lugre_torque_Nm() const;
+    double lugre_z_rad() const { return z_; }
+
     const State& state() const { return x_; }
     double time_s() const { return t_s_; }
     double i_a_A() const { return x_[kIa]; }
@@ -127,6 +133,7 @@ private:
     // Folded constants: 1/L, 1/J, K/L, k_m K/J, 1/w_s.
     double inv_L_, inv_J_, K_over_L_, K_over_J_, inv_ws_;
     bool salient_;
+    double z_ = 0.0;  // LuGre bristle deflection
     bool locked_ = false;
     int open_winding_ = -1;
     // alpha-beta current rates and the electromagnetic part of dw/dt of a

@@ -542,6 +542,28 @@ void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_f
             ge(v, "coulomb_Nm", *c, 0.0);
             m->coulomb_Nm = *c;
         }
+        // LuGre (paper 002 (45)-(46)): all six or none
+        const char* lugre_keys[6] = {"lugre_sigma0_Nm_per_rad", "lugre_sigma1_Nms_per_rad", "lugre_sigma2_Nms_per_rad",
+                                     "lugre_Mc_Nm", "lugre_Ms_Nm", "lugre_ws_rad_s"};
+        double* lugre_dst[6] = {&m->lugre_sigma0_Nm_per_rad, &m->lugre_sigma1_Nms_per_rad, &m->lugre_sigma2_Nms_per_rad,
+                                &m->lugre_Mc_Nm, &m->lugre_Ms_Nm, &m->lugre_ws_rad_s};
+        int n_lugre = 0;
+        for (int i = 0; i < 6; ++i) {
+            if (const auto x = v.number(lugre_keys[i])) {
+                ge(v, lugre_keys[i], *x, 0.0);
+                *lugre_dst[i] = *x;
+                ++n_lugre;
+            }
+        }
+        if (n_lugre != 0 && n_lugre != 6) {
+            v.fail(lugre_keys[0], "LuGre friction needs all six lugre_* keys (sigma0, sigma1, sigma2, Mc, Ms, ws)");
+        }
+        if (n_lugre == 6) {
+            gt(v, "lugre_sigma0_Nm_per_rad", m->lugre_sigma0_Nm_per_rad, 0.0);
+            gt(v, "lugre_Mc_Nm", m->lugre_Mc_Nm, 0.0);
+            gt(v, "lugre_ws_rad_s", m->lugre_ws_rad_s, 0.0);
+            if (m->lugre_Ms_Nm < m->lugre_Mc_Nm) v.fail("lugre_Ms_Nm", "the stiction level must be >= lugre_Mc_Nm");
+        }
         const auto ws = v.number("coulomb_omega_s_rad_s");
         if (ws) {
             gt(v, "coulomb_omega_s_rad_s", *ws, 0.0);
@@ -557,7 +579,10 @@ const std::vector<std::string>& motor_file_keys()
     static const std::vector<std::string> k = {"name",   "source",         "description", "type",
                                                "L_H",    "K_Nm_per_A",     "L_d_H",       "L_q_H",
                                                "Phi_Wb", "R_ohm",          "J_kgm2",      "fv_Nms_per_rad",
-                                               "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p"};
+                                               "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p",
+                                               "lugre_sigma0_Nm_per_rad", "lugre_sigma1_Nms_per_rad",
+                                               "lugre_sigma2_Nms_per_rad", "lugre_Mc_Nm", "lugre_Ms_Nm",
+                                               "lugre_ws_rad_s"};
     return k;
 }
 

@@ -248,3 +248,70 @@ TEST(Reference, PaperTrajectory)
 }
 
 }  // namespace
+
+namespace {
+// paper 002's reference motor with its LuGre friction (the set)
+mcsim::MotorParams ipmsm_lugre(double J)
+{
+    mcsim::MotorParams m;
+    m.type = mcsim::MotorType::kPmsm3;
+    m.L_H = 3e-3;
+    m.L_q_H = 9e-3;
+    m.R_ohm = 0.3;
+    m.K_Nm_per_A = 4 * 0.04;
+    m.n_p = 4;
+    m.J_kgm2 = J;
+    m.fv_Nms_per_rad = 5e-4;
+    m.lugre_sigma0_Nm_per_rad = 10.0;
+    m.lugre_sigma1_Nms_per_rad = 0.05;
+    m.lugre_sigma2_Nms_per_rad = 2e-4;
+    m.lugre_Mc_Nm = 0.05;
+    m.lugre_Ms_Nm = 0.08;
+    m.lugre_ws_rad_s = 0.5;
+    return m;
+}
+}  // namespace
+
+// LuGre (paper 002 (45)-(46)): at a held speed (a huge inertia) the
+// bristles settle and the friction is the steady-state curve
+// g(w) sign(w) + sigma2 w; a spin-down converges with the sub-steps (the
+// splitting of the bristle's exact exponential step from RK4 is first
+// order): the difference to 256 sub-steps shrinks about four times from
+// 16 to 64 sub-steps, and is below 1e-3 rad/s at 64.
+TEST(Plant, LugreSteadyFrictionAndSubstepConvergence)
+{
+    for (double w : {0.2, 1.0, 5.0, -3.0}) {
+        mcsim::PmPlant p(ipmsm_lugre(1e6), mcsim::LoadProfile(), 4);
+        mcsim::PmPlant::State x0 = mcsim::PmPlant::State::Zero();
+        x0[mcsim::PmPlant::kOmega] = w;
+        p.reset(x0);
+        const double v[3] = {0.0, 0.0, 0.0};
+        for (int k = 0; k < 10000; ++k) p.step_phases(v, 1e-4);  // 1 s: 26 of z's time constants at 0.2 rad/s
+        const double r = w / 0.5;
+        const double steady = (0.05 + 0.03 * std::exp(-r * r)) * (w > 0 ? 1.0 : -1.0) + 2e-4 * w;
+        EXPECT_NEAR(p.lugre_torque_Nm(), steady, 1e-4) << w;
+    }
+    auto spin_down = [](int substeps) {
+        mcsim::PmPlant p(ipmsm_lugre(1e-3), mcsim::LoadProfile(), substeps);
+        mcsim::PmPlant::State x0 = mcsim::PmPlant::State::Zero();
+        x0[mcsim::PmPlant::kOmega] = 20.0;
+        p.reset(x0);
+        const double v[3] = {0.0, 0.0, 0.0};
+        std::vector<double> w;
+        for (int k = 0; k < 2000; ++k) {
+            p.step_phases(v, 1e-4);
+            w.push_back(p.omega_rad_s());
+        }
+        return w;
+    };
+    const auto w16 = spin_down(16), w64 = spin_down(64), w256 = spin_down(256);
+    double e16 = 0.0, e64 = 0.0;
+    for (std::size_t k = 0; k < w16.size(); ++k) {
+        e16 = std::fmax(e16, std::fabs(w16[k] - w256[k]));
+        e64 = std::fmax(e64, std::fabs(w64[k] - w256[k]));
+    }
+    std::printf("spin-down against 256 sub-steps: 16: %.3g rad/s, 64: %.3g rad/s\n", e16, e64);
+    EXPECT_LT(e64, e16 / 3.0);
+    EXPECT_LT(e64, 1e-3);
+    EXPECT_LT(std::fabs(w256.back()), 20.0) << "friction and the shorted windings brake";
+}
