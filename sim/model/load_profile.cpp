@@ -1,13 +1,19 @@
 #include "model/load_profile.h"
 
+#include <cmath>
+
 namespace mcsim {
 
 LoadProfile::LoadProfile(const std::vector<LoadStep>& steps)
 {
     double level = 0.0;
     for (const LoadStep& s : steps) {
+        if (!knot_t_.empty()) {
+            seg_cos_.push_back(false);  // the hold since the last step
+        }
         knot_t_.push_back(s.t_s);
         knot_v_.push_back(level);
+        seg_cos_.push_back(s.raised_cosine);  // the ramp
         knot_t_.push_back(s.t_s + s.ramp_s);
         knot_v_.push_back(s.torque_Nm);
         level = s.torque_Nm;
@@ -32,7 +38,10 @@ double LoadProfile::torque_Nm(double t_s) const
     if (dt <= 0.0) {
         return knot_v_[k + 1];
     }
-    const double w = (t_s - knot_t_[k]) / dt;
+    double w = (t_s - knot_t_[k]) / dt;
+    if (seg_cos_[k]) {
+        w = 0.5 * (1.0 - std::cos(3.14159265358979323846 * w));
+    }
     return knot_v_[k] + w * (knot_v_[k + 1] - knot_v_[k]);
 }
 

@@ -1,5 +1,7 @@
 // load_profile.h - external load torque T_load(t) of the plant: piecewise
-// constant steps, each optionally reached by a linear ramp.
+// constant steps, each optionally reached by a ramp, linear or a raised
+// cosine (paper 002's pulses: 0.5 (1 - cos(pi x)) of the change at x in
+// [0, 1] of the edge, smooth in the torque's derivative).
 #ifndef MCSIM_MODEL_LOAD_PROFILE_H
 #define MCSIM_MODEL_LOAD_PROFILE_H
 
@@ -10,7 +12,8 @@ namespace mcsim {
 struct LoadStep {
     double t_s = 0.0;        // when the change starts
     double torque_Nm = 0.0;  // level reached (positive opposes positive speed)
-    double ramp_s = 0.0;     // 0 = a step; > 0 = linear ramp from the previous level
+    double ramp_s = 0.0;     // 0 = a step; > 0 = a ramp from the previous level
+    bool raised_cosine = false;  // the ramp's shape: linear, or a raised cosine
 };
 
 class LoadProfile {
@@ -26,6 +29,7 @@ public:
 private:
     // Knots of the piecewise-linear profile; two knots at the same time make a step.
     std::vector<double> knot_t_, knot_v_;
+    std::vector<bool> seg_cos_;  // segment k (knot k to k+1) is a raised cosine
 };
 
 }  // namespace mcsim

@@ -1076,19 +1076,52 @@ Scenario load_scenario(const std::string& path)
     }
 
     if (const auto v = root.table("load")) {
-        v->only({"steps"});
+        v->only({"steps", "pulses"});
+        if (v->has("steps") && v->has("pulses")) {
+            v->fail("pulses", "give either steps or pulses, not both");
+        }
+        auto edge_of = [](const View& t) {
+            const std::string e = t.string("edge").value_or("linear");
+            if (e != "linear" && e != "raised_cosine") {
+                t.fail("edge", "must be \"linear\" or \"raised_cosine\" (got \"" + e + "\")");
+            }
+            return e == "raised_cosine";
+        };
         if (const auto steps = v->tables("steps")) {
             double t_free = 0.0;  // earliest start of the next step
             for (const View& s : *steps) {
-                s.only({"t_s", "torque_Nm", "ramp_s"});
+                s.only({"t_s", "torque_Nm", "ramp_s", "edge"});
                 LoadStep ls;
                 ls.t_s = s.number_req("t_s");
                 ge(s, "t_s", ls.t_s, t_free);
                 ls.torque_Nm = s.number_req("torque_Nm");
                 ls.ramp_s = s.number("ramp_s").value_or(0.0);
                 ge(s, "ramp_s", ls.ramp_s, 0.0);
+                ls.raised_cosine = edge_of(s);
                 t_free = ls.t_s + ls.ramp_s;
                 sc.load.push_back(ls);
+            }
+        }
+        // a pulse train (paper 002's load): torque_Nm from start_s every
+        // period_s for width_s (the edges inside it), until the run's end
+        if (const auto p = v->table("pulses")) {
+            p->only({"torque_Nm", "start_s", "width_s", "period_s", "edge_s", "edge"});
+            const double M = p->number_req("torque_Nm");
+            const double t0 = p->number_req("start_s");
+            const double w = p->number_req("width_s");
+            const double T = p->number_req("period_s");
+            const double e = p->number("edge_s").value_or(0.0);
+            ge(*p, "start_s", t0, 0.0);
+            gt(*p, "width_s", w, 0.0);
+            gt(*p, "period_s", T, 0.0);
+            ge(*p, "edge_s", e, 0.0);
+            if (!(2.0 * e <= w)) p->fail("edge_s", "two edges must fit in width_s (got " + fmt_num(e) + " s)");
+            if (!(w < T)) p->fail("width_s", "must be shorter than period_s");
+            const bool cosine = edge_of(*p);
+            if ((sc.duration_s - t0) / T > 10000.0) p->fail("period_s", "more than 10000 pulses in the run");
+            for (double t = t0; t < sc.duration_s; t += T) {
+                sc.load.push_back(LoadStep{t, M, e, cosine});
+                sc.load.push_back(LoadStep{t + w - e, 0.0, e, cosine});
             }
         }
     }

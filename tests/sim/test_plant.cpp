@@ -315,3 +315,20 @@ TEST(Plant, LugreSteadyFrictionAndSubstepConvergence)
     EXPECT_LT(e64, 1e-3);
     EXPECT_LT(std::fabs(w256.back()), 20.0) << "friction and the shorted windings brake";
 }
+
+// paper 002's load pulses: raised-cosine edges, 0.5 (1 - cos(pi x)) of the
+// change; 0 before, the level held between the edges, 0 after.
+TEST(LoadProfile, RaisedCosinePulse)
+{
+    const mcsim::LoadProfile p({mcsim::LoadStep{0.1, 0.5, 0.02, true}, mcsim::LoadStep{0.18, 0.0, 0.02, true}});
+    EXPECT_EQ(p.torque_Nm(0.05), 0.0);
+    EXPECT_NEAR(p.torque_Nm(0.105), 0.5 * 0.5 * (1.0 - std::cos(3.14159265358979 * 0.25)), 1e-12);
+    EXPECT_NEAR(p.torque_Nm(0.11), 0.25, 1e-12);
+    EXPECT_NEAR(p.torque_Nm(0.15), 0.5, 1e-12);
+    EXPECT_NEAR(p.torque_Nm(0.19), 0.25, 1e-12);
+    EXPECT_EQ(p.torque_Nm(0.25), 0.0);
+    // smooth at the edge's ends: the slope over a microsecond is ~0
+    EXPECT_LT(std::fabs(p.torque_Nm(0.120001) - p.torque_Nm(0.12)), 1e-8);
+    const mcsim::LoadProfile lin({mcsim::LoadStep{0.1, 0.5, 0.02, false}});
+    EXPECT_NEAR(lin.torque_Nm(0.105), 0.125, 1e-12);
+}
