@@ -474,6 +474,13 @@ int run(const Options& opt)
         }
         hal_sw_plant_set_board(board.get());
     }
+    // [encoder]: the samples carry its reading (the drives of papers 000
+    // and 001 are sensorless and do not read it)
+    std::unique_ptr<mcsim::Encoder> encoder;
+    if (sc.encoder.present()) {
+        encoder = std::make_unique<mcsim::Encoder>(sc.encoder, sc.seed);
+        hal_sw_plant_set_encoder(encoder.get());
+    }
     mcsim::FaultInjector injector(sc.faults, sc.seed);
     if (sc.faults.any()) {
         hal_sw_plant_set_faults(&injector);

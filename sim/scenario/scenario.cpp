@@ -751,7 +751,7 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board"});
+               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder"});
     // [speed] makes it the speed drive (paper 001); else the position drive
     // of paper 000 with its [trajectory].
     sc.speed_drive = root.has("speed");
@@ -1258,6 +1258,18 @@ Scenario load_scenario(const std::string& path)
         }
     }
     read_board(root, &sc);
+    // [encoder] (optional): the HAL's position input
+    if (const auto v = root.table("encoder")) {
+        v->only({"counts_per_turn", "noise_rad"});
+        const auto n = v->integer("counts_per_turn");
+        if (!n) v->fail("counts_per_turn", "missing required field");
+        if (*n < 1 || *n > (std::int64_t{1} << 32)) {
+            v->fail("counts_per_turn", "must be an integer in [1, 2^32] (got " + std::to_string(*n) + ")");
+        }
+        sc.encoder.counts_per_turn = *n;
+        sc.encoder.noise_rad = v->number("noise_rad").value_or(0.0);
+        ge(*v, "noise_rad", sc.encoder.noise_rad, 0.0);
+    }
     return sc;
 }
 

@@ -15,6 +15,7 @@
 #include "model/current_sensor.h"
 #include "model/fault_injection.h"
 #include "model/board_emulation.h"
+#include "model/encoder.h"
 #include "model/load_profile.h"
 #include "model/motor_params.h"
 #include "model/reference.h"
@@ -131,6 +132,7 @@ struct Scenario {
     std::vector<LoadStep> load;
     FaultInjection faults;  // [faults]: none unless given
     BoardParams board;      // [board]: defaults (DS1104-like) unless given
+    EncoderParams encoder;  // [encoder]: none unless given
     bool board_given = false;
     std::vector<Segment> segments;
 

@@ -332,3 +332,26 @@ TEST(LoadProfile, RaisedCosinePulse)
     const mcsim::LoadProfile lin({mcsim::LoadStep{0.1, 0.5, 0.02, false}});
     EXPECT_NEAR(lin.torque_Nm(0.105), 0.125, 1e-12);
 }
+
+#include "model/encoder.h"
+
+// The encoder: floor to its counts, wrapped into [-pi, pi), noise of the
+// asked sigma.
+TEST(Encoder, QuantisesWrapsAndAddsNoise)
+{
+    mcsim::Encoder e(mcsim::EncoderParams{4096, 0.0}, 1);
+    const double step = 2.0 * 3.14159265358979323846 / 4096.0;
+    EXPECT_NEAR(e.measure(10.5 * step), 10.0 * step, 1e-12);
+    EXPECT_NEAR(e.measure(-0.5 * step), -step, 1e-12);
+    EXPECT_NEAR(e.measure(2.0 * 3.14159265358979323846 + 3.0 * step), 3.0 * step, 1e-9);
+    const double m = e.measure(3.5);  // past pi: wrapped
+    EXPECT_LT(m, 0.0);
+    EXPECT_GE(m, -3.14159265358979323846);
+    mcsim::Encoder n(mcsim::EncoderParams{1 << 30, 1e-4}, 3);
+    double ss = 0.0;
+    for (int k = 0; k < 20000; ++k) {
+        const double d = n.measure(1.0) - 1.0;
+        ss += d * d;
+    }
+    EXPECT_NEAR(std::sqrt(ss / 20000), 1e-4, 5e-6);
+}

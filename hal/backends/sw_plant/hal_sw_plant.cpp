@@ -25,6 +25,7 @@ struct Backend {
     mcsim::FaultInjector* faults = nullptr;  // injected faults, or none
     const hal_sw_plant_can_t* can = nullptr;  // CAN bus, or none
     mcsim::BoardEmulation* board = nullptr;   // DAC/ADC board, or none
+    mcsim::Encoder* encoder = nullptr;        // position encoder, or none
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -61,6 +62,8 @@ void hal_sw_plant_set_faults(mcsim::FaultInjector* faults) { g_hal.faults = faul
 void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus) { g_hal.can = bus; }
 
 void hal_sw_plant_set_board(mcsim::BoardEmulation* board) { g_hal.board = board; }
+
+void hal_sw_plant_set_encoder(mcsim::Encoder* encoder) { g_hal.encoder = encoder; }
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
@@ -128,7 +131,8 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
                 in.i_A[k] = mc_from_double(i_meas[k]);
             }
             in.v_bus_V = mcsim::to_mc(v_bus_meas);
-            in.has_angle = false;
+            in.has_angle = g_hal.encoder != nullptr;
+            in.angle_rad = in.has_angle ? mcsim::to_mc(g_hal.encoder->measure(plant.theta_rad())) : mcsim::to_mc(0.0);
             in.status = (fi != nullptr && fi->overrun(p.t_s, g_hal.ts_s)) ? HAL_STATUS_OVERRUN : 0u;
             hal_command_t out{};
             out.n_phases = static_cast<std::uint8_t>(n_ph);

@@ -18,6 +18,7 @@
 #include "hal/hal.h"
 #include "model/amplifier.h"
 #include "model/board_emulation.h"
+#include "model/encoder.h"
 #include "model/current_sensor.h"
 #include "model/fault_injection.h"
 #include "model/pm_plant.h"
@@ -81,6 +82,10 @@ void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx);
 // converters and amplifiers instead of the amplifier model. nullptr (or
 // none set since attach): the sensor and amplifier models. Not owned.
 void hal_sw_plant_set_board(mcsim::BoardEmulation* board);
+
+// A position encoder (model/encoder.h): each sample then carries
+// has_angle = true and its reading of the rotor's angle; nullptr: none.
+void hal_sw_plant_set_encoder(mcsim::Encoder* encoder);
 
 // Runs n periods synchronously and returns how many ran (0 if no plant is
 // attached or hal_start() was not called). After hal_safe_state() the plant
