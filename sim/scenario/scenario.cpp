@@ -1119,7 +1119,9 @@ Scenario load_scenario(const std::string& path)
             if (!(w < T)) p->fail("width_s", "must be shorter than period_s");
             const bool cosine = edge_of(*p);
             if ((sc.duration_s - t0) / T > 10000.0) p->fail("period_s", "more than 10000 pulses in the run");
-            for (double t = t0; t < sc.duration_s; t += T) {
+            const auto n_pulses = static_cast<int>(std::ceil((sc.duration_s - t0) / T));
+            for (int k = 0; k < n_pulses; ++k) {
+                const double t = t0 + static_cast<double>(k) * T;
                 sc.load.push_back(LoadStep{t, M, e, cosine});
                 sc.load.push_back(LoadStep{t + w - e, 0.0, e, cosine});
             }
