@@ -1,0 +1,79 @@
+/*
+ * paper002_drive.h - paper 002's cascaded speed drive on an interior PMSM
+ * with an encoder, as a composition of its blocks (estimators/ekf_ipmsm.h,
+ * control/sosmc.h or control/htsmc.h, control/mtpa.h, control/ibcc.h,
+ * trajectory/speed_poly.h). Per sample:
+ *   1. the phase currents to alpha-beta, then to d-q with the encoder's
+ *      electrical angle (the paper measures i_d, i_q and theta_r);
+ *   2. the EKF's correction with them (40)-(44);
+ *   3. the reference w_d, dw_d/dt; the torque demand from SOSMC (27)-(28)
+ *      or HTSMC (29)-(35) on the EKF's speed, acceleration and disturbance;
+ *   4. MTPA (15)/(18) and its torque inversion: i_dd, i_qd;
+ *   5. the current control (9) with (3)'s coupling on the EKF's currents
+ *      and speed, limited to the bus's v_bus/sqrt(3);
+ *   6. the d-q voltage back to alpha-beta at the estimated electrical angle
+ *      advanced by half a sample (the voltage acts over the coming sample),
+ *      min/max zero sequence to the three legs;
+ *   7. the EKF's prediction with the applied d-q voltage (38)-(39).
+ * A sample without the encoder's angle, of the wrong phase count, or a
+ * current beyond i_trip puts it in FAULT (0 V). Float only: the EKF's
+ * covariances do not fit Q14.17 (docs/paper002.md).
+ */
+#ifndef DRIVES_PAPER002_DRIVE_H
+#define DRIVES_PAPER002_DRIVE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "control/htsmc.h"
+#include "control/ibcc.h"
+#include "control/mtpa.h"
+#include "control/sosmc.h"
+#include "estimators/ekf_ipmsm.h"
+#include "hal/hal_types.h"
+#include "math/mc_num.h"
+#include "supervisor/supervisor.h"
+#include "trajectory/speed_poly.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum { P002_SOSMC = 0, P002_HTSMC = 1 } p002_controller_t;
+
+typedef struct {
+    p002_controller_t controller;
+    ekf_ipmsm_config_t ekf;
+    sosmc_config_t sosmc;
+    htsmc_config_t htsmc;
+    mtpa_config_t mtpa;
+    ibcc_config_t ibcc;
+    speed_poly_t reference;
+    mc_t i_trip_A;
+} paper002_config_t;
+
+typedef struct {
+    paper002_config_t cfg;
+    ekf_ipmsm_t ekf;
+    sosmc_t sosmc;
+    htsmc_t htsmc;
+    ibcc_t ibcc;
+    drive_fault_t fault;
+    uint32_t tick;
+    /* the last step, for telemetry and logs */
+    struct {
+        mc_t w_d_rad_s, M_d_Nm, i_dd_A, i_qd_A, i_d_A, i_q_A, u_d_V, u_q_V;
+        bool saturated;
+    } last;
+} paper002_drive_t;
+
+bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
+
+/* One sample; false (0 V out) in FAULT. */
+bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DRIVES_PAPER002_DRIVE_H */

@@ -1,0 +1,170 @@
+// Paper 002's drive (firmware/drives/paper002_drive.h) in closed loop with
+// a d-q model of the issue's reference IPMSM written here (RK4, 10
+// sub-steps; LuGre friction with its bristle advanced exactly; the load
+// pulses of 0.5 N m with raised-cosine edges; phase currents with 5 mA of
+// noise, an encoder of 2^16 counts with 1e-4 rad of noise), the reference
+// 0 -> 100 rad/s on [0.2, 0.4] s: the speed RMSE over [0, 1] s for SOSMC
+// and HTSMC with disturbance compensation, and that compensation lowers it.
+// (The simulator's plant and the 16-case study are the issue's next step;
+// this checks the composition.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "drives/paper002_drive.h"
+#include "math/mc_convert.h"
+
+namespace {
+constexpr double kR = 0.3, kLd = 3e-3, kLq = 9e-3, kPsi = 0.04, kJ = 1e-3, kD = 5e-4, kTs = 1e-4;
+constexpr int kP = 4;
+constexpr double kPi = 3.14159265358979323846;
+mc_t M(double x) { return mc_from_double(x); }
+
+struct Truth {
+    double id = 0, iq = 0, th = 0, w = 0, z = 0;
+    double lugre(double wz, double zz) const
+    {
+        const double g = 0.05 + 0.03 * std::exp(-(wz / 0.5) * (wz / 0.5));
+        const double zdot = wz - 10.0 * std::fabs(wz) * zz / g;
+        return 10.0 * zz + 0.05 * zdot + 2e-4 * wz;
+    }
+    void step(double ud, double uq, double load)
+    {
+        const int n = 10;
+        const double h = kTs / n;
+        for (int s = 0; s < n; ++s) {
+            const double Tf = lugre(w, z);
+            auto f = [&](const double* x, double* dx) {
+                const double we = kP * x[3];
+                dx[0] = (ud - kR * x[0] + kLq * we * x[1]) / kLd;
+                dx[1] = (uq - kR * x[1] - kLd * we * x[0] - kPsi * we) / kLq;
+                dx[2] = x[3];
+                dx[3] = (1.5 * kP * (kPsi * x[1] + (kLd - kLq) * x[0] * x[1]) - kD * x[3] - load - Tf) / kJ;
+            };
+            double x0[4] = {id, iq, th, w}, k1[4], k2[4], k3[4], k4[4], t[4];
+            f(x0, k1);
+            for (int i = 0; i < 4; ++i) t[i] = x0[i] + 0.5 * h * k1[i];
+            f(t, k2);
+            for (int i = 0; i < 4; ++i) t[i] = x0[i] + 0.5 * h * k2[i];
+            f(t, k3);
+            for (int i = 0; i < 4; ++i) t[i] = x0[i] + h * k3[i];
+            f(t, k4);
+            const double w0 = w;
+            id += h / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0]);
+            iq += h / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1]);
+            th += h / 6 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2]);
+            w += h / 6 * (k1[3] + 2 * k2[3] + 2 * k3[3] + k4[3]);
+            const double wm = 0.5 * (w0 + w);
+            const double g = 0.05 + 0.03 * std::exp(-(wm / 0.5) * (wm / 0.5));
+            const double a = 10.0 * std::fabs(wm) / g;
+            z = (a * h < 1e-12) ? z + wm * h : wm / a + (z - wm / a) * std::exp(-a * h);
+        }
+    }
+};
+
+double load_at(double t)
+{
+    // 0.5 N m pulses 0.1 s wide every 0.2 s from 0.1 s, 20 ms raised-cosine edges
+    if (t < 0.1) return 0.0;
+    const double u = std::fmod(t - 0.1, 0.2);
+    if (u >= 0.1) return 0.0;
+    auto rc = [](double x) { return 0.5 * (1.0 - std::cos(kPi * x)); };
+    if (u < 0.02) return 0.5 * rc(u / 0.02);
+    if (u > 0.08) return 0.5 * rc((0.1 - u) / 0.02);
+    return 0.5;
+}
+
+paper002_config_t config(p002_controller_t ctrl, bool dc)
+{
+    paper002_config_t c{};
+    c.controller = ctrl;
+    ekf_ipmsm_config_t& e = c.ekf;
+    e.R_ohm = M(kR);
+    e.Ld_H = M(kLd);
+    e.Lq_H = M(kLq);
+    e.psi_Wb = M(kPsi);
+    e.p = kP;
+    e.J_kgm2 = M(kJ);
+    e.d_Nms = M(kD);
+    e.ts_s = M(kTs);
+    // preliminary tuning (a few runs of this test; the design module and
+    // the study are the issue's next step): the disturbance's and the
+    // speed's random walk 3e-4 per sample
+    const double q[5] = {1e-4, 1e-4, 1e-12, 3e-4, 3e-4};
+    for (int i = 0; i < 5; ++i) {
+        e.q[i] = M(q[i]);
+        e.p0[i] = M(1e-3);
+    }
+    e.r[0] = e.r[1] = M(2.5e-5);
+    e.r[2] = M(1e-8);
+    // SOSMC's error dynamics s^2 + alpha_0 s + alpha_I: a double pole at 400 rad/s
+    c.sosmc = sosmc_config_t{M(kJ), M(kD), M(800.0), M(1.6e5), M(1e4), M(50.0), M(5.0), dc, M(kTs)};
+    c.htsmc = htsmc_config_t{M(kJ), M(kD), M(200.0), M(2e3), M(4e3), M(40.0), M(0.5), M(5.0), M(5000.0), M(0.5),
+                             M(5.0), dc, M(kTs)};
+    c.mtpa = mtpa_config_t{M(kLd), M(kLq), M(kPsi), kP, M(20.0)};
+    c.ibcc = ibcc_config_t{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000};
+    EXPECT_TRUE(speed_poly_init(&c.reference, 2000, 4000, M(0.0), M(100.0), 10000));
+    c.i_trip_A = M(30.0);
+    return c;
+}
+
+double run(p002_controller_t ctrl, bool dc, bool noise)
+{
+    static paper002_drive_t d;
+    const paper002_config_t cfg = config(ctrl, dc);
+    EXPECT_TRUE(paper002_drive_init(&d, &cfg));
+    Truth tr;
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    double ss = 0.0;
+    for (int k = 0; k < 10000; ++k) {
+        const double t = k * kTs;
+        // phases of the true d-q currents
+        const double c = std::cos(kP * tr.th), s = std::sin(kP * tr.th);
+        const double ia = c * tr.id - s * tr.iq, ib = s * tr.id + c * tr.iq;
+        const double ph[3] = {ia, -0.5 * ia + 0.8660254037844386 * ib, -0.5 * ia - 0.8660254037844386 * ib};
+        hal_sample_t in{};
+        in.n_phases = 3;
+        for (int j = 0; j < 3; ++j) in.i_A[j] = M(ph[j] + (noise ? 5e-3 * n01(rng) : 0.0));
+        in.v_bus_V = M(48.0);
+        in.has_angle = true;
+        const double step = 2 * kPi / 65536.0;
+        double enc = std::floor(tr.th / step) * step + (noise ? 1e-4 * n01(rng) : 0.0);
+        enc -= 2 * kPi * std::floor((enc + kPi) / (2 * kPi));
+        in.angle_rad = M(enc);
+        hal_command_t out{};
+        EXPECT_TRUE(paper002_drive_step(&d, &in, &out)) << k;
+        // leg voltages to d-q on the true angle
+        const double v0 = (mc_to_double(out.v_V[0]) + mc_to_double(out.v_V[1]) + mc_to_double(out.v_V[2])) / 3.0;
+        const double va = mc_to_double(out.v_V[0]) - v0;
+        const double vb = (mc_to_double(out.v_V[1]) - mc_to_double(out.v_V[2])) / 1.7320508075688772;
+        const double wd = mc_to_double(d.last.w_d_rad_s);
+        ss += (wd - tr.w) * (wd - tr.w);
+        tr.step(c * va + s * vb, c * vb - s * va, load_at(t));
+    }
+    return std::sqrt(ss / 10000.0);
+}
+}  // namespace
+
+TEST(Paper002Drive, TracksTheReferenceWithCompensation)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    const double s_dc = run(P002_SOSMC, true, true), s_no = run(P002_SOSMC, false, true);
+    const double h_dc = run(P002_HTSMC, true, true), h_no = run(P002_HTSMC, false, true);
+    const double s_dc_nn = run(P002_SOSMC, true, false), h_dc_nn = run(P002_HTSMC, true, false);
+    std::printf("speed RMSE [rad/s], w(0) = 0: SOSMC dc %.4g / no dc %.4g / dc without noise %.4g; HTSMC dc %.4g / "
+                "no dc %.4g / dc without noise %.4g\n",
+                s_dc, s_no, s_dc_nn, h_dc, h_no, h_dc_nn);
+    // measured: SOSMC 0.056 / 0.081 / 0.032, HTSMC 0.13 / 1.29 / 0.12 rad/s.
+    // The issue asks 0.04 with noise and 0.015 without at this case: not
+    // yet (the tuning belongs to the design module still to come); what
+    // this test holds is the composition and the trend.
+    EXPECT_LT(s_dc, s_no);
+    EXPECT_LT(h_dc, h_no);
+    EXPECT_LT(s_dc, 0.1);
+    EXPECT_LT(h_dc, 0.2);
+    EXPECT_LT(s_dc_nn, 0.05);
+}
