@@ -11,7 +11,9 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
+#include "design/paper002_design.h"
 #include "drives/paper002_drive.h"
 #include "math/mc_convert.h"
 
@@ -77,35 +79,14 @@ double load_at(double t)
 
 paper002_config_t config(p002_controller_t ctrl, bool dc)
 {
+    // the design module's gains for the issue's reference set
+    p002_design_input_t in;
+    p002_design_defaults(&in);
+    in.controller = ctrl;
+    in.compensate = dc;
     paper002_config_t c{};
-    c.controller = ctrl;
-    ekf_ipmsm_config_t& e = c.ekf;
-    e.R_ohm = M(kR);
-    e.Ld_H = M(kLd);
-    e.Lq_H = M(kLq);
-    e.psi_Wb = M(kPsi);
-    e.p = kP;
-    e.J_kgm2 = M(kJ);
-    e.d_Nms = M(kD);
-    e.ts_s = M(kTs);
-    // preliminary tuning (a few runs of this test; the design module and
-    // the study are the issue's next step): the disturbance's and the
-    // speed's random walk 3e-4 per sample
-    const double q[5] = {1e-4, 1e-4, 1e-12, 3e-4, 3e-4};
-    for (int i = 0; i < 5; ++i) {
-        e.q[i] = M(q[i]);
-        e.p0[i] = M(1e-3);
-    }
-    e.r[0] = e.r[1] = M(2.5e-5);
-    e.r[2] = M(1e-8);
-    // SOSMC's error dynamics s^2 + alpha_0 s + alpha_I: a double pole at 400 rad/s
-    c.sosmc = sosmc_config_t{M(kJ), M(kD), M(800.0), M(1.6e5), M(1e4), M(50.0), M(5.0), dc, M(kTs)};
-    c.htsmc = htsmc_config_t{M(kJ), M(kD), M(200.0), M(2e3), M(4e3), M(40.0), M(0.5), M(5.0), M(5000.0), M(0.5),
-                             M(5.0), dc, M(kTs)};
-    c.mtpa = mtpa_config_t{M(kLd), M(kLq), M(kPsi), kP, M(20.0)};
-    c.ibcc = ibcc_config_t{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000};
-    EXPECT_TRUE(speed_poly_init(&c.reference, 2000, 4000, M(0.0), M(100.0), 10000));
-    c.i_trip_A = M(30.0);
+    char err[200];
+    EXPECT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
     return c;
 }
 
@@ -149,6 +130,7 @@ double run(p002_controller_t ctrl, bool dc, bool noise)
 
 TEST(Paper002Drive, TracksTheReferenceWithCompensation)
 {
+    // the design's gains (paper002_design.c) on the reference set
 #if MC_FIXED
     GTEST_SKIP() << "float only";
 #endif
@@ -158,7 +140,7 @@ TEST(Paper002Drive, TracksTheReferenceWithCompensation)
     std::printf("speed RMSE [rad/s], w(0) = 0: SOSMC dc %.4g / no dc %.4g / dc without noise %.4g; HTSMC dc %.4g / "
                 "no dc %.4g / dc without noise %.4g\n",
                 s_dc, s_no, s_dc_nn, h_dc, h_no, h_dc_nn);
-    // measured: SOSMC 0.056 / 0.081 / 0.032, HTSMC 0.13 / 1.29 / 0.12 rad/s.
+    // measured: SOSMC 0.056 / 0.081 / 0.033, HTSMC 0.13 / 1.29 / 0.12 rad/s.
     // The issue asks 0.04 with noise and 0.015 without at this case: not
     // yet (the tuning belongs to the design module still to come); what
     // this test holds is the composition and the trend.
@@ -167,4 +149,27 @@ TEST(Paper002Drive, TracksTheReferenceWithCompensation)
     EXPECT_LT(s_dc, 0.1);
     EXPECT_LT(h_dc, 0.2);
     EXPECT_LT(s_dc_nn, 0.05);
+}
+
+// Bad input is refused at design time with the key named; the fixed-point
+// build refuses the design altogether (the EKF needs float).
+TEST(Paper002Design, RefusesBadInputNamingTheKey)
+{
+    p002_design_input_t in;
+    p002_design_defaults(&in);
+    paper002_config_t c{};
+    char err[200] = "";
+#if MC_FIXED
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("needs the float build"), std::string::npos) << err;
+#else
+    EXPECT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    in.Lq_H = 0.0;
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("motor.L_q_H"), std::string::npos) << err;
+    p002_design_defaults(&in);
+    in.encoder_counts = 0;
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("encoder.counts_per_turn"), std::string::npos) << err;
+#endif
 }

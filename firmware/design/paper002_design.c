@@ -1,0 +1,153 @@
+#include "design/paper002_design.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "math/mc_convert.h"
+
+/* The current loop's decay rate lambda of (8) per sample: lambda Ts = 0.1
+ * (a tenth of the sample rate: well inside IBCC_LAMBDA_TS_MAX with a
+ * sample of computation delay, and ten samples per time constant). */
+#define P002_LAMBDA_TS 0.1
+/* The speed loop's double pole a factor below the current loop's rate:
+ * 2.5 keeps the cascade's separation with the EKF's lag (measured in
+ * tests/firmware/test_paper002_drive.cpp: 400 rad/s at 10 kHz). */
+#define P002_SPEED_BELOW_CURRENT 2.5
+/* SOSMC's switching gain [rad/s^3] and boundary layer [rad/s^2]: the
+ * disturbance's second derivative the reference set's pulses reach (0.5
+ * N m over 20 ms raised-cosine edges: (pi/0.02)^2 0.25 / J = 6e6 at the
+ * peak, but the EKF's compensation takes the bulk; 1e4 covers what is
+ * left) and a layer of tanh wide enough not to chatter on the noise. */
+#define P002_SOSMC_ETA 1e4
+#define P002_SOSMC_EPS 50.0
+/* HTSMC: alpha_I [1/s] the integral's rate, the twisting gains [rad/s^3]
+ * alpha_M = 2 alpha_m, the super-twisting part lambda |s|^(1/2) up to
+ * s0 [rad/s], and a layer eps [rad/s]; nu's bound is the acceleration
+ * the current limit gives (errata: not Levant's normalised 1). */
+#define P002_HTSMC_ALPHA_I 200.0
+#define P002_HTSMC_ALPHA_m 2000.0
+#define P002_HTSMC_LAMBDA 40.0
+#define P002_HTSMC_S0 5.0
+#define P002_HTSMC_EPS 0.5
+/* EKF process noise per sample (random walks): the currents 1e-4 A^2 (the
+ * model's unmodelled voltage errors), the angle 1e-12 rad^2 (integrated
+ * exactly from the speed), the speed and the disturbance 3e-4 (LuGre and
+ * the load pulses change within milliseconds: a slower M_0 lags them). */
+#define P002_Q_I 1e-4
+#define P002_Q_THETA 1e-12
+#define P002_Q_OMEGA 3e-4
+#define P002_Q_M0 3e-4
+/* the initial covariance: what a start at rest leaves unknown */
+#define P002_P0 1e-3
+
+static bool p002_fail(char *err, size_t n, const char *field, const char *why, double got)
+{
+    if (err != NULL && n > 0) {
+        snprintf(err, n, "%s: %s (got %g)", field, why, got);
+    }
+    return false;
+}
+
+void p002_design_defaults(p002_design_input_t *in)
+{
+    in->R_ohm = 0.3;
+    in->Ld_H = 3e-3;
+    in->Lq_H = 9e-3;
+    in->psi_Wb = 0.04;
+    in->J_kgm2 = 1e-3;
+    in->d_Nms = 5e-4;
+    in->p = 4;
+    in->ts_s = 1e-4;
+    in->i_max_A = 20.0;
+    in->i_trip_A = 30.0;
+    in->sigma_i_A = 5e-3;
+    in->sigma_theta_rad = 1e-4;
+    in->encoder_counts = 65536;
+    in->controller = P002_SOSMC;
+    in->compensate = true;
+    in->t0_s = 0.2;
+    in->t1_s = 0.4;
+    in->w0_rad_s = 0.0;
+    in->w1_rad_s = 100.0;
+}
+
+bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *err, size_t err_len)
+{
+#if MC_FIXED
+    (void)in;
+    (void)cfg;
+    return p002_fail(err, err_len, "paper002", "the EKF needs the float build: its angle variance 1e-8 rad^2 is "
+                                               "below Q14.17's step of 7.6e-6 (docs/paper002.md)", 0.0);
+#else
+    if (!(in->Ld_H > 0.0)) return p002_fail(err, err_len, "motor.L_d_H", "must be > 0", in->Ld_H);
+    if (!(in->Lq_H > 0.0)) return p002_fail(err, err_len, "motor.L_q_H", "must be > 0", in->Lq_H);
+    if (!(in->R_ohm >= 0.0)) return p002_fail(err, err_len, "motor.R_ohm", "must be >= 0", in->R_ohm);
+    if (!(in->psi_Wb > 0.0)) return p002_fail(err, err_len, "motor.Phi_Wb", "must be > 0", in->psi_Wb);
+    if (!(in->J_kgm2 > 0.0)) return p002_fail(err, err_len, "motor.J_kgm2", "must be > 0", in->J_kgm2);
+    if (!(in->d_Nms >= 0.0)) return p002_fail(err, err_len, "motor.fv_Nms_per_rad", "must be >= 0", in->d_Nms);
+    if (in->p < 1) return p002_fail(err, err_len, "motor.n_p", "must be >= 1", in->p);
+    if (!(in->ts_s > 0.0)) return p002_fail(err, err_len, "run.Ts_s", "must be > 0", in->ts_s);
+    if (!(in->i_max_A > 0.0)) return p002_fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
+    if (!(in->i_trip_A >= in->i_max_A)) return p002_fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
+    if (in->encoder_counts < 1) return p002_fail(err, err_len, "encoder.counts_per_turn", "must be >= 1", (double)in->encoder_counts);
+    if (!(in->sigma_i_A >= 0.0)) return p002_fail(err, err_len, "sensor.noise_A", "must be >= 0", in->sigma_i_A);
+    if (!(in->sigma_theta_rad >= 0.0)) return p002_fail(err, err_len, "encoder.noise_rad", "must be >= 0", in->sigma_theta_rad);
+    if (!(in->t1_s > in->t0_s && in->t0_s >= 0.0)) return p002_fail(err, err_len, "reference.t1_s", "must be > t0_s >= 0", in->t1_s);
+    const double fs = 1.0 / in->ts_s;
+    const double fsr = floor(fs + 0.5);
+    if (fabs(fs - fsr) > 1e-6 * fs) return p002_fail(err, err_len, "run.Ts_s", "1/Ts must be a whole number of hertz", in->ts_s);
+    const double Kt = 1.5 * in->p * in->psi_Wb;
+    const double M_max = Kt * in->i_max_A;
+
+    /* the EKF: R from the sensors (the encoder's quantisation step^2/12
+     * added to its noise; a floor of 1e-12 keeps R positive definite with
+     * ideal sensors), Q and P0 as above */
+    ekf_ipmsm_config_t *e = &cfg->ekf;
+    e->R_ohm = mc_from_double(in->R_ohm);
+    e->Ld_H = mc_from_double(in->Ld_H);
+    e->Lq_H = mc_from_double(in->Lq_H);
+    e->psi_Wb = mc_from_double(in->psi_Wb);
+    e->p = in->p;
+    e->J_kgm2 = mc_from_double(in->J_kgm2);
+    e->d_Nms = mc_from_double(in->d_Nms);
+    e->ts_s = mc_from_double(in->ts_s);
+    const double q[EKF_N] = {P002_Q_I, P002_Q_I, P002_Q_THETA, P002_Q_OMEGA, P002_Q_M0};
+    for (int i = 0; i < EKF_N; ++i) {
+        e->q[i] = mc_from_double(q[i]);
+        e->p0[i] = mc_from_double(P002_P0);
+        e->x0[i] = MC_ZERO;
+    }
+    const double step = 2.0 * 3.14159265358979323846 / (double)in->encoder_counts;
+    const double r_i = fmax(in->sigma_i_A * in->sigma_i_A, 1e-12);
+    const double r_th = fmax(in->sigma_theta_rad * in->sigma_theta_rad + step * step / 12.0, 1e-12);
+    e->r[0] = e->r[1] = mc_from_double(r_i);
+    e->r[2] = mc_from_double(r_th);
+
+    /* the current loop (9) */
+    const double lambda = P002_LAMBDA_TS * fsr;
+    cfg->ibcc = (ibcc_config_t){mc_from_double(in->R_ohm), mc_from_double(in->Ld_H), mc_from_double(in->Lq_H),
+                                mc_from_double(in->psi_Wb), in->p, mc_from_double(lambda), (int32_t)fsr};
+    /* MTPA (15)/(18) */
+    cfg->mtpa = (mtpa_config_t){mc_from_double(in->Ld_H), mc_from_double(in->Lq_H), mc_from_double(in->psi_Wb),
+                                in->p, mc_from_double(in->i_max_A)};
+    /* SOSMC: s^2 + alpha_0 s + alpha_I with a double pole at w_s */
+    const double ws = lambda / P002_SPEED_BELOW_CURRENT;
+    cfg->sosmc = (sosmc_config_t){mc_from_double(in->J_kgm2), mc_from_double(in->d_Nms), mc_from_double(2.0 * ws),
+                                  mc_from_double(ws * ws), mc_from_double(P002_SOSMC_ETA), mc_from_double(P002_SOSMC_EPS),
+                                  mc_from_double(M_max), in->compensate, mc_from_double(in->ts_s)};
+    /* HTSMC */
+    const double nu_max = M_max / in->J_kgm2;
+    cfg->htsmc = (htsmc_config_t){mc_from_double(in->J_kgm2), mc_from_double(in->d_Nms), mc_from_double(P002_HTSMC_ALPHA_I),
+                                  mc_from_double(P002_HTSMC_ALPHA_m), mc_from_double(2.0 * P002_HTSMC_ALPHA_m),
+                                  mc_from_double(P002_HTSMC_LAMBDA), mc_from_double(0.5), mc_from_double(P002_HTSMC_S0),
+                                  mc_from_double(nu_max), mc_from_double(P002_HTSMC_EPS), mc_from_double(M_max),
+                                  in->compensate, mc_from_double(in->ts_s)};
+    cfg->controller = (in->controller == P002_HTSMC) ? P002_HTSMC : P002_SOSMC;
+    cfg->i_trip_A = mc_from_double(in->i_trip_A);
+    if (!speed_poly_init(&cfg->reference, (uint32_t)llround(in->t0_s * fsr), (uint32_t)llround(in->t1_s * fsr),
+                         mc_from_double(in->w0_rad_s), mc_from_double(in->w1_rad_s), (int32_t)fsr)) {
+        return p002_fail(err, err_len, "reference.t1_s", "the reference's change must last at least a sample", in->t1_s);
+    }
+    return true;
+#endif
+}

@@ -1,0 +1,49 @@
+/*
+ * paper002_design.h - paper 002's drive designed from the motor, the
+ * sample time, the limits and the sensors' noise (host side, double
+ * precision; drives/paper002_drive.h). Every gain is derived and named in
+ * paper002_design.c; the fixed-point build refuses the design (the EKF's
+ * covariances do not fit Q14.17: the angle's measurement variance 1e-8
+ * rad^2 is below its 7.6e-6 step).
+ */
+#ifndef DESIGN_PAPER002_DESIGN_H
+#define DESIGN_PAPER002_DESIGN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "drives/paper002_drive.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    /* the motor: (2), (6), (7) */
+    double R_ohm, Ld_H, Lq_H, psi_Wb, J_kgm2, d_Nms;
+    int p;
+    double ts_s;
+    double i_max_A, i_trip_A;
+    /* the sensors: current noise (sigma) per phase, encoder counts and
+     * angle noise (sigma) */
+    double sigma_i_A, sigma_theta_rad;
+    long encoder_counts;
+    int controller;          /* p002_controller_t */
+    bool compensate;         /* disturbance compensation (DC) */
+    /* the reference of speed_poly.h: w0 until t0, w1 from t1 */
+    double t0_s, t1_s, w0_rad_s, w1_rad_s;
+} p002_design_input_t;
+
+/* The issue's reference set (p 4, R 0.3, L_d 3 mH, L_q 9 mH, psi 0.04,
+ * J 1e-3, d 5e-4; 10 kHz; 5 mA and 1e-4 rad of noise; 0 -> 100 rad/s on
+ * [0.2, 0.4] s), SOSMC with compensation, 20 A. */
+void p002_design_defaults(p002_design_input_t *in);
+
+/* Validates *in (a key named in err on failure), derives, folds. */
+bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *err, size_t err_len);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DESIGN_PAPER002_DESIGN_H */
