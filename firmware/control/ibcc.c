@@ -7,18 +7,27 @@ bool ibcc_init(ibcc_t *s, const ibcc_config_t *c)
     s->first = true;
     s->saturated = false;
     return mc_gt(c->Ld_H, MC_ZERO) && mc_gt(c->Lq_H, MC_ZERO) && mc_ge(c->R_ohm, MC_ZERO) && c->fs_hz > 0 &&
-           mc_gt(c->lambda_per_s, MC_ZERO) && !mc_gt(mc_div_i(c->lambda_per_s, c->fs_hz), IBCC_LAMBDA_TS_MAX);
+           mc_gt(c->lambda_per_s, MC_ZERO) && !mc_gt(mc_div_i(c->lambda_per_s, c->fs_hz), IBCC_LAMBDA_TS_MAX) &&
+           mc_gt(c->ref_alpha, MC_ZERO) && !mc_gt(c->ref_alpha, MC_ONE);
 }
 
 void ibcc_step(ibcc_t *s, const ibcc_config_t *c, mc_t i_dd_A, mc_t i_qd_A, mc_t i_d_A, mc_t i_q_A, mc_t w_hat_rad_s,
                mc_t u_max_V, mc_t *u_d_V, mc_t *u_q_V)
 {
-    /* the references' derivatives: their change over the last sample */
-    const mc_t did = s->first ? MC_ZERO : mc_mul_i(mc_sub(i_dd_A, s->i_dd_prev_A), c->fs_hz);
-    const mc_t diq = s->first ? MC_ZERO : mc_mul_i(mc_sub(i_qd_A, s->i_qd_prev_A), c->fs_hz);
-    s->first = false;
+    /* the filtered references and their change over the sample */
+    if (s->first) {
+        s->i_dd_prev_A = i_dd_A;
+        s->i_qd_prev_A = i_qd_A;
+        s->first = false;
+    }
+    const mc_t step_d = mc_mul(c->ref_alpha, mc_sub(i_dd_A, s->i_dd_prev_A));
+    const mc_t step_q = mc_mul(c->ref_alpha, mc_sub(i_qd_A, s->i_qd_prev_A));
+    i_dd_A = mc_add(s->i_dd_prev_A, step_d);
+    i_qd_A = mc_add(s->i_qd_prev_A, step_q);
     s->i_dd_prev_A = i_dd_A;
     s->i_qd_prev_A = i_qd_A;
+    const mc_t did = mc_mul_i(step_d, c->fs_hz);
+    const mc_t diq = mc_mul_i(step_q, c->fs_hz);
     const mc_t w_el = mc_mul_i(w_hat_rad_s, c->p);
     /* (9) with (3)'s u_p */
     mc_t ud = mc_mul(c->Ld_H, mc_mac(did, c->lambda_per_s, mc_sub(i_dd_A, i_d_A)));

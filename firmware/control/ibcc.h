@@ -3,12 +3,19 @@
  * cross-coupling terms of (3) the paper's (9) leaves out (errata):
  *   u_d = L_d (di_dd/dt + lambda (i_dd - i_d)) + R i_d - L_q p w_hat i_q
  *   u_q = L_q (di_qd/dt + lambda (i_qd - i_q)) + R i_q + L_d p w_hat i_d + psi p w_hat
- * with w_hat the EKF's speed (the back-EMF compensation of (9)), the
- * references' derivatives as their change over the last sample, and the
+ * with w_hat the EKF's speed (the back-EMF compensation of (9)), and the
  * result limited to the voltage the bus gives (|u| <= u_max, the direction
  * kept). The error dynamics are d(i_d - i)/dt = -lambda (i_d - i) (8):
  * lambda Ts must stay well below 1 for the sampled loop (ibcc_init checks
  * lambda Ts <= IBCC_LAMBDA_TS_MAX).
+ * The inversion needs the references' derivatives, which a sampled torque
+ * demand does not have: the references first pass a first-order filter,
+ *   i_f[k] = i_f[k-1] + ref_alpha (i_ref[k] - i_f[k-1]),
+ * and (9) runs on i_f with di_f/dt its change over the sample, so a noisy
+ * or stepping demand moves the voltage by L ref_alpha / Ts per ampere, not
+ * L / Ts (ref_alpha = 1: no filter, the raw reference's backward
+ * difference; a deadbeat feed-forward that turns the speed loop's noise
+ * into volts of chattering, measured in docs/paper002.md).
  */
 #ifndef CONTROL_IBCC_H
 #define CONTROL_IBCC_H
@@ -31,10 +38,11 @@ typedef struct {
     int32_t p;
     mc_t lambda_per_s;   /* the current error's decay rate (8) */
     int32_t fs_hz;
+    mc_t ref_alpha;      /* the reference filter's gain per sample, (0, 1] */
 } ibcc_config_t;
 
 typedef struct {
-    mc_t i_dd_prev_A, i_qd_prev_A;
+    mc_t i_dd_prev_A, i_qd_prev_A;   /* the filtered references i_f */
     bool first;
     bool saturated;      /* the last step was limited */
 } ibcc_t;

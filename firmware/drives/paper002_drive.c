@@ -55,6 +55,11 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 2. the EKF's correction */
     (void)ekf_ipmsm_correct(&d->ekf, i_d, i_q, in->angle_rad);
     const mc_t *x = d->ekf.x;
+    d->last.i_d_hat_A = x[EKF_ID];
+    d->last.i_q_hat_A = x[EKF_IQ];
+    d->last.theta_hat_rad = x[EKF_THETA];
+    d->last.w_hat_rad_s = x[EKF_OMEGA];
+    d->last.M0_hat_Nm = x[EKF_M0];
     /* 3. reference and torque demand */
     mc_t w_d, dw_d;
     speed_poly_eval(&c->reference, d->tick, &w_d, &dw_d);

@@ -63,6 +63,8 @@ typedef struct {
     /* the last step, for telemetry and logs */
     struct {
         mc_t w_d_rad_s, M_d_Nm, i_dd_A, i_qd_A, i_d_A, i_q_A, u_d_V, u_q_V;
+        /* the EKF's a posteriori estimate of this sample */
+        mc_t i_d_hat_A, i_q_hat_A, theta_hat_rad, w_hat_rad_s, M0_hat_Nm;
         bool saturated;
     } last;
 } paper002_drive_t;

@@ -45,6 +45,7 @@
 #include "motorsim/commission.h"
 #include "motorsim/run_watch.h"
 #include "motorsim/speed_recorder.h"
+#include "motorsim/paper002_recorder.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "scenario/rig.h"
@@ -214,6 +215,13 @@ void speed_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* ou
     }
 }
 
+void paper002_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
+{
+    if (!paper002_drive_step(static_cast<paper002_drive_t*>(ctx), in, out)) {
+        hal_safe_state();
+    }
+}
+
 // Warns (stderr, the run goes on) where the reference asks more than the
 // supply and the current limit can give: a motor turning at w needs K_e w
 // of back-EMF plus R i within the voltage the drive has, and an
@@ -226,7 +234,11 @@ void warn_feasibility(const mcsim::Scenario& sc)
     const double Ke = m.K_Nm_per_A;
     const double Kt = m.torque_scale() * Ke;
     double w_pk = 0.0, a_pk = 0.0;
-    if (sc.speed_drive) {
+    if (sc.paper002_drive) {
+        // the C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0)
+        w_pk = std::fabs(sc.p002.omega_final_rad_s);
+        a_pk = 1.875 * w_pk / (sc.p002.t1_s - sc.p002.t0_s);
+    } else if (sc.speed_drive) {
         for (std::size_t k = 0; k < sc.speed_points.size(); ++k) {
             w_pk = std::max(w_pk, std::fabs(sc.speed_points[k].second));
             if (k + 1 < sc.speed_points.size()) {
@@ -406,6 +418,10 @@ int run(const Options& opt)
     if (opt.can_given && opt.can_iface.empty()) {
         throw std::invalid_argument("--can: empty interface name");
     }
+    if (!opt.can_iface.empty() && sc.paper002_drive) {
+        throw std::invalid_argument("--can: " + sc.path + " runs paper 002's drive, which has no CAN message set yet "
+                                    "(tools/can/drive.dbc carries the drives of papers 000 and 001)");
+    }
     if (!opt.can_iface.empty()) {
         can = std::make_unique<mcsim::SocketCan>(opt.can_iface, opt.can_node);
     }
@@ -445,7 +461,7 @@ int run(const Options& opt)
     // t = 0 (sc.pre_ticks), which the rig's start time and the run's length
     // take from it.
     std::unique_ptr<drive_t> drive;
-    if (!sc.speed_drive) {
+    if (!sc.speed_drive && !sc.paper002_drive) {
         drive = std::make_unique<drive_t>();
         mcsim::design_and_init_drive(sc, drive.get());  // sets sc.pre_ticks
         if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
@@ -492,8 +508,20 @@ int run(const Options& opt)
     std::unique_ptr<paper001_drive_t> speed_drive;
     std::unique_ptr<mcsim::Recorder> rec;
     std::unique_ptr<mcsim::SpeedRecorder> speed_rec;
+    std::unique_ptr<paper002_drive_t> p002_drive;
+    std::unique_ptr<mcsim::Paper002Recorder> p002_rec;
     const mcsim::Reference ref(sc.segments, 0.0);
-    if (sc.speed_drive) {
+    if (sc.paper002_drive) {
+        p002_drive = std::make_unique<paper002_drive_t>();
+        try {
+            mcsim::design_and_init_paper002_drive(sc, p002_drive.get());
+        } catch (...) {
+            hal_sw_plant_detach();
+            throw;
+        }
+        p002_rec = std::make_unique<mcsim::Paper002Recorder>(sc, plant, *p002_drive, /*record_rows=*/write_csv);
+        hal_sw_plant_set_monitor(&mcsim::Paper002Recorder::monitor, p002_rec.get());
+    } else if (sc.speed_drive) {
         speed_drive = std::make_unique<paper001_drive_t>();
         p001_design_report_t rep{};
         mcsim::design_and_init_speed_drive(sc, speed_drive.get(), &rep);
@@ -522,6 +550,8 @@ int run(const Options& opt)
         }
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
+    } else if (sc.paper002_drive) {
+        started = hal_start(&paper002_control_callback, p002_drive.get());
     } else if (sc.speed_drive) {
         started = hal_start(&speed_control_callback, speed_drive.get());
     } else {
@@ -534,7 +564,8 @@ int run(const Options& opt)
     // ---- the loop: plant + drive + metrics only --------------------------
     // [expect] names must be metrics of this drive: checked before the run
     {
-        const mcsim::MetricList names = sc.speed_drive ? speed_rec->metrics(0.0) : rec->metrics(0.0);
+        const mcsim::MetricList names =
+            p002_rec ? p002_rec->metrics(0.0) : (sc.speed_drive ? speed_rec->metrics(0.0) : rec->metrics(0.0));
         for (const mcsim::Expectation& e : sc.expect) {
             bool known = false;
             std::string all;
@@ -544,12 +575,13 @@ int run(const Options& opt)
             }
             if (!known) {
                 throw mcsim::ScenarioError(sc.path + ": expect." + e.metric + ": not a metric of the " +
-                                           (sc.speed_drive ? "speed" : "position") + " drive (its metrics: " + all +
+                                           (p002_rec ? "paper-002" : (sc.speed_drive ? "speed" : "position")) +
+                                           " drive (its metrics: " + all +
                                            ")");
             }
         }
     }
-    const mcsim::RunWatch& watch = sc.speed_drive ? speed_rec->watch() : rec->watch();
+    const mcsim::RunWatch& watch = p002_rec ? p002_rec->watch() : (sc.speed_drive ? speed_rec->watch() : rec->watch());
     if (can && !opt.quiet) {
         std::fprintf(stderr, "motorsim: on CAN %s as node %u (%s), %s\n", can->iface().c_str(), opt.can_node,
                      sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive",
@@ -559,7 +591,8 @@ int run(const Options& opt)
 
     hal_safe_state();
     hal_sw_plant_detach();
-    mcsim::MetricList metrics = sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s);
+    mcsim::MetricList metrics =
+        p002_rec ? p002_rec->metrics(wall_s) : (sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s));
     if (board) {
         // the calibration against the emulated sensors' true offsets, and
         // the A/D converter's step
@@ -596,7 +629,10 @@ int run(const Options& opt)
         fs::create_directories(fs::path(json_path).parent_path());
     }
     if (write_csv) {
-        if (sc.speed_drive) {
+        if (p002_rec) {
+            mcsim::write_table_csv_atomic(csv_path, mcsim::kPaper002ColumnNames, mcsim::kP2NumColumns,
+                                          p002_rec->data(), p002_rec->size());
+        } else if (sc.speed_drive) {
             mcsim::write_table_csv_atomic(csv_path, mcsim::kSpeedColumnNames, mcsim::kSpNumColumns, speed_rec->data(),
                                           speed_rec->size());
         } else {

@@ -224,4 +224,48 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
     }
 }
 
+void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
+{
+    p002_design_defaults(in);
+    const MotorParams& m = sc.drive_model;
+    in->R_ohm = m.R_ohm;
+    in->Ld_H = m.L_H;
+    in->Lq_H = m.L_q();
+    in->psi_Wb = m.Phi_Wb();
+    in->J_kgm2 = m.J_kgm2;
+    in->d_Nms = m.fv_Nms_per_rad;
+    in->p = m.n_p;
+    in->ts_s = sc.ts_s;
+    in->i_max_A = sc.i_max_A;
+    in->i_trip_A = sc.i_trip_A;
+    switch (sc.sensor.noise) {
+    case NoiseKind::kGaussian: in->sigma_i_A = sc.sensor.noise_A; break;
+    case NoiseKind::kUniform: in->sigma_i_A = sc.sensor.noise_A / std::sqrt(3.0); break;
+    default: in->sigma_i_A = 0.0; break;
+    }
+    in->encoder_counts = static_cast<long>(sc.encoder.counts_per_turn);
+    in->sigma_theta_rad = sc.encoder.noise_rad;
+    in->controller = sc.p002.controller;
+    in->compensate = sc.p002.compensate;
+    in->t0_s = sc.p002.t0_s;
+    in->t1_s = sc.p002.t1_s;
+    in->w0_rad_s = 0.0;
+    in->w1_rad_s = sc.p002.omega_final_rad_s;
+}
+
+void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)
+{
+    p002_design_input_t in;
+    make_paper002_design_input(sc, &in);
+    paper002_config_t cfg;
+    std::memset(&cfg, 0, sizeof(cfg));
+    char err[256] = {0};
+    if (!p002_design(&in, &cfg, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "p002_design rejected the input"));
+    }
+    if (!paper002_drive_init(drive, &cfg)) {
+        throw ScenarioError(sc.path + ": design: paper002_drive_init rejected the derived configuration");
+    }
+}
+
 }  // namespace mcsim

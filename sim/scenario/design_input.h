@@ -9,6 +9,7 @@
 
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
+#include "design/paper002_design.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -31,6 +32,12 @@ void design_and_init_drive(Scenario& sc, drive_t* drive);
 // The same for the speed drive of paper 001 ([speed] scenarios).
 void make_speed_design_input(const Scenario& sc, p001_design_input_t* in);
 void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep);
+
+// The same for paper 002's drive ([paper002] scenarios): the drive model,
+// limits, sensor noise (a uniform half-width a as its sigma a/sqrt(3)),
+// encoder and reference. The fixed-point build's design refuses it.
+void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in);
+void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive);
 
 }  // namespace mcsim
 

@@ -751,12 +751,16 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder"});
-    // [speed] makes it the speed drive (paper 001); else the position drive
-    // of paper 000 with its [trajectory].
+               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder", "paper002"});
+    // [speed] makes it the speed drive (paper 001), [paper002] paper 002's
+    // speed drive; else the position drive of paper 000 with its
+    // [trajectory].
     sc.speed_drive = root.has("speed");
-    if (sc.speed_drive && root.has("trajectory")) {
-        root.fail("speed", "a scenario has either [speed] (speed drive) or [trajectory] (position drive), not both");
+    sc.paper002_drive = root.has("paper002");
+    if (static_cast<int>(sc.speed_drive) + static_cast<int>(sc.paper002_drive) + static_cast<int>(root.has("trajectory")) > 1) {
+        root.fail(sc.paper002_drive ? "paper002" : "speed",
+                  "a scenario has one of [trajectory] (position drive), [speed] (paper-001 speed drive) or "
+                  "[paper002] (paper-002 speed drive)");
     }
     sc.description = root.string("description").value_or("");
 
@@ -911,7 +915,7 @@ Scenario load_scenario(const std::string& path)
         if (v.has("i_trip_A")) {
             ge(v, "i_trip_A", sc.i_trip_A, sc.i_max_A);
         }
-        if (!sc.speed_drive || v.has("omega_lim_rad_s")) {
+        if ((!sc.speed_drive && !sc.paper002_drive) || v.has("omega_lim_rad_s")) {
             sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
             gt(v, "omega_lim_rad_s", sc.omega_lim_rad_s, 0.0);
         }
@@ -1214,8 +1218,39 @@ Scenario load_scenario(const std::string& path)
         }
     }
 
+    // [paper002]: paper 002's drive (sim/scenarios/README.md)
+    if (const auto v = root.table("paper002")) {
+        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega0_rad_s"});
+        if (const auto c = v->string("controller")) {
+            if (*c == "sosmc") {
+                sc.p002.controller = 0;
+            } else if (*c == "htsmc") {
+                sc.p002.controller = 1;
+            } else {
+                v->fail("controller", "must be \"sosmc\" or \"htsmc\" (got \"" + *c + "\")");
+            }
+        }
+        if (const auto b = v->boolean("compensation")) {
+            sc.p002.compensate = *b;
+        }
+        sc.p002.t0_s = v->number("t0_s").value_or(sc.p002.t0_s);
+        ge(*v, "t0_s", sc.p002.t0_s, 0.0);
+        sc.p002.t1_s = v->number("t1_s").value_or(sc.p002.t1_s);
+        if (!(sc.p002.t1_s >= sc.p002.t0_s + sc.ts_s)) {
+            v->fail("t1_s", "must be at least Ts_s after t0_s (got " + fmt_num(sc.p002.t1_s) + ")");
+        }
+        sc.p002.omega_final_rad_s = v->number("omega_final_rad_s").value_or(sc.p002.omega_final_rad_s);
+        sc.p002.omega0_rad_s = v->number("omega0_rad_s").value_or(0.0);
+        if (sc.motor.type != MotorType::kPmsm3) {
+            root.fail("motor.file", "paper 002's drive needs a pmsm3 motor (this one is a stepper2)");
+        }
+        if (!root.has("encoder")) {
+            root.fail("encoder", "missing required table: paper 002's drive reads an encoder");
+        }
+    }
+
     // [trajectory]: [[trajectory.segments]]
-    if (!sc.speed_drive) {
+    if (!sc.speed_drive && !sc.paper002_drive) {
         const View v = required_table("trajectory");
         v.only({"segments"});
         const auto segs = v.tables("segments");

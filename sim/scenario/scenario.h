@@ -126,6 +126,18 @@ struct Scenario {
         int estimator = 0;      // p001_estimator_t: 0 flux (paper 001), 1 back_emf (paper 000)
     } speed_gains;
 
+    // [paper002] (paper 002's cascaded speed drive on an encoder instead of
+    // [trajectory] or [speed]): the controller, disturbance compensation,
+    // the reference w_d (w0 until t0, a C^2 polynomial to w1 on [t0, t1],
+    // held) and the plant's initial speed w(0)
+    bool paper002_drive = false;
+    struct {
+        int controller = 0;        // p002_controller_t: 0 sosmc, 1 htsmc
+        bool compensate = true;    // disturbance compensation (DC)
+        double t0_s = 0.2, t1_s = 0.4, omega_final_rad_s = 100.0;
+        double omega0_rad_s = 0.0; // the plant's w(0) (the EKF starts at 0)
+    } p002;
+
     std::vector<Expectation> expect;  // [expect], in file order
 
     SensorParams sensor;

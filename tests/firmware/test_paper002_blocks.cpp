@@ -72,7 +72,7 @@ TEST(Mtpa, NonSalientAndLimited)
 // decays as exp(-lambda t); the bus's limit holds.
 TEST(Ibcc, SteadyVoltagesAndFirstOrderErrorDecay)
 {
-    const ibcc_config_t c{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000};
+    const ibcc_config_t c{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, MC_ONE};
     ibcc_t s;
     ASSERT_TRUE(ibcc_init(&s, &c));
     mc_t ud, uq;
@@ -106,8 +106,35 @@ TEST(Ibcc, SteadyVoltagesAndFirstOrderErrorDecay)
     ibcc_step(&t, &c, M(0.0), M(20.0), M(0.0), M(0.0), M(w), M(5.0), &ud, &uq);
     EXPECT_LE(std::hypot(D(ud), D(uq)), 5.0 + 1e-3);
     EXPECT_TRUE(t.saturated);
-    const ibcc_config_t too_fast{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(6000.0), 10000};
+    const ibcc_config_t too_fast{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(6000.0), 10000, MC_ONE};
     EXPECT_FALSE(ibcc_init(&t, &too_fast)) << "lambda Ts 0.6 > 0.5";
+}
+
+// The references' prefilter: a 1 A step of i_qd at standstill (i = 0)
+// asks u_q = L_q alpha (1/Ts + lambda) + R 0 in the first sample (the
+// filtered reference moved by alpha), then the filtered reference follows
+// 1 - (1 - alpha)^k; alpha outside (0, 1] is refused.
+TEST(Ibcc, ReferencePrefilterLimitsTheFeedForward)
+{
+    for (const double alpha : {1.0, 0.2}) {
+        const ibcc_config_t c{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, M(alpha)};
+        ibcc_t s;
+        ASSERT_TRUE(ibcc_init(&s, &c));
+        mc_t ud, uq;
+        ibcc_step(&s, &c, M(0.0), M(0.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
+        ibcc_step(&s, &c, M(0.0), M(1.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
+        EXPECT_NEAR(D(uq), kLq * alpha * (1.0 / kTs + 1000.0), 100.0 * kTol) << "alpha " << alpha;
+        EXPECT_NEAR(D(ud), 0.0, kTol);
+        for (int k = 2; k <= 5; ++k) {
+            ibcc_step(&s, &c, M(0.0), M(1.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
+        }
+        EXPECT_NEAR(D(s.i_qd_prev_A), 1.0 - std::pow(1.0 - alpha, 5), kTol) << "alpha " << alpha;
+    }
+    ibcc_t s;
+    const ibcc_config_t zero{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, M(0.0)};
+    EXPECT_FALSE(ibcc_init(&s, &zero));
+    const ibcc_config_t above{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, M(1.5)};
+    EXPECT_FALSE(ibcc_init(&s, &above));
 }
 
 TEST(Smc, TanhWithinAMillionthOfLibm)

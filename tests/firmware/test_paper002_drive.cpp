@@ -140,15 +140,19 @@ TEST(Paper002Drive, TracksTheReferenceWithCompensation)
     std::printf("speed RMSE [rad/s], w(0) = 0: SOSMC dc %.4g / no dc %.4g / dc without noise %.4g; HTSMC dc %.4g / "
                 "no dc %.4g / dc without noise %.4g\n",
                 s_dc, s_no, s_dc_nn, h_dc, h_no, h_dc_nn);
-    // measured: SOSMC 0.056 / 0.081 / 0.033, HTSMC 0.13 / 1.29 / 0.12 rad/s.
-    // The issue asks 0.04 with noise and 0.015 without at this case: not
-    // yet (the tuning belongs to the design module still to come); what
-    // this test holds is the composition and the trend.
+    // measured with the searched design (paper002_design.c): SOSMC 0.0497 /
+    // 0.0635 / 0.0272, HTSMC 0.0499 / 0.194 / 0.0275 rad/s. This model's
+    // encoder has 2^16 counts (the reference scenario 2^20: its step is a
+    // noise as large as the stated one, hence the noise-free 0.027 here and
+    // 0.015 in motorsim). The issue's 0.04 with noise is not met (0.046 in
+    // motorsim, docs/paper002.md); this test holds the composition, the
+    // trend and the level reached, with a 20 % margin.
     EXPECT_LT(s_dc, s_no);
     EXPECT_LT(h_dc, h_no);
-    EXPECT_LT(s_dc, 0.1);
-    EXPECT_LT(h_dc, 0.2);
-    EXPECT_LT(s_dc_nn, 0.05);
+    EXPECT_LT(s_dc, 0.06);
+    EXPECT_LT(h_dc, 0.06);
+    EXPECT_LT(s_dc_nn, 0.033);
+    EXPECT_LT(h_dc_nn, 0.033);
 }
 
 // Bad input is refused at design time with the key named; the fixed-point

@@ -21,6 +21,11 @@ The kind of run is told from the CSV header:
   friction; estimated), d-q currents (in the drive's estimated frame) with
   the i_q reference, phase voltages (v_c left out when it is 0: two phases).
   Noisy estimates are drawn under the true traces.
+* paper-002 run (paper 002's drive, column omega_d_rad_s). Panels: speed
+  (reference ω_d, true, the EKF's; rad/s), speed errors, the lumped
+  disturbance M_0 (load + friction) with the EKF's estimate and the torque
+  demand, d-q currents (encoder frame) with the MTPA references, d-q
+  voltages.
 
 Markings, all in the legend under the title: green background, drive in
 closed loop (mode 1); magenta lines, open/closed-loop switches; blue band at
@@ -152,6 +157,28 @@ KINDS = {
             ("max_abs_current_A", "max|i_phase|", "A"),
         ],
     },
+    "paper002": {
+        "title": "speed run, paper-002 drive",
+        "key": "omega_d_rad_s",
+        "fault_note": "metrics of the whole run, the part after the fault included:",
+        "base": ["t_s", "mode", "fault"],
+        "panels": {
+            "speed": ("ω_d, ω, ω_est [rad/s]", ["omega_d_rad_s", "omega_rad_s", "omega_est_rad_s"]),
+            "speed_error": ("ω_d - ω, ω_est - ω [rad/s]", ["omega_d_rad_s", "omega_rad_s", "omega_est_rad_s"]),
+            "disturbance": ("lumped disturbance M_0, its EKF estimate, torque demand [N m]",
+                            ["M0_Nm", "M0_est_Nm", "M_d_Nm"]),
+            "current": ("d-q currents and references [A]", ["i_d_A", "i_q_A", "i_d_ref_A", "i_q_ref_A"]),
+            "voltage": ("d-q voltages u_d, u_q [V]", ["u_d_V", "u_q_V"]),
+        },
+        "metrics": [
+            ("speed_rmse_rad_s", "rms(ω_d-ω) over [0, 1] s", "rad/s"),
+            ("speed_rmse_after_50ms_rad_s", "after 50 ms", "rad/s"),
+            ("speed_err_max_rad_s", "max|ω_d-ω|", "rad/s"),
+            ("omega_est_rmse_rad_s", "rms(ω_est-ω)", "rad/s"),
+            ("voltage_hf_rms_V", "voltage above 1 kHz (steady state)", "V"),
+            ("max_abs_current_A", "max|i_phase|", "A"),
+        ],
+    },
 }
 TITLE_LINE_CHARS = 140  # metrics per title line: up to this many characters
 MARKS_ROW_CHARS = 190  # the markings legend in one row up to this many characters, else two
@@ -180,13 +207,13 @@ def read_header(path: Path) -> tuple[list[str], int | None]:
 
 
 def detect_kind(header: list[str]) -> str:
-    """'position' or 'speed', from the column that identifies the kind."""
+    """'position', 'speed' or 'paper002', from the column that identifies the kind."""
     for kind, k in KINDS.items():
         if k["key"] in header:
             return kind
     keys = " or ".join(k["key"] for k in KINDS.values())
     raise InputError(f"not a motorsim run CSV: the header has no {keys} column "
-                     f"(position or speed run); it starts with {','.join(header[:4])}")
+                     f"(position, speed or paper-002 run); it starts with {','.join(header[:4])}")
 
 
 def parse_panels(spec: str | None, kind: str) -> list[str]:
@@ -534,12 +561,53 @@ def p1_voltage(a, c):
     a.set_ylabel("phase voltage [V]")
 
 
+def p2_speed(a, c):
+    d = c.d
+    c.plot(a, d["omega_d_rad_s"], "r", lw=1.4, label="ω_d (reference)")
+    c.plot(a, d["omega_rad_s"], "b", lw=1.0, label="ω (true)")
+    c.plot(a, d["omega_est_rad_s"], "g", lw=0.6, label="ω_est (EKF)", zorder=EST_Z)
+    a.set_ylabel("speed [rad/s]")
+
+
+def p2_speed_error(a, c):
+    d = c.d
+    c.plot(a, d["omega_d_rad_s"] - d["omega_rad_s"], "b", lw=0.8, label="ω_d - ω (tracking)")
+    c.plot(a, d["omega_est_rad_s"] - d["omega_rad_s"], "g", lw=0.5, label="ω_est - ω (estimation)", zorder=EST_Z)
+    a.set_ylabel("speed error [rad/s]")
+
+
+def p2_disturbance(a, c):
+    d = c.d
+    c.plot(a, d["M0_Nm"], "b", lw=1.2, label="M_0 true (load + friction)")
+    c.plot(a, d["M0_est_Nm"], "g", lw=0.6, label="M_0 est. (EKF)", zorder=EST_Z)
+    c.plot(a, d["M_d_Nm"], "k", lw=0.6, label="torque demand")
+    a.set_ylabel("torque [N m]")
+
+
+def p2_current(a, c):
+    d = c.d
+    c.plot(a, d["i_d_A"], "-", color="tab:blue", lw=0.6, label="i_d")
+    c.plot(a, d["i_q_A"], "-", color="tab:orange", lw=0.6, label="i_q")
+    c.plot(a, d["i_d_ref_A"], "k--", lw=0.8, label="i_d reference (MTPA)", zorder=EST_Z)
+    c.plot(a, d["i_q_ref_A"], "k", lw=0.8, label="i_q reference", zorder=EST_Z)
+    a.set_ylabel("d-q current [A]\n(encoder frame)")
+
+
+def p2_voltage(a, c):
+    d = c.d
+    c.plot(a, d["u_d_V"], "b", lw=0.4, label="u_d")
+    c.plot(a, d["u_q_V"], "c", lw=0.4, label="u_q")
+    a.set_ylabel("d-q voltage [V]")
+
+
 PANEL_DRAW = {
     "position": {"position": p0_position, "position_error": p0_position_error, "velocity": p0_velocity,
                  "current": p0_current, "disturbance": p0_disturbance, "load": p0_load,
                  "voltage": p0_voltage},
     "speed": {"speed": p1_speed, "speed_error": p1_speed_error, "angle_error": p1_angle_error,
               "load": p1_load, "current": p1_current, "voltage": p1_voltage},
+    "paper002": {"speed": p2_speed, "speed_error": p2_speed_error, "disturbance": p2_disturbance,
+                 "current": p2_current, "voltage": p2_voltage},
 }
 
 

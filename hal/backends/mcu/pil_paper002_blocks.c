@@ -45,7 +45,9 @@ int main(void)
     const sosmc_config_t sc = {MC_C(1e-3), MC_C(5e-4), MC_C(200.0), MC_C(1e4), MC_C(1e4), MC_C(50.0), MC_C(5.0),
                                true, MC_C(1e-4)};
     const mtpa_config_t mc = {MC_C(3e-3), MC_C(9e-3), MC_C(0.04), 4, MC_C(20.0)};
-    const ibcc_config_t ic = {MC_C(0.3), MC_C(3e-3), MC_C(9e-3), MC_C(0.04), 4, MC_C(1000.0), 10000};
+    /* lambda and the references' filter as design/paper002_design.c sets them:
+     * lambda Ts = 0.2, ref_alpha = 1 - exp(-0.3 lambda Ts) = 0.058 */
+    const ibcc_config_t ic = {MC_C(0.3), MC_C(3e-3), MC_C(9e-3), MC_C(0.04), 4, MC_C(2000.0), 10000, MC_C(0.058)};
     if (!ekf_ipmsm_init(&ekf, &ec) || !sosmc_init(&smc, &sc) || !ibcc_init(&cc, &ic)) {
         mcu_puts("P002 FAIL init\n");
         mcu_exit(1);
