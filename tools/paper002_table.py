@@ -9,6 +9,7 @@ sim/scenarios/paper002_reference.toml, the single source of every other
 value (motor, load pulses, reference, noise, limits).
 
     python3 tools/paper002_table.py [--binary build/host/sim/motorsim] [--png out/paper002_table.png] [--check]
+    python3 tools/paper002_table.py --sensorless [--check]
 
 stdout: one JSON object keyed <sosmc|htsmc>.dc<0|1>.perr<0|1>.w0_<0|5> and
 the same keys with .nonoise appended; each value is the run's metrics
@@ -18,6 +19,11 @@ the paper's values beside ours. --png: the same table as a figure
 (matplotlib). --check: exit 1 unless every run ended without a fault, with
 the EKF's covariance symmetric positive definite throughout and the
 steady-state voltage above 1 kHz within HF_BOUND_V (tests/tools runs it).
+
+--sensorless: instead, the sensorless variant beside the encoder on the
+reference case (no inductance error, compensation on, w(0) = 0), both
+controllers, with and without noise; JSON keyed
+<sosmc|htsmc>.<encoder|flux> (and .nonoise).
 
 A run that faults or diverges is reported and the command exits non-zero.
 Standard library for the runs; matplotlib only for --png.
@@ -85,8 +91,10 @@ def set_key(text: str, table: str, name: str, value: str) -> str:
     return text[:m.start(1)] + body + text[m.end(1):]
 
 
-def variant(text: str, ref: dict, ctrl: str, dc: int, perr: int, w0: int, noise: bool) -> str:
+def variant(text: str, ref: dict, ctrl: str, dc: int, perr: int, w0: int, noise: bool,
+            estimator: str = "encoder") -> str:
     t = set_key(text, "paper002", "controller", f'"{ctrl}"')
+    t = set_key(t, "paper002", "estimator", f'"{estimator}"')
     t = set_key(t, "paper002", "compensation", "true" if dc else "false")
     t = set_key(t, "paper002", "omega0_rad_s", f"{float(w0)!r}")
     motor_file = (REFERENCE.parent / ref["motor"]["file"]).resolve()
@@ -166,6 +174,8 @@ def main() -> int:
     ap.add_argument("--binary", type=Path, default=DEFAULT_BINARY, help="motorsim (default %(default)s)")
     ap.add_argument("--png", type=Path, help="write the table as a figure here")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="parallel runs (default: the cores)")
+    ap.add_argument("--sensorless", action="store_true",
+                    help="the sensorless variant (flux observer) beside the encoder on the reference case")
     ap.add_argument("--check", action="store_true",
                     help=f"exit 1 unless every run is fault-free, ekf_spd_ok = 1 and voltage_hf_rms_V <= {HF_BOUND_V}")
     args = ap.parse_args()
@@ -177,21 +187,39 @@ def main() -> int:
                             "cmake --build --preset host --target motorsim")
         text = REFERENCE.read_text()
         ref = tomllib.loads(text)
-        cases = [(c, dc, pe, w0, nz) for c in ("sosmc", "htsmc") for dc in (0, 1) for pe in (0, 1) for w0 in (0, 5)
-                 for nz in (True, False)]
+        if args.sensorless:
+            cases = [(c, 1, 0, 0, nz, est) for c in ("sosmc", "htsmc") for est in ("encoder", "flux")
+                     for nz in (True, False)]
+            name = lambda c, dc, pe, w0, nz, est: f"{c}.{est}" + ("" if nz else ".nonoise")  # noqa: E731
+        else:
+            cases = [(c, dc, pe, w0, nz, "encoder") for c in ("sosmc", "htsmc") for dc in (0, 1) for pe in (0, 1)
+                     for w0 in (0, 5) for nz in (True, False)]
+            name = lambda c, dc, pe, w0, nz, est: key(c, dc, pe, w0, nz)  # noqa: E731
         res: dict = {}
         with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-            futs = {key(*c): pool.submit(run_case, args.binary, variant(text, ref, *c), key(*c)) for c in cases}
+            futs = {name(*c): pool.submit(run_case, args.binary, variant(text, ref, *c), name(*c)) for c in cases}
             for k, f in futs.items():
                 res[k] = f.result()
     except (ToolError, OSError, tomllib.TOMLDecodeError) as e:
         print(f"paper002_table: error: {e}", file=sys.stderr)
         return 2
     print(json.dumps(dict(sorted(res.items())), indent=1))
-    for noise in (True, False):
+    if args.sensorless:
+        print("speed_rmse_rad_s [rad/s] on the reference case (DC, no inductance error, w(0) = 0); "
+              "theta_meas_rmse_rad: the angle given to the EKF against the rotor's", file=sys.stderr)
+        print("| controller | encoder | flux observer | encoder, no noise | flux observer, no noise | "
+              "angle error encoder / flux [rad] |\n|---|---|---|---|---|---|", file=sys.stderr)
+        for c in ("sosmc", "htsmc"):
+            r = lambda est, nn="": res[f"{c}.{est}{nn}"]  # noqa: E731
+            print(f"| {c.upper()} | {r('encoder')['speed_rmse_rad_s']:.4g} | {r('flux')['speed_rmse_rad_s']:.4g} | "
+                  f"{r('encoder', '.nonoise')['speed_rmse_rad_s']:.4g} | {r('flux', '.nonoise')['speed_rmse_rad_s']:.4g} | "
+                  f"{r('encoder')['theta_meas_rmse_rad']:.3g} / {r('flux')['theta_meas_rmse_rad']:.3g} |",
+                  file=sys.stderr)
+    for noise in (True, False) if not args.sensorless else ():
         print(table_text(res, "speed_rmse_rad_s", noise) + "\n", file=sys.stderr)
-    print(table_text(res, "speed_rmse_after_50ms_rad_s", True) + "\n", file=sys.stderr)
-    if args.png:
+    if not args.sensorless:
+        print(table_text(res, "speed_rmse_after_50ms_rad_s", True) + "\n", file=sys.stderr)
+    if args.png and not args.sensorless:
         write_png(res, args.png)
         print(f"paper002_table: wrote {args.png}", file=sys.stderr)
     bad = []
@@ -203,7 +231,7 @@ def main() -> int:
         if args.check and not m.get("voltage_hf_rms_V", float("inf")) <= HF_BOUND_V:
             bad.append(f"{k}: voltage_hf_rms_V = {m.get('voltage_hf_rms_V')} > {HF_BOUND_V} V")
     hf = [m["voltage_hf_rms_V"] for m in res.values()]
-    print(f"paper002_table: voltage_hf_rms_V over the 32 runs {min(hf):.3g} .. {max(hf):.3g} V "
+    print(f"paper002_table: voltage_hf_rms_V over the {len(res)} runs {min(hf):.3g} .. {max(hf):.3g} V "
           f"(bound {HF_BOUND_V} V); P's smallest eigenvalue {min(m['ekf_p_min_eig'] for m in res.values()):.3g}",
           file=sys.stderr)
     for b in bad:

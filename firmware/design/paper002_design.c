@@ -14,7 +14,7 @@
  * above 1 kHz (metrics speed_rmse_rad_s, voltage_hf_rms_V). SOSMC first;
  * then HTSMC's own gains with the EKF and the current loop held at
  * SOSMC's values (one EKF for both controllers). Measured with these
- * (rounded) values: SOSMC 0.0461 rad/s with noise, 0.0150 without, HTSMC
+ * (rounded) values: SOSMC 0.0461 rad/s with noise, 0.01503 without, HTSMC
  * 0.0460 and 0.0165; HF 2.4 V with noise, 1.05 V without. The search's
  * best never went below 0.045 with noise: what bounds it is the angle
  * noise through the speed estimate versus the disturbance estimate's lag
@@ -63,6 +63,17 @@
 #define P002_Q_THETA 1e-12
 #define P002_Q_OMEGA 1e-3
 #define P002_Q_M0 4e-3
+/* The sensorless variant's flux observer (12): the radial rate 2 gamma
+ * psi^2 of its gradient term [1/s]. Paper 001's tuning gives 289 1/s
+ * (gamma = 5000 at Phi = 0.17 Wb, design/paper001_design.c); here the
+ * term's target, the active flux's radius psi + (L_d - L_q) i_d, is taken
+ * at the EKF's a priori i_d, whose error the gradient turns into a radial
+ * offset and the rotation into an angle ripple at the electrical
+ * frequency: 3e-4 rad RMS at 289 1/s (0.62 rad/s of speed RMSE without
+ * noise), 2.5e-5 rad at 50 1/s, 1.1e-5 at 10 1/s (measured on the
+ * reference scenario, docs/paper002.md). 50 1/s still pulls a flux drift
+ * back within 20 ms. */
+#define P002_FLUX_RADIAL_RATE_PER_S 50.0
 /* the initial covariance: what a start at rest leaves unknown */
 #define P002_P0 1e-3
 
@@ -91,6 +102,8 @@ void p002_design_defaults(p002_design_input_t *in)
     in->encoder_counts = 65536;
     in->controller = P002_SOSMC;
     in->compensate = true;
+    in->angle_source = P002_ANGLE_ENCODER;
+    in->theta0_rad = 0.0;
     in->t0_s = 0.2;
     in->t1_s = 0.4;
     in->w0_rad_s = 0.0;
@@ -115,7 +128,9 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     if (!(in->ts_s > 0.0)) return p002_fail(err, err_len, "run.Ts_s", "must be > 0", in->ts_s);
     if (!(in->i_max_A > 0.0)) return p002_fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return p002_fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
-    if (in->encoder_counts < 1) return p002_fail(err, err_len, "encoder.counts_per_turn", "must be >= 1", (double)in->encoder_counts);
+    const bool flux = in->angle_source == P002_ANGLE_FLUX;
+    if (!flux && in->angle_source != P002_ANGLE_ENCODER) return p002_fail(err, err_len, "paper002.estimator", "unknown angle source", in->angle_source);
+    if (!flux && in->encoder_counts < 1) return p002_fail(err, err_len, "encoder.counts_per_turn", "must be >= 1", (double)in->encoder_counts);
     if (!(in->sigma_i_A >= 0.0)) return p002_fail(err, err_len, "sensor.noise_A", "must be >= 0", in->sigma_i_A);
     if (!(in->sigma_theta_rad >= 0.0)) return p002_fail(err, err_len, "encoder.noise_rad", "must be >= 0", in->sigma_theta_rad);
     if (!(in->t1_s > in->t0_s && in->t0_s >= 0.0)) return p002_fail(err, err_len, "reference.t1_s", "must be > t0_s >= 0", in->t1_s);
@@ -145,7 +160,16 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     }
     const double step = 2.0 * 3.14159265358979323846 / (double)in->encoder_counts;
     const double r_i = fmax(in->sigma_i_A * in->sigma_i_A, 1e-12);
-    const double r_th = fmax(in->sigma_theta_rad * in->sigma_theta_rad + step * step / 12.0, 1e-12);
+    double r_th = fmax(in->sigma_theta_rad * in->sigma_theta_rad + step * step / 12.0, 1e-12);
+    if (flux) {
+        /* the flux observer's angle: eta = lambda_hat - L_q i carries the
+         * alpha-beta current noise (sigma_i sqrt(2/3) after the amplitude-
+         * invariant Clarke) times L_q, across psi: L_q sigma_ab / psi rad
+         * electrical, over p mechanical (the integrated R i noise, R sigma
+         * Ts per sample, is three orders smaller) */
+        const double s_th = in->Lq_H * in->sigma_i_A * sqrt(2.0 / 3.0) / in->psi_Wb / (double)in->p;
+        r_th = fmax(s_th * s_th, 1e-12);
+    }
     e->r[0] = e->r[1] = mc_from_double(r_i);
     e->r[2] = mc_from_double(r_th);
 
@@ -170,6 +194,17 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
                                   mc_from_double(nu_max), mc_from_double(P002_HTSMC_EPS), mc_from_double(M_max),
                                   in->compensate, mc_from_double(in->ts_s)};
     cfg->controller = (in->controller == P002_HTSMC) ? P002_HTSMC : P002_SOSMC;
+    /* the angle source; the flux observer (12)-(14) on the active flux
+     * (L = L_q, paper002_drive.h) in w = lambda/Ts units (flux_observer.h) */
+    cfg->angle_source = flux ? P002_ANGLE_FLUX : P002_ANGLE_ENCODER;
+    const double gamma = P002_FLUX_RADIAL_RATE_PER_S / (2.0 * in->psi_Wb * in->psi_Wb);
+    const double phi_fs = in->psi_Wb * fsr;
+    const int sh = (int)floor(log2(phi_fs)) + 1;
+    cfg->flux = (flux_observer_config_t){mc_from_double(in->R_ohm), mc_from_double(in->Lq_H * fsr),
+                                         mc_from_double(phi_fs), mc_from_double(ldexp(1.0, -sh)),
+                                         mc_from_double(ldexp(1.0 / phi_fs, sh)),
+                                         mc_from_double(gamma * in->psi_Wb * in->psi_Wb * in->psi_Wb)};
+    cfg->flux_theta0_rad = mc_from_double(in->theta0_rad);
     cfg->i_trip_A = mc_from_double(in->i_trip_A);
     if (!speed_poly_init(&cfg->reference, (uint32_t)llround(in->t0_s * fsr), (uint32_t)llround(in->t1_s * fsr),
                          mc_from_double(in->w0_rad_s), mc_from_double(in->w1_rad_s), (int32_t)fsr)) {

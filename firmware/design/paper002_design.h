@@ -32,6 +32,11 @@ typedef struct {
     bool compensate;         /* disturbance compensation (DC) */
     /* the reference of speed_poly.h: w0 until t0, w1 from t1 */
     double t0_s, t1_s, w0_rad_s, w1_rad_s;
+    /* the angle's source (p002_angle_source_t); with FLUX the encoder's
+     * fields are unused and theta0_rad (mechanical) is the rotor's angle at
+     * start, known from an alignment (paper002_drive.h) */
+    int angle_source;
+    double theta0_rad;
 } p002_design_input_t;
 
 /* The issue's reference set (p 4, R 0.3, L_d 3 mH, L_q 9 mH, psi 0.04,

@@ -14,7 +14,15 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->tick = 0;
     const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf) && sosmc_init(&d->sosmc, &cfg->sosmc) &&
                     htsmc_init(&d->htsmc, &cfg->htsmc) && ibcc_init(&d->ibcc, &cfg->ibcc) &&
-                    mc_gt(cfg->i_trip_A, MC_ZERO);
+                    mc_gt(cfg->i_trip_A, MC_ZERO) &&
+                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX);
+    const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
+    const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, cfg->ekf.p);
+    flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
+    angle_unwrap_init(&d->unwrap, e0);
+    /* the electrical angle fixes the mechanical one up to 2 pi/p: the
+     * start's turn among the p is kept as an offset */
+    d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, cfg->ekf.p));
     if (!ok) {
         d->fault = DRIVE_FAULT_BAD_INPUT;
     }
@@ -35,7 +43,8 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     if (d->fault != DRIVE_FAULT_NONE) {
         return p002_zero(d, out);
     }
-    if (!phase_adapter_accepts(in, 3u) || !in->has_angle) {
+    const bool flux = c->angle_source == P002_ANGLE_FLUX;
+    if (!phase_adapter_accepts(in, 3u) || (!flux && !in->has_angle)) {
         d->fault = DRIVE_FAULT_BAD_INPUT;
         return p002_zero(d, out);
     }
@@ -45,15 +54,35 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
             return p002_zero(d, out);
         }
     }
-    /* 1. d-q currents with the encoder's electrical angle */
+    /* 1. d-q currents with the encoder's electrical angle, or the flux
+     * observer's */
     mc_t i_zero;
     const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
     (void)i_zero;
-    const mc_rot_t r_meas = mc_rot_from_angle(mc_elec_angle(in->angle_rad, c->ekf.p));
+    mc_rot_t r_meas;
+    mc_t theta_meas;
+    if (flux) {
+        /* the active flux's radius psi + (L_d - L_q) i_d at the EKF's i_d,
+         * relative to psi, squared: the gradient term's target */
+        const mc_t ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(c->ekf.Ld_H, c->ekf.Lq_H), d->ekf.x[EKF_ID]), c->ekf.psi_Wb));
+        flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+        flux_observer_step(&d->flux, i_ab);
+        r_meas = d->flux.unit;
+        angle_unwrap_step(&d->unwrap, r_meas.s, r_meas.c);
+        /* the mechanical angle: (e + 2 pi n)/p, with n taken modulo p first
+         * (n p-fold is a whole mechanical turn) so the sum stays small */
+        const int32_t p = c->ekf.p;
+        const int32_t n_mod = ((d->unwrap.n_turns % p) + p) % p;
+        theta_meas = mc_wrap_pi(mc_add(mc_div_i(mc_add(d->unwrap.e_rad, mc_mul_i(MC_TWO_PI, n_mod)), p), d->theta_offset_rad));
+    } else {
+        theta_meas = in->angle_rad;
+        r_meas = mc_rot_from_angle(mc_elec_angle(in->angle_rad, c->ekf.p));
+    }
     mc_t i_d, i_q;
     mc_rot_fwd(r_meas, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     /* 2. the EKF's correction */
-    (void)ekf_ipmsm_correct(&d->ekf, i_d, i_q, in->angle_rad);
+    (void)ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
+    d->last.theta_meas_rad = theta_meas;
     const mc_t *x = d->ekf.x;
     d->last.i_d_hat_A = x[EKF_ID];
     d->last.i_q_hat_A = x[EKF_IQ];
@@ -79,6 +108,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     mc_ab_t u_ab;
     mc_rot_inv(mc_rot_from_angle(th_el), u_d, u_q, &u_ab.alpha, &u_ab.beta);
     phase_adapter_voltages(3u, u_ab, out);
+    flux_observer_hold(&d->flux, u_ab);
     /* 7. the EKF's prediction with the voltage applied */
     ekf_ipmsm_predict(&d->ekf, u_d, u_q);
     d->last.w_d_rad_s = w_d;

@@ -18,6 +18,20 @@
  * A sample without the encoder's angle, of the wrong phase count, or a
  * current beyond i_trip puts it in FAULT (0 V). Float only: the EKF's
  * covariances do not fit Q14.17 (docs/paper002.md).
+ *
+ * Angle source by configuration (cfg.angle_source), as paper 001's drive
+ * chooses its estimator: with P002_ANGLE_FLUX (beyond the paper) no
+ * encoder is read; paper 001's gradient flux observer (12)-(14)
+ * (estimators/flux_observer.h) runs on the active flux, eta = lambda -
+ * L_q i, which for a salient motor lies along the rotor's d axis with the
+ * magnitude psi + (L_d - L_q) i_d (so its gradient term, which pulls |eta|
+ * to psi, acts only radially and leaves the angle alone). Its angle,
+ * unwrapped (estimators/angle_unwrap.h) and divided by p, is the EKF's
+ * angle measurement in step 2 and the frame of step 1; the EKF stays the
+ * speed and disturbance observer, so the cascade is unchanged. The
+ * observer starts at cfg.flux_theta0_rad: the rotor's angle is known at
+ * start (an alignment before the run); a flux observer has no
+ * information at standstill and cannot find it.
  */
 #ifndef DRIVES_PAPER002_DRIVE_H
 #define DRIVES_PAPER002_DRIVE_H
@@ -29,7 +43,9 @@
 #include "control/ibcc.h"
 #include "control/mtpa.h"
 #include "control/sosmc.h"
+#include "estimators/angle_unwrap.h"
 #include "estimators/ekf_ipmsm.h"
+#include "estimators/flux_observer.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
 #include "supervisor/supervisor.h"
@@ -41,6 +57,12 @@ extern "C" {
 
 typedef enum { P002_SOSMC = 0, P002_HTSMC = 1 } p002_controller_t;
 
+/* Where the angle comes from. */
+typedef enum {
+    P002_ANGLE_ENCODER = 0, /* the paper: an encoder (hal_sample_t angle_rad) */
+    P002_ANGLE_FLUX = 1     /* sensorless: paper 001's flux observer on the active flux */
+} p002_angle_source_t;
+
 typedef struct {
     p002_controller_t controller;
     ekf_ipmsm_config_t ekf;
@@ -50,6 +72,9 @@ typedef struct {
     ibcc_config_t ibcc;
     speed_poly_t reference;
     mc_t i_trip_A;
+    p002_angle_source_t angle_source;
+    flux_observer_config_t flux;   /* angle_source = FLUX: (12)-(14) with L = L_q */
+    mc_t flux_theta0_rad;          /* angle_source = FLUX: the rotor's (mechanical) angle at start */
 } paper002_config_t;
 
 typedef struct {
@@ -58,6 +83,9 @@ typedef struct {
     sosmc_t sosmc;
     htsmc_t htsmc;
     ibcc_t ibcc;
+    flux_observer_t flux;          /* angle_source = FLUX */
+    angle_unwrap_t unwrap;         /* angle_source = FLUX: the observer's angle, unwrapped */
+    mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
     drive_fault_t fault;
     uint32_t tick;
     /* the last step, for telemetry and logs */
@@ -65,6 +93,7 @@ typedef struct {
         mc_t w_d_rad_s, M_d_Nm, i_dd_A, i_qd_A, i_d_A, i_q_A, u_d_V, u_q_V;
         /* the EKF's a posteriori estimate of this sample */
         mc_t i_d_hat_A, i_q_hat_A, theta_hat_rad, w_hat_rad_s, M0_hat_Nm;
+        mc_t theta_meas_rad;       /* the angle the EKF was given: the encoder's or the observer's */
         bool saturated;
     } last;
 } paper002_drive_t;

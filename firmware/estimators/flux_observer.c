@@ -31,6 +31,7 @@ void flux_observer_init(flux_observer_t *o, const flux_observer_config_t *cfg, m
     o->v_prev_V.beta = MC_ZERO;
     o->unit = angle0;
     o->gradient_on = true;
+    o->rho2_target = MC_ONE;
     flux_observer_eval(o, i0_A);
 }
 
@@ -38,7 +39,7 @@ void flux_observer_step(flux_observer_t *o, mc_ab_t i_A)
 {
     const flux_observer_config_t *c = &o->cfg;
     /* (12) over [k-1, k]: gradient term at the start of the sample */
-    const mc_t grad = o->gradient_on ? mc_mul(c->gPhi3_V, mc_sub(MC_ONE, o->rho2)) : MC_ZERO;
+    const mc_t grad = o->gradient_on ? mc_mul(c->gPhi3_V, mc_sub(o->rho2_target, o->rho2)) : MC_ZERO;
     /* v - R (i[k-1] + i[k])/2 */
     const mc_t ia_mid = mc_div_i(mc_add(o->i_prev_A.alpha, i_A.alpha), 2);
     const mc_t ib_mid = mc_div_i(mc_add(o->i_prev_A.beta, i_A.beta), 2);

@@ -60,6 +60,8 @@ typedef struct {
     mc_t rho2;           /* |rho_hat|^2 */
     mc_rot_t unit;       /* rho_hat/|rho_hat|: (cos, sin) of the estimated electrical angle */
     bool gradient_on;    /* false: (12) without its gradient term, a pure flux integrator */
+    mc_t rho2_target;    /* |eta|^2 / Phi^2 the gradient term pulls to: 1 (12), or the
+                          * active flux's of a salient motor (flux_observer_set_target) */
 } flux_observer_t;
 
 /* lambda_hat(0) = L i0 + Phi (cos, sin)(angle0) (errata: a unit rho_hat(0)). */
@@ -72,6 +74,14 @@ void flux_observer_step(flux_observer_t *o, mc_ab_t i_A);
 /* Turns the gradient term of (12) on or off (off: lambda_hat - lambda stays
  * constant, which startup/flux_circle_fit.h measures). */
 static inline void flux_observer_set_gradient(flux_observer_t *o, bool on) { o->gradient_on = on; }
+
+/* The radius the gradient term pulls |eta| to, as (radius/Phi)^2 (1 at
+ * init: (12)). For a salient motor observed on the active flux (L = L_q
+ * in (14)), |eta| = psi + (L_d - L_q) i_d (Boldea's active flux): the
+ * gradient of (12) with the fixed Phi would push the estimate radially
+ * by (L_d - L_q) i_d, an offset that the rotation then turns into an
+ * angle error (paper002_drive.h). */
+static inline void flux_observer_set_target(flux_observer_t *o, mc_t rho2_target) { o->rho2_target = rho2_target; }
 
 /* lambda_hat -= Phi c (c in units of Phi, the circle fit's centre), and
  * rho_hat re-evaluated with the current of the last step. */

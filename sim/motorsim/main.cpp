@@ -375,11 +375,19 @@ int run(const Options& opt)
         sc.theta0_rad = opt.theta0_rad;
     }
     if (!opt.estimator.empty()) {
-        if (!sc.speed_drive) {
+        if (sc.paper002_drive) {
+            if (opt.estimator == "back_emf") {
+                throw std::invalid_argument("--estimator: back_emf: paper 002's drive takes encoder or flux");
+            }
+            sc.p002.estimator = (opt.estimator == "flux") ? 1 : 0;
+        } else if (!sc.speed_drive) {
             throw std::invalid_argument("--estimator: " + sc.path +
-                                        " has no [speed] table (the estimator choice is the speed drive's)");
+                                        " has no [speed] or [paper002] table (the estimator choice is the speed drives')");
+        } else if (opt.estimator == "encoder") {
+            throw std::invalid_argument("--estimator: encoder: paper 001's drive is sensorless (flux or back_emf)");
+        } else {
+            sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
         }
-        sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
     }
     if (opt.out_given && opt.out_dir.empty()) {
         throw std::invalid_argument("--out: empty path");
@@ -711,8 +719,9 @@ int main(int argc, char** argv)
                                  ->type_name("D");
     app.add_option("--estimator", opt.estimator,
                    "speed drive's estimator, overrides [speed] estimator: flux (paper 001's flux and I&I "
-                   "observers) or back_emf (paper 000's back-EMF chain)")
-        ->check(CLI::IsMember({"flux", "back_emf"}))
+                   "observers) or back_emf (paper 000's back-EMF chain); for paper 002's drive, overrides "
+                   "[paper002] estimator: encoder or flux (paper 001's flux observer, sensorless)")
+        ->check(CLI::IsMember({"flux", "back_emf", "encoder"}))
         ->type_name("NAME");
     app.add_flag("--no-expect", opt.no_expect,
                  "do not judge the metrics against the scenario's [expect] table (for variants: another "

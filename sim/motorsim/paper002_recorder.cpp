@@ -27,7 +27,7 @@ double wrap_pi(double x)
 }  // namespace
 
 const char* const kPaper002ColumnNames[kP2NumColumns] = {
-    "t_s",        "omega_d_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_rad", "theta_est_rad",
+    "t_s",        "omega_d_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_rad", "theta_est_rad", "theta_meas_rad",
     "M0_Nm",      "M0_est_Nm",     "M_d_Nm",      "i_d_A",           "i_q_A",     "i_d_est_A",
     "i_q_est_A",  "i_d_ref_A",     "i_q_ref_A",   "u_d_V",           "u_q_V",     "v_a_V",
     "v_b_V",      "v_c_V",         "mode",        "saturated",   "fault"};
@@ -70,6 +70,13 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
     err_max_ = std::max(err_max_, std::fabs(err));
     const double w_hat = to_double(l.w_hat_rad_s);
     est_ss_ += (w_hat - w) * (w_hat - w);
+    // the EKF's angle and the angle it was given (the encoder's or the flux
+    // observer's), against the rotor's, mechanical
+    const double th = plant_.theta_rad();
+    const double th_err = wrap_pi(to_double(l.theta_hat_rad) - th);
+    const double thm_err = wrap_pi(to_double(l.theta_meas_rad) - th);
+    th_ss_ += th_err * th_err;
+    thm_ss_ += thm_err * thm_err;
     // the lumped disturbance the EKF estimates: everything that brakes the
     // rotor besides the viscous d w of its model (load, LuGre friction)
     const double M0 = plant_.load_torque_Nm();
@@ -116,6 +123,7 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
         r[kP2OmegaEst] = w_hat;
         r[kP2Theta] = wrap_pi(plant_.theta_rad());
         r[kP2ThetaEst] = to_double(l.theta_hat_rad);
+        r[kP2ThetaMeas] = to_double(l.theta_meas_rad);
         r[kP2M0] = M0;
         r[kP2M0Est] = M0_hat;
         r[kP2Md] = to_double(l.M_d_Nm);
@@ -155,6 +163,9 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
     m.emplace_back("speed_err_max_rad_s", err_max_);
     m.emplace_back("omega_est_rmse_rad_s", rms(est_ss_, n_));
     m.emplace_back("M0_est_rmse_Nm", rms(m0_ss_, n_));
+    m.emplace_back("theta_est_rmse_rad", rms(th_ss_, n_));
+    m.emplace_back("theta_meas_rmse_rad", rms(thm_ss_, n_));
+    m.emplace_back("angle_source", static_cast<std::int64_t>(drive_.cfg.angle_source));
     m.emplace_back("voltage_hf_rms_V", std::sqrt(hf_d * hf_d + hf_q * hf_q));
     m.emplace_back("voltage_rms_V", ud_.empty() ? 0.0 : std::sqrt(u_ss / static_cast<double>(ud_.size())));
     m.emplace_back("ekf_p_min_eig", p_min_eig_);

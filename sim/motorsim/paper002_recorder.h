@@ -46,6 +46,7 @@ enum P002Column : int {
     kP2OmegaEst,
     kP2Theta,
     kP2ThetaEst,
+    kP2ThetaMeas,
     kP2M0,
     kP2M0Est,
     kP2Md,
@@ -93,7 +94,7 @@ private:
     std::vector<double> ud_, uq_;  // the steady-state window, for the spectrum
 
     std::uint64_t n_ = 0, n_rmse_ = 0, n_rmse50_ = 0, n_sat_ = 0;
-    double ss_ = 0.0, ss50_ = 0.0, err_max_ = 0.0, est_ss_ = 0.0, m0_ss_ = 0.0, i_max_ = 0.0;
+    double ss_ = 0.0, ss50_ = 0.0, err_max_ = 0.0, est_ss_ = 0.0, m0_ss_ = 0.0, i_max_ = 0.0, th_ss_ = 0.0, thm_ss_ = 0.0;
     double p_min_eig_ = 1e300, p_asym_ = 0.0;
     bool spd_ok_ = true;
     std::int64_t fault_ = 0;

@@ -1220,7 +1220,16 @@ Scenario load_scenario(const std::string& path)
 
     // [paper002]: paper 002's drive (sim/scenarios/README.md)
     if (const auto v = root.table("paper002")) {
-        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega0_rad_s"});
+        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega0_rad_s", "estimator"});
+        if (const auto e = v->string("estimator")) {
+            if (*e == "encoder") {
+                sc.p002.estimator = 0;
+            } else if (*e == "flux") {
+                sc.p002.estimator = 1;
+            } else {
+                v->fail("estimator", "must be \"encoder\" or \"flux\" (got \"" + *e + "\")");
+            }
+        }
         if (const auto c = v->string("controller")) {
             if (*c == "sosmc") {
                 sc.p002.controller = 0;
@@ -1244,8 +1253,8 @@ Scenario load_scenario(const std::string& path)
         if (sc.motor.type != MotorType::kPmsm3) {
             root.fail("motor.file", "paper 002's drive needs a pmsm3 motor (this one is a stepper2)");
         }
-        if (!root.has("encoder")) {
-            root.fail("encoder", "missing required table: paper 002's drive reads an encoder");
+        if (sc.p002.estimator == 0 && !root.has("encoder")) {
+            root.fail("encoder", "missing required table: paper 002's drive reads an encoder (or set paper002.estimator = \"flux\")");
         }
     }
 

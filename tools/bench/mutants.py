@@ -189,7 +189,7 @@ MUTANTS = [
       ("pick(ov->emf_l_per_s, EMF_POLE_OVER_FS * fs)", "pick(ov->emf_l_per_s, 0.05 * fs)")),
     # ---- paper 001: gradient flux observer (12)-(14)
     m("flux_gradient_sign", "estimators/flux_observer.c", "(12): gamma eta (|eta|^2 - Phi^2), pushes |eta| away from Phi",
-      ("mc_sub(MC_ONE, o->rho2)", "mc_sub(o->rho2, MC_ONE)")),
+      ("mc_sub(o->rho2_target, o->rho2)", "mc_sub(o->rho2, o->rho2_target)")),
     m("flux_gradient_always_on", "estimators/flux_observer.c",
       "gradient term applied while switched off (no pure integrator for the circle fit)",
       ("const mc_t grad = o->gradient_on ?", "const mc_t grad = (o->gradient_on || mc_gt(MC_ONE, MC_ZERO)) ?")),
