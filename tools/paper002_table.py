@@ -18,7 +18,12 @@ ekf_spd_ok, ...). stderr: the table in the layout of the paper's Table 1,
 the paper's values beside ours. --png: the same table as a figure
 (matplotlib). --check: exit 1 unless every run ended without a fault, with
 the EKF's covariance symmetric positive definite throughout and the
-steady-state voltage above 1 kHz within HF_BOUND_V (tests/tools runs it).
+steady-state voltage above 1 kHz within HF_BOUND_V; and, for the 16 cases,
+unless the paper's trends hold at w(0) = 0 for every pair (compensation
+lowers the RMSE, the inductance error raises it; with and without noise)
+and the reference case without noise meets the issue's 0.015 rad/s for
+both controllers (ctest sim.paper002_table runs it; the issue's 0.04 with
+noise is not met, docs/paper002.md).
 
 --sensorless: instead, the sensorless variant beside the encoder on the
 reference case (no inductance error, compensation on, w(0) = 0), both
@@ -58,6 +63,10 @@ LD_ERROR = -0.40
 # loops is 2.0-2.6 V over the 16 cases (docs/paper002.md). 3 V is the
 # bound: 6 % of the 48 V bus.
 HF_BOUND_V = 3.0
+
+# The bound on the reference case (SOSMC and HTSMC, compensation,
+# no inductance error, w(0) = 0) without noise [rad/s].
+NONOISE_BOUND = 0.015
 
 # Paper 002, Table 1: RMSE of the speed error [rad/s], columns in the
 # paper's order (inductance error with DC, without DC; no inductance error
@@ -230,6 +239,20 @@ def main() -> int:
             bad.append(f"{k}: ekf_spd_ok = {m.get('ekf_spd_ok')} (P lost positive definiteness)")
         if args.check and not m.get("voltage_hf_rms_V", float("inf")) <= HF_BOUND_V:
             bad.append(f"{k}: voltage_hf_rms_V = {m.get('voltage_hf_rms_V')} > {HF_BOUND_V} V")
+    if args.check and not args.sensorless:
+        for c in ("sosmc", "htsmc"):
+            for nz in (True, False):
+                r = lambda dc, pe: res[key(c, dc, pe, 0, nz)]["speed_rmse_rad_s"]  # noqa: E731
+                tag = f"{c}, w(0) = 0{'' if nz else ', no noise'}"
+                for pe in (0, 1):
+                    if not r(1, pe) < r(0, pe):
+                        bad.append(f"{tag}, perr{pe}: compensation does not lower the RMSE ({r(1, pe):.4g} >= {r(0, pe):.4g})")
+                for dc in (0, 1):
+                    if not r(dc, 1) > r(dc, 0):
+                        bad.append(f"{tag}, dc{dc}: the inductance error does not raise the RMSE ({r(dc, 1):.4g} <= {r(dc, 0):.4g})")
+            ref_nn = res[key(c, 1, 0, 0, False)]["speed_rmse_rad_s"]
+            if not ref_nn <= NONOISE_BOUND:
+                bad.append(f"{key(c, 1, 0, 0, False)}: speed_rmse_rad_s {ref_nn:.5g} > the issue's {NONOISE_BOUND}")
     hf = [m["voltage_hf_rms_V"] for m in res.values()]
     print(f"paper002_table: voltage_hf_rms_V over the {len(res)} runs {min(hf):.3g} .. {max(hf):.3g} V "
           f"(bound {HF_BOUND_V} V); P's smallest eigenvalue {min(m['ekf_p_min_eig'] for m in res.values()):.3g}",
