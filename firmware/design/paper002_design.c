@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "design/drive_design.h"
 #include "math/mc_convert.h"
 
 /* How the constants below were chosen. The structure of each one (what
@@ -78,6 +79,22 @@
  * reference scenario, docs/paper002.md). 50 1/s still pulls a flux drift
  * back within 20 ms. */
 #define P002_FLUX_RADIAL_RATE_PER_S 50.0
+/* Loss of the estimate (paper002_drive.h): the EKF's angle innovation
+ * beyond 0.02 rad (mechanical; 0.08 rad electrical) for 5 ms. That is 200
+ * times the encoder's noise and 90 times the flux observer's (2.2e-4 rad),
+ * and a fifth of the angle at which a d-q frame error costs 8 % of the
+ * torque (0.4 rad electrical); a healthy run's largest innovation is
+ * under 1e-3 rad. 5 ms rides out a single glitch. */
+#define P002_LOS_THETA_RAD 0.02
+#define P002_LOS_S 5e-3
+/* A stalled (or runaway) rotor: the EKF's speed off the reference by more
+ * than half the reference plus 10 rad/s for 0.1 s. The 16 cases' largest
+ * speed error is 5 rad/s (the start from w(0) = 5, and the ring of SOSMC
+ * without compensation with the inductance error, docs/paper002.md);
+ * 10 rad/s is twice that; 0.1 s lets such a start settle. */
+#define P002_STALL_TOL 0.5
+#define P002_STALL_FLOOR_RAD_S 10.0
+#define P002_STALL_S 0.1
 /* the initial covariance: what a start at rest leaves unknown */
 #define P002_P0 1e-3
 
@@ -101,6 +118,7 @@ void p002_design_defaults(p002_design_input_t *in)
     in->ts_s = 1e-4;
     in->i_max_A = 20.0;
     in->i_trip_A = 30.0;
+    in->i_rail_A = 0.0;
     in->sigma_i_A = 5e-3;
     in->sigma_theta_rad = 1e-4;
     in->encoder_counts = 65536;
@@ -209,6 +227,14 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
                                          mc_from_double(ldexp(1.0 / phi_fs, sh)),
                                          mc_from_double(gamma * in->psi_Wb * in->psi_Wb * in->psi_Wb)};
     cfg->flux_theta0_rad = mc_from_double(in->theta0_rad);
+    /* faults (docs/faults.md): the generic set, designed as the other
+     * drives' are, and the loss of the estimate */
+    fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_rail_A, in->ts_s);
+    cfg->los_theta_rad = mc_from_double(P002_LOS_THETA_RAD);
+    cfg->los_ticks = (int32_t)ceil(P002_LOS_S * fsr - 1e-9);
+    cfg->stall_tol = mc_from_double(P002_STALL_TOL);
+    cfg->stall_floor_rad_s = mc_from_double(P002_STALL_FLOOR_RAD_S);
+    cfg->stall_ticks = (int32_t)ceil(P002_STALL_S * fsr - 1e-9);
     cfg->i_trip_A = mc_from_double(in->i_trip_A);
     if (!speed_poly_init(&cfg->reference, (uint32_t)llround(in->t0_s * fsr), (uint32_t)llround(in->t1_s * fsr),
                          mc_from_double(in->w0_rad_s), mc_from_double(in->w1_rad_s), (int32_t)fsr)) {

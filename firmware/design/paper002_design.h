@@ -24,6 +24,7 @@ typedef struct {
     int p;
     double ts_s;
     double i_max_A, i_trip_A;
+    double i_rail_A;         /* the ADC's full scale (0: none; the rail check is off) */
     /* the sensors: current noise (sigma) per phase, encoder counts and
      * angle noise (sigma) */
     double sigma_i_A, sigma_theta_rad;

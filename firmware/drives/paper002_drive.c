@@ -11,10 +11,15 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
     d->fault = DRIVE_FAULT_NONE;
+    d->fault_tick = 0;
     d->tick = 0;
+    d->los.run = 0;
+    d->stall.run = 0;
+    fault_monitor_init(&d->mon, &cfg->faults);
     const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf) && sosmc_init(&d->sosmc, &cfg->sosmc) &&
                     htsmc_init(&d->htsmc, &cfg->htsmc) && ibcc_init(&d->ibcc, &cfg->ibcc) &&
-                    mc_gt(cfg->i_trip_A, MC_ZERO) &&
+                    mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
+                    mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
                     (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX);
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
     const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, cfg->ekf.p);
@@ -37,6 +42,14 @@ static bool p002_zero(paper002_drive_t *d, hal_command_t *out)
     return false;
 }
 
+/* A fault: latched with its sample, 0 V out. */
+static bool p002_trip(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
+{
+    d->fault = f;
+    d->fault_tick = d->tick;
+    return p002_zero(d, out);
+}
+
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
@@ -45,14 +58,11 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     }
     const bool flux = c->angle_source == P002_ANGLE_FLUX;
     if (!phase_adapter_accepts(in, 3u) || (!flux && !in->has_angle)) {
-        d->fault = DRIVE_FAULT_BAD_INPUT;
-        return p002_zero(d, out);
+        return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
     }
-    for (uint32_t k = 0; k < 3u; ++k) {
-        if (!mc_lt(mc_abs(in->i_A[k]), c->i_trip_A)) {
-            d->fault = DRIVE_FAULT_OVERCURRENT;
-            return p002_zero(d, out);
-        }
+    const drive_fault_t f_in = fault_monitor_sample(&d->mon, in, 3u);
+    if (f_in != DRIVE_FAULT_NONE) {
+        return p002_trip(d, f_in, out);
     }
     /* 1. d-q currents with the encoder's electrical angle, or the flux
      * observer's */
@@ -81,7 +91,16 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     mc_t i_d, i_q;
     mc_rot_fwd(r_meas, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     /* 2. the EKF's correction */
-    (void)ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
+    const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
+    mc_t w_d, dw_d;
+    speed_poly_eval(&c->reference, d->tick, &w_d, &dw_d);
+    const bool lost = fault_persist_step(&d->los, !mc_le(mc_abs(d->ekf.innovation[2]), c->los_theta_rad), c->los_ticks);
+    const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(w_d));
+    const bool stalled =
+        fault_persist_step(&d->stall, !mc_le(mc_abs(mc_sub(d->ekf.x[EKF_OMEGA], w_d)), stall_band), c->stall_ticks);
+    if (!corrected || lost || stalled) {
+        return p002_trip(d, DRIVE_FAULT_LOSS_OF_SYNC, out);
+    }
     d->last.theta_meas_rad = theta_meas;
     const mc_t *x = d->ekf.x;
     d->last.i_d_hat_A = x[EKF_ID];
@@ -90,8 +109,6 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.w_hat_rad_s = x[EKF_OMEGA];
     d->last.M0_hat_Nm = x[EKF_M0];
     /* 3. reference and torque demand */
-    mc_t w_d, dw_d;
-    speed_poly_eval(&c->reference, d->tick, &w_d, &dw_d);
     const mc_t M_d = (c->controller == P002_SOSMC)
                          ? sosmc_step(&d->sosmc, &c->sosmc, w_d, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf), x[EKF_M0])
                          : htsmc_step(&d->htsmc, &c->htsmc, w_d, dw_d, x[EKF_OMEGA], x[EKF_M0]);
@@ -120,6 +137,10 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.u_d_V = u_d;
     d->last.u_q_V = u_q;
     d->last.saturated = d->ibcc.saturated;
+    const drive_fault_t f_out = fault_monitor_command(&d->mon, out, d->ibcc.saturated);
+    if (f_out != DRIVE_FAULT_NONE) {
+        return p002_trip(d, f_out, out);
+    }
     d->tick += 1u;
     return true;
 }

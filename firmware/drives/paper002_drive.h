@@ -15,9 +15,17 @@
  *      advanced by half a sample (the voltage acts over the coming sample),
  *      min/max zero sequence to the three legs;
  *   7. the EKF's prediction with the applied d-q voltage (38)-(39).
- * A sample without the encoder's angle, of the wrong phase count, or a
- * current beyond i_trip puts it in FAULT (0 V). Float only: the EKF's
- * covariances do not fit Q14.17 (docs/paper002.md).
+ * Faults (docs/faults.md), latched with their sample, 0 V from then on:
+ * the generic set of supervisor/fault_monitor.h (over-current, I^2 t,
+ * voltage saturated too long, non-finite values, stuck or railed samples,
+ * converter and hardware trips, overruns); a sample of the wrong phase
+ * count or, with the encoder, without its angle (BAD_INPUT); and the loss
+ * of the estimate or of the rotor: the EKF's angle innovation beyond
+ * los_theta_rad for los_ticks samples, its innovation covariance no longer
+ * positive definite, or its speed off the reference by more than
+ * stall_tol |w_d| + stall_floor_rad_s for stall_ticks samples (a stalled
+ * or runaway rotor; LOSS_OF_SYNC). Float only: the EKF's covariances do not fit
+ * Q14.17 (docs/paper002.md).
  *
  * Angle source by configuration (cfg.angle_source), as paper 001's drive
  * chooses its estimator: with P002_ANGLE_FLUX (beyond the paper) no
@@ -48,6 +56,7 @@
 #include "estimators/flux_observer.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
+#include "supervisor/fault_monitor.h"
 #include "supervisor/supervisor.h"
 #include "trajectory/speed_poly.h"
 
@@ -75,6 +84,11 @@ typedef struct {
     p002_angle_source_t angle_source;
     flux_observer_config_t flux;   /* angle_source = FLUX: (12)-(14) with L = L_q */
     mc_t flux_theta0_rad;          /* angle_source = FLUX: the rotor's (mechanical) angle at start */
+    fault_monitor_config_t faults; /* the generic fault set */
+    mc_t los_theta_rad;            /* loss of the estimate: |angle innovation| beyond this ... */
+    int32_t los_ticks;             /* ... for this many consecutive samples */
+    mc_t stall_tol, stall_floor_rad_s; /* |w_hat - w_d| > tol |w_d| + floor ... */
+    int32_t stall_ticks;           /* ... for this many consecutive samples */
 } paper002_config_t;
 
 typedef struct {
@@ -86,7 +100,10 @@ typedef struct {
     flux_observer_t flux;          /* angle_source = FLUX */
     angle_unwrap_t unwrap;         /* angle_source = FLUX: the observer's angle, unwrapped */
     mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
+    fault_monitor_t mon;
+    fault_persist_t los, stall;
     drive_fault_t fault;
+    uint32_t fault_tick;           /* the sample the fault was latched at */
     uint32_t tick;
     /* the last step, for telemetry and logs */
     struct {
