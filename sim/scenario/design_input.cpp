@@ -238,6 +238,7 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->ts_s = sc.ts_s;
     in->i_max_A = sc.i_max_A;
     in->i_trip_A = sc.i_trip_A;
+    in->i_rail_A = adc_rail_A(sc.sensor);
     switch (sc.sensor.noise) {
     case NoiseKind::kGaussian: in->sigma_i_A = sc.sensor.noise_A; break;
     case NoiseKind::kUniform: in->sigma_i_A = sc.sensor.noise_A / std::sqrt(3.0); break;
