@@ -126,6 +126,7 @@ void p002_design_defaults(p002_design_input_t *in)
     in->compensate = true;
     in->angle_source = P002_ANGLE_ENCODER;
     in->theta0_rad = 0.0;
+    in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
     in->t0_s = 0.2;
     in->t1_s = 0.4;
     in->w0_rad_s = 0.0;
@@ -156,6 +157,8 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     if (!(in->sigma_i_A >= 0.0)) return p002_fail(err, err_len, "sensor.noise_A", "must be >= 0", in->sigma_i_A);
     if (!(in->sigma_theta_rad >= 0.0)) return p002_fail(err, err_len, "encoder.noise_rad", "must be >= 0", in->sigma_theta_rad);
     if (!(in->t1_s > in->t0_s && in->t0_s >= 0.0)) return p002_fail(err, err_len, "reference.t1_s", "must be > t0_s >= 0", in->t1_s);
+    if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
+        return p002_fail(err, err_len, "run.compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
     const double fs = 1.0 / in->ts_s;
     const double fsr = floor(fs + 0.5);
     if (fabs(fs - fsr) > 1e-6 * fs) return p002_fail(err, err_len, "run.Ts_s", "1/Ts must be a whole number of hertz", in->ts_s);
@@ -235,6 +238,7 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     cfg->stall_tol = mc_from_double(P002_STALL_TOL);
     cfg->stall_floor_rad_s = mc_from_double(P002_STALL_FLOOR_RAD_S);
     cfg->stall_ticks = (int32_t)ceil(P002_STALL_S * fsr - 1e-9);
+    cfg->compute_delay = mc_from_double(in->compute_delay_samples);
     cfg->i_trip_A = mc_from_double(in->i_trip_A);
     if (!speed_poly_init(&cfg->reference, (uint32_t)llround(in->t0_s * fsr), (uint32_t)llround(in->t1_s * fsr),
                          mc_from_double(in->w0_rad_s), mc_from_double(in->w1_rad_s), (int32_t)fsr)) {

@@ -38,6 +38,8 @@ typedef struct {
      * start, known from an alignment (paper002_drive.h) */
     int angle_source;
     double theta0_rad;
+    /* the board's computation delay in samples, [0, 1] (paper002_drive.h) */
+    double compute_delay_samples;
 } p002_design_input_t;
 
 /* The issue's reference set (p 4, R 0.3, L_d 3 mH, L_q 9 mH, psi 0.04,

@@ -15,11 +15,14 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->tick = 0;
     d->los.run = 0;
     d->stall.run = 0;
+    d->u_ab_prev_V.alpha = MC_ZERO;
+    d->u_ab_prev_V.beta = MC_ZERO;
     fault_monitor_init(&d->mon, &cfg->faults);
     const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf) && sosmc_init(&d->sosmc, &cfg->sosmc) &&
                     htsmc_init(&d->htsmc, &cfg->htsmc) && ibcc_init(&d->ibcc, &cfg->ibcc) &&
                     mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
                     mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
+                    mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
                     (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX);
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
     const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, cfg->ekf.p);
@@ -120,14 +123,32 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     mc_t u_d, u_q;
     ibcc_step(&d->ibcc, &c->ibcc, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_d, &u_q);
     /* 6. back to alpha-beta at the angle the voltage acts around: the
-     * estimate advanced by half a sample */
-    const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], mc_div_i(c->ekf.ts_s, 2), x[EKF_OMEGA]), c->ekf.p);
+     * estimate advanced to the middle of the sample it acts over, (1/2 +
+     * d) Ts ahead */
+    const mc_t half_ts = mc_div_i(c->ekf.ts_s, 2);
+    const mc_t lead = mc_mac(half_ts, c->compute_delay, c->ekf.ts_s);
+    const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], lead, x[EKF_OMEGA]), c->ekf.p);
     mc_ab_t u_ab;
     mc_rot_inv(mc_rot_from_angle(th_el), u_d, u_q, &u_ab.alpha, &u_ab.beta);
     phase_adapter_voltages(3u, u_ab, out);
-    flux_observer_hold(&d->flux, u_ab);
-    /* 7. the EKF's prediction with the voltage applied */
-    ekf_ipmsm_predict(&d->ekf, u_d, u_q);
+    /* 7. the EKF's prediction with the voltage the motor sees over the
+     * coming sample (and the flux observer's): this command, or with a
+     * delay the mean (1 - d) u + d u_prev, brought into the frame of the
+     * sample's middle */
+    if (mc_eq(c->compute_delay, MC_ZERO)) {
+        flux_observer_hold(&d->flux, u_ab);
+        ekf_ipmsm_predict(&d->ekf, u_d, u_q);
+    } else {
+        mc_ab_t u_mean;
+        u_mean.alpha = mc_mac(u_ab.alpha, c->compute_delay, mc_sub(d->u_ab_prev_V.alpha, u_ab.alpha));
+        u_mean.beta = mc_mac(u_ab.beta, c->compute_delay, mc_sub(d->u_ab_prev_V.beta, u_ab.beta));
+        flux_observer_hold(&d->flux, u_mean);
+        const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), c->ekf.p);
+        mc_t u_d_mean, u_q_mean;
+        mc_rot_fwd(mc_rot_from_angle(th_mid), u_mean.alpha, u_mean.beta, &u_d_mean, &u_q_mean);
+        ekf_ipmsm_predict(&d->ekf, u_d_mean, u_q_mean);
+    }
+    d->u_ab_prev_V = u_ab;
     d->last.w_d_rad_s = w_d;
     d->last.M_d_Nm = M_d;
     d->last.i_dd_A = ref.i_d_A;

@@ -12,9 +12,12 @@
  *   5. the current control (9) with (3)'s coupling on the EKF's currents
  *      and speed, limited to the bus's v_bus/sqrt(3);
  *   6. the d-q voltage back to alpha-beta at the estimated electrical angle
- *      advanced by half a sample (the voltage acts over the coming sample),
- *      min/max zero sequence to the three legs;
- *   7. the EKF's prediction with the applied d-q voltage (38)-(39).
+ *      advanced to the middle of the sample it acts over ((1/2 + d) Ts
+ *      with the board's computation delay d), min/max zero sequence to
+ *      the three legs;
+ *   7. the EKF's prediction (38)-(39) with the voltage the motor sees
+ *      over the coming sample: with d > 0 the last command for d Ts and
+ *      this one after, their mean in the frame of the sample's middle.
  * Faults (docs/faults.md), latched with their sample, 0 V from then on:
  * the generic set of supervisor/fault_monitor.h (over-current, I^2 t,
  * voltage saturated too long, non-finite values, stuck or railed samples,
@@ -89,6 +92,8 @@ typedef struct {
     int32_t los_ticks;             /* ... for this many consecutive samples */
     mc_t stall_tol, stall_floor_rad_s; /* |w_hat - w_d| > tol |w_d| + floor ... */
     int32_t stall_ticks;           /* ... for this many consecutive samples */
+    mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
+                                    * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
 } paper002_config_t;
 
 typedef struct {
@@ -102,6 +107,7 @@ typedef struct {
     mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
     fault_monitor_t mon;
     fault_persist_t los, stall;
+    mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     drive_fault_t fault;
     uint32_t fault_tick;           /* the sample the fault was latched at */
     uint32_t tick;

@@ -254,6 +254,7 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->w1_rad_s = sc.p002.omega_final_rad_s;
     in->angle_source = sc.p002.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
+    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
 }
 
 void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)
