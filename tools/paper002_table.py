@@ -10,6 +10,7 @@ value (motor, load pulses, reference, noise, limits).
 
     python3 tools/paper002_table.py [--binary build/host/sim/motorsim] [--png out/paper002_table.png] [--check]
     python3 tools/paper002_table.py --sensorless [--check]
+    python3 tools/paper002_table.py [--sensorless] --markdown   (the tables on stdout, for the docs)
 
 stdout: one JSON object keyed <sosmc|htsmc>.dc<0|1>.perr<0|1>.w0_<0|5> and
 the same keys with .nonoise appended; each value is the run's metrics
@@ -136,7 +137,7 @@ def run_case(binary: Path, text: str, name: str) -> dict:
 
 def table_text(res: dict, metric: str, noise: bool) -> str:
     hdr = ["", "perr DC", "perr no-DC", "no-perr DC", "no-perr no-DC"]
-    lines = [f"{metric}{'' if noise else ' (no noise)'} [rad/s]: ours / paper 002 Table 1",
+    lines = [f"{metric}{'' if noise else ' (no noise)'} [rad/s]: ours / paper 002 Table 1", "",
              "| " + " | ".join(["controller, w(0)"] + hdr[1:]) + " |", "|---" * 5 + "|"]
     for ctrl in ("sosmc", "htsmc"):
         for w0 in (5, 0):
@@ -185,6 +186,8 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="parallel runs (default: the cores)")
     ap.add_argument("--sensorless", action="store_true",
                     help="the sensorless variant (flux observer) beside the encoder on the reference case")
+    ap.add_argument("--markdown", action="store_true",
+                    help="print the tables (markdown) on stdout instead of the JSON")
     ap.add_argument("--check", action="store_true",
                     help=f"exit 1 unless every run is fault-free, ekf_spd_ok = 1 and voltage_hf_rms_V <= {HF_BOUND_V}")
     args = ap.parse_args()
@@ -212,22 +215,26 @@ def main() -> int:
     except (ToolError, OSError, tomllib.TOMLDecodeError) as e:
         print(f"paper002_table: error: {e}", file=sys.stderr)
         return 2
-    print(json.dumps(dict(sorted(res.items())), indent=1))
+    # --markdown: the tables on stdout instead of the JSON (docs/paper002.md
+    # embeds them; tools/docs/doc_tables.py checks they are current)
+    tables = sys.stdout if args.markdown else sys.stderr
+    if not args.markdown:
+        print(json.dumps(dict(sorted(res.items())), indent=1))
     if args.sensorless:
         print("speed_rmse_rad_s [rad/s] on the reference case (DC, no inductance error, w(0) = 0); "
-              "theta_meas_rmse_rad: the angle given to the EKF against the rotor's", file=sys.stderr)
+              "theta_meas_rmse_rad: the angle given to the EKF against the rotor's\n", file=tables)
         print("| controller | encoder | flux observer | encoder, no noise | flux observer, no noise | "
-              "angle error encoder / flux [rad] |\n|---|---|---|---|---|---|", file=sys.stderr)
+              "angle error encoder / flux [rad] |\n|---|---|---|---|---|---|", file=tables)
         for c in ("sosmc", "htsmc"):
             r = lambda est, nn="": res[f"{c}.{est}{nn}"]  # noqa: E731
             print(f"| {c.upper()} | {r('encoder')['speed_rmse_rad_s']:.4g} | {r('flux')['speed_rmse_rad_s']:.4g} | "
                   f"{r('encoder', '.nonoise')['speed_rmse_rad_s']:.4g} | {r('flux', '.nonoise')['speed_rmse_rad_s']:.4g} | "
                   f"{r('encoder')['theta_meas_rmse_rad']:.3g} / {r('flux')['theta_meas_rmse_rad']:.3g} |",
-                  file=sys.stderr)
-    for noise in (True, False) if not args.sensorless else ():
-        print(table_text(res, "speed_rmse_rad_s", noise) + "\n", file=sys.stderr)
-    if not args.sensorless:
-        print(table_text(res, "speed_rmse_after_50ms_rad_s", True) + "\n", file=sys.stderr)
+                  file=tables)
+    for i, noise in enumerate((True, False) if not args.sensorless else ()):
+        print(("\n" if i else "") + table_text(res, "speed_rmse_rad_s", noise), file=tables)
+    if not args.sensorless and not args.markdown:
+        print("\n" + table_text(res, "speed_rmse_after_50ms_rad_s", True) + "\n", file=tables)
     if args.png and not args.sensorless:
         write_png(res, args.png)
         print(f"paper002_table: wrote {args.png}", file=sys.stderr)
