@@ -27,6 +27,7 @@ extern "C" {
 /* The heartbeat's DriveKind (the DBC's VAL_ table). */
 #define CAN_DRIVE_KIND_POSITION_P000 0u
 #define CAN_DRIVE_KIND_SPEED_P001 1u
+#define CAN_DRIVE_KIND_SPEED_P002 2u
 #define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
 
 /* One classic CAN frame: the HAL's (hal/hal_types.h). */

@@ -17,6 +17,12 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->stall.run = 0;
     d->u_ab_prev_V.alpha = MC_ZERO;
     d->u_ab_prev_V.beta = MC_ZERO;
+    d->reference = cfg->reference;
+    d->disabled = false;
+    d->v_bus_V = MC_ZERO;
+    d->theta_ref_rad = MC_ZERO;
+    d->stop_ramp_rad_s2 = mc_div(mc_mul(mc_mul_i(mc_mul(MC_C(1.5), cfg->ekf.psi_Wb), cfg->ekf.p), cfg->mtpa.i_max_A),
+                                 mc_mul_i(cfg->ekf.J_kgm2, 4));
     fault_monitor_init(&d->mon, &cfg->faults);
     const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf) && sosmc_init(&d->sosmc, &cfg->sosmc) &&
                     htsmc_init(&d->htsmc, &cfg->htsmc) && ibcc_init(&d->ibcc, &cfg->ibcc) &&
@@ -56,9 +62,10 @@ static bool p002_trip(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
-    if (d->fault != DRIVE_FAULT_NONE) {
+    if (d->fault != DRIVE_FAULT_NONE || d->disabled) {
         return p002_zero(d, out);
     }
+    d->v_bus_V = in->v_bus_V;
     const bool flux = c->angle_source == P002_ANGLE_FLUX;
     if (!phase_adapter_accepts(in, 3u) || (!flux && !in->has_angle)) {
         return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
@@ -96,7 +103,8 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 2. the EKF's correction */
     const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
     mc_t w_d, dw_d;
-    speed_poly_eval(&c->reference, d->tick, &w_d, &dw_d);
+    speed_poly_eval(&d->reference, d->tick, &w_d, &dw_d);
+    d->theta_ref_rad = mc_wrap_pi(mc_mac(d->theta_ref_rad, w_d, c->ekf.ts_s));
     const bool lost = fault_persist_step(&d->los, !mc_le(mc_abs(d->ekf.innovation[2]), c->los_theta_rad), c->los_ticks);
     const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(w_d));
     const bool stalled =
@@ -164,4 +172,62 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     }
     d->tick += 1u;
     return true;
+}
+
+bool paper002_drive_set_enabled(paper002_drive_t *d, bool on)
+{
+    if (d->fault != DRIVE_FAULT_NONE || on == !d->disabled) {
+        return false;
+    }
+    if (on) {
+        const paper002_config_t cfg = d->cfg;
+        return paper002_drive_init(d, &cfg);
+    }
+    d->disabled = true;
+    return true;
+}
+
+bool paper002_drive_set_speed(paper002_drive_t *d, mc_t omega_rad_s, mc_t ramp_rad_s2)
+{
+    const paper002_config_t *c = &d->cfg;
+    if (d->disabled || d->fault != DRIVE_FAULT_NONE || !mc_gt(ramp_rad_s2, MC_ZERO)) {
+        return false;
+    }
+    /* the back-EMF p psi |w| within a share of v_bus/sqrt(3) */
+    const mc_t k_e = mc_mul_i(c->ekf.psi_Wb, c->ekf.p);
+    if (mc_gt(mc_mul(k_e, mc_abs(omega_rad_s)), mc_mul(P002_CMD_VOLTAGE_SHARE, mc_mul(d->v_bus_V, P002_INV_SQRT3)))) {
+        return false;
+    }
+    /* the ramp within K_t i_max / J */
+    const mc_t a_max = mc_div(mc_mul(mc_mul(MC_C(1.5), k_e), c->mtpa.i_max_A), c->ekf.J_kgm2);
+    if (mc_gt(ramp_rad_s2, a_max)) {
+        return false;
+    }
+    mc_t w_now, dw_now;
+    speed_poly_eval(&d->reference, d->tick, &w_now, &dw_now);
+    (void)dw_now;
+    /* T = 1.875 |dw| / ramp, at least a sample */
+    const mc_t t_s = mc_div(mc_mul(P002_POLY_PEAK_OVER_MEAN, mc_abs(mc_sub(omega_rad_s, w_now))), ramp_rad_s2);
+    int32_t n = mc_round_i(mc_mul_i(t_s, c->ibcc.fs_hz)) + 1;
+    if (n < 1) {
+        n = 1;
+    }
+    speed_poly_t next;
+    if (!speed_poly_init(&next, d->tick, d->tick + (uint32_t)n, w_now, omega_rad_s, c->ibcc.fs_hz)) {
+        return false;
+    }
+    d->reference = next;
+    d->stop_ramp_rad_s2 = ramp_rad_s2;
+    return true;
+}
+
+bool paper002_drive_stop(paper002_drive_t *d) { return paper002_drive_set_speed(d, MC_ZERO, d->stop_ramp_rad_s2); }
+
+bool paper002_drive_clear_fault(paper002_drive_t *d)
+{
+    if (d->fault == DRIVE_FAULT_NONE) {
+        return false;
+    }
+    const paper002_config_t cfg = d->cfg;
+    return paper002_drive_init(d, &cfg);
 }

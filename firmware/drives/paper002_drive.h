@@ -108,6 +108,11 @@ typedef struct {
     fault_monitor_t mon;
     fault_persist_t los, stall;
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
+    speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
+    bool disabled;                 /* CmdEnable 0: 0 V until enabled */
+    mc_t v_bus_V;                  /* the last measured bus (the speed command's check) */
+    mc_t stop_ramp_rad_s2;         /* the last commanded ramp */
+    mc_t theta_ref_rad;            /* the integral of w_d, wrapped (telemetry) */
     drive_fault_t fault;
     uint32_t fault_tick;           /* the sample the fault was latched at */
     uint32_t tick;
@@ -123,8 +128,38 @@ typedef struct {
 
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
 
-/* One sample; false (0 V out) in FAULT. */
+/* One sample; false (0 V out) in FAULT or disabled. */
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out);
+
+/* Commands (comm/can_paper002.h), between steps; false: refused, nothing
+ * changed. */
+
+/* The share of the phase voltage the back-EMF of a commanded speed may
+ * take (as paper 001's drive: the rest is for the currents' dynamics). */
+#define P002_CMD_VOLTAGE_SHARE MC_C(0.9)
+/* The C^2 quintic's peak slope over its mean: a change dw over T peaks at
+ * 1.875 dw / T (speed_poly.h: d/dx (10 x^3 - 15 x^4 + 6 x^5) at x = 1/2). */
+#define P002_POLY_PEAK_OVER_MEAN MC_C(1.875)
+
+/* Off: 0 V from the next step. On (after off): the drive starts again as
+ * at power-up, its configured reference from the start. Refused in FAULT
+ * (clear it first) and when nothing would change. */
+bool paper002_drive_set_enabled(paper002_drive_t *d, bool on);
+
+/* From the reference's present speed to omega_rad_s by the C^2 quintic,
+ * its peak acceleration ramp_rad_s2 (the duration 1.875 |dw| / ramp).
+ * Refused disabled or in FAULT, for ramp <= 0 or above K_t i_max / J (K_t
+ * = 3/2 p psi), and when p psi |w| exceeds P002_CMD_VOLTAGE_SHARE of the
+ * phase voltage the last measured bus gives. The ramp becomes the stop
+ * ramp. */
+bool paper002_drive_set_speed(paper002_drive_t *d, mc_t omega_rad_s, mc_t ramp_rad_s2);
+
+/* To 0 at the last commanded ramp (at first K_t i_max / (4 J)). */
+bool paper002_drive_stop(paper002_drive_t *d);
+
+/* Clears a latched fault: the drive starts again as at power-up. Refused
+ * without a fault. */
+bool paper002_drive_clear_fault(paper002_drive_t *d);
 
 #ifdef __cplusplus
 }

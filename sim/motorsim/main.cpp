@@ -426,10 +426,6 @@ int run(const Options& opt)
     if (opt.can_given && opt.can_iface.empty()) {
         throw std::invalid_argument("--can: empty interface name");
     }
-    if (!opt.can_iface.empty() && sc.paper002_drive) {
-        throw std::invalid_argument("--can: " + sc.path + " runs paper 002's drive, which has no CAN message set yet "
-                                    "(tools/can/drive.dbc carries the drives of papers 000 and 001)");
-    }
     if (!opt.can_iface.empty()) {
         can = std::make_unique<mcsim::SocketCan>(opt.can_iface, opt.can_node);
     }
@@ -547,15 +543,16 @@ int run(const Options& opt)
         can_ctx = std::make_unique<mcsim::CanDriveContext>();
         can_ctx->position = drive.get();
         can_ctx->speed = speed_drive.get();
+        can_ctx->p002 = p002_drive.get();
         can_ctx->ts_s = sc.ts_s;
         can_ctx->t_start_s = sc.t_start_s();
         can_ctx->log = opt.quiet ? nullptr : stderr;
         mcsim::can_glue_init(can_ctx.get(), opt.can_node, hal_control_rate_hz());
         if (rec) {
             rec->score_against_drive_reference(true);
-        } else {
+        } else if (speed_rec) {
             speed_rec->score_against_drive_reference(true);
-        }
+        }  // paper 002's recorder always scores against the drive's w_d
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
     } else if (sc.paper002_drive) {
@@ -592,7 +589,8 @@ int run(const Options& opt)
     const mcsim::RunWatch& watch = p002_rec ? p002_rec->watch() : (sc.speed_drive ? speed_rec->watch() : rec->watch());
     if (can && !opt.quiet) {
         std::fprintf(stderr, "motorsim: on CAN %s as node %u (%s), %s\n", can->iface().c_str(), opt.can_node,
-                     sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive",
+                     sc.paper002_drive ? "paper-002 speed drive"
+                                       : (sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive"),
                      opt.realtime ? "in real time" : "as fast as it runs");
     }
     const double wall_s = run_loop(sc.n_ticks(), opt.quiet, watch, opt.realtime, sc.ts_s);

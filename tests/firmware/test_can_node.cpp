@@ -1,5 +1,5 @@
 // The drives on CAN (firmware/comm/can_node.h, can_paper000.h,
-// can_paper001.h) and the commands they obey (drive_move, drive_stop,
+// can_paper001.h, can_paper002.h) and the commands they obey (drive_move, drive_stop,
 // drive_set_enabled, drive_set_omega_lim; paper001_drive_set_speed, ...):
 // valid commands change the drive as documented, and a frame of any wrong
 // kind, or a valid command the drive refuses, leaves every byte of the
@@ -13,8 +13,10 @@
 #include "comm/can_node.h"
 #include "comm/can_paper000.h"
 #include "comm/can_paper001.h"
+#include "comm/can_paper002.h"
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
+#include "design/paper002_design.h"
 #include "math/mc_convert.h"
 
 namespace {
@@ -399,4 +401,104 @@ TEST(CanNode, SpeedDriveCommands)
     can_telemetry_t t{};
     can_paper001_telemetry(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P001);
+}
+
+#if !MC_FIXED
+namespace {
+// paper 002's drive on its reference set (design defaults), and one sample
+// of small changing currents at a slowly turning encoder angle
+bool init_p002(paper002_drive_t* d)
+{
+    p002_design_input_t in;
+    p002_design_defaults(&in);
+    paper002_config_t cfg;
+    char err[200];
+    return p002_design(&in, &cfg, err, sizeof err) && paper002_drive_init(d, &cfg);
+}
+bool step_p002(paper002_drive_t* d, int k, hal_command_t* out, bool nan_sample = false)
+{
+    hal_sample_t in{};
+    in.n_phases = 3;
+    in.tick = static_cast<uint32_t>(k);
+    in.i_A[0] = M(nan_sample ? NAN : 1e-3 * std::sin(0.1 * k));
+    in.i_A[1] = M(1e-3 * std::sin(0.1 * k + 2.1));
+    in.i_A[2] = mc_neg(mc_add(in.i_A[0], in.i_A[1]));
+    in.v_bus_V = M(48.0);
+    in.has_angle = true;
+    in.angle_rad = M(1e-4 * k);
+    return paper002_drive_step(d, &in, out);
+}
+}  // namespace
+#endif
+
+// Paper 002's drive on CAN: bad frames and refused commands leave its bytes
+// unchanged; CmdSpeed sets a C^2 change of the reference at the commanded
+// peak acceleration; CmdStop ramps to 0 at that ramp; CmdEnable 0 holds
+// 0 V and 1 restarts it; CmdClearFaults only after a fault.
+TEST(CanNode, Paper002DriveCommands)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "paper 002's design needs the float build";
+#else
+    static paper002_drive_t d;
+    ASSERT_TRUE(init_p002(&d));
+    hal_command_t out;
+    for (int k = 0; k < 10; ++k) ASSERT_TRUE(step_p002(&d, k, &out));
+    can_node_t n = make_node();
+    const auto before = bytes_of(d);
+    for (const auto& [f, why] : bad_frames()) {
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper002_apply, &d), why) << std::hex << f.id;
+    }
+    // the position drive's, SetOmegaLim, a speed whose back-EMF p psi |w|
+    // passes 0.9 x 48/sqrt(3) V (156 rad/s), a ramp beyond K_t i_max / J
+    // (4800 rad/s^2), CmdClearFaults without a fault, CmdEnable 1 enabled
+    for (const can_frame_t& f : {cmd_move(1.0, 1.0), frame(0x240, {0xB8, 0x0B}), cmd_speed(200.0, 100.0),
+                                 cmd_speed(10.0, 6000.0), frame(0x250, {0}), frame(0x200, {1})}) {
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper002_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
+    }
+    EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed paper 002's drive";
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(50.0, 1000.0), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    // 1.875 x 50 / 1000 = 93.75 ms: the peak slope 1000 rad/s^2 at the middle
+    mc_t w, dw;
+    speed_poly_eval(&d.reference, d.tick + 469, &w, &dw);
+    EXPECT_NEAR(D(w), 25.0, 0.1);
+    EXPECT_NEAR(D(dw), 1000.0, 5.0);
+    speed_poly_eval(&d.reference, d.tick + 938, &w, &dw);
+    EXPECT_NEAR(D(w), 50.0, 1e-3);
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_NEAR(D(d.stop_ramp_rad_s2), 1000.0, 1e-3);
+    speed_poly_eval(&d.reference, d.tick + 2, &w, &dw);
+    EXPECT_NEAR(D(w), 0.0, 1e-3) << "stop from rest: nothing to ramp";
+    can_telemetry_t t{};
+    can_paper002_telemetry(&d, M(48.0), M(3.0), &t);
+    EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P002);
+    EXPECT_TRUE(t.enabled);
+    EXPECT_EQ(t.mode, 1u);
+    // disable: 0 V; a second disable refused; enable restarts at tick 0
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x200, {0}), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_FALSE(step_p002(&d, 10, &out));
+    EXPECT_EQ(D(out.v_V[0]), 0.0);
+    EXPECT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {0}), &can_paper002_apply, &d),
+              CAN_REJECT_MODE);
+    ASSERT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {1}), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_EQ(d.tick, 0u);
+    EXPECT_TRUE(step_p002(&d, 11, &out));
+    // a fault (a NaN sample), telemetry of it, then ClearFaults restarts
+    EXPECT_FALSE(step_p002(&d, 12, &out, true));
+    EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
+    can_paper002_telemetry(&d, M(48.0), M(3.0), &t);
+    EXPECT_EQ(t.mode, 2u);
+    EXPECT_EQ(t.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
+    EXPECT_FALSE(t.enabled);
+    EXPECT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &can_paper002_apply, &d),
+              CAN_REJECT_MODE);
+    ASSERT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)frame(0x250, {0}), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    EXPECT_EQ(d.fault, DRIVE_FAULT_NONE);
+    EXPECT_TRUE(step_p002(&d, 14, &out));
+#endif
 }

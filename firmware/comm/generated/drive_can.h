@@ -98,6 +98,7 @@ extern "C" {
 /* Signal choices. */
 #define DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER000_POSITION_CHOICE (0u)
 #define DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER001_SPEED_CHOICE (1u)
+#define DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE (2u)
 
 #define DRIVE_CAN_HEARTBEAT_MODE_OPEN_LOOP_CHOICE (0u)
 #define DRIVE_CAN_HEARTBEAT_MODE_CLOSED_LOOP_CHOICE (1u)
@@ -173,7 +174,7 @@ extern "C" {
 /**
  * Signals in message Heartbeat.
  *
- * Status, every 100 ms by default: drive kind (0 paper-000 position drive, 1 paper-001 speed drive), mode (0 open loop, 1 closed loop, 2 fault), supervisor state, fault code (drive_fault_t, supervisor.h), counters (wrapping).
+ * Status, every 100 ms by default: drive kind (0 paper-000 position drive, 1 paper-001 speed drive, 2 paper-002 speed drive), mode (0 open loop, 1 closed loop, 2 fault), supervisor state, fault code (drive_fault_t, supervisor.h), counters (wrapping).
  *
  * All signal values are as on the CAN bus.
  */
@@ -257,7 +258,7 @@ struct drive_can_heartbeat_t {
 /**
  * Signals in message Position.
  *
- * Mechanical position reference and estimate (position drive: theta_r of (70), theta_hat; speed drive: the integral of w*, the estimate).
+ * Mechanical position reference and estimate (position drive: theta_r of (70), theta_hat; speed drives: the integral of w*, the estimate; paper-002 drive: both wrapped into [-pi, pi)). 
  *
  * All signal values are as on the CAN bus.
  */
@@ -317,7 +318,7 @@ struct drive_can_velocity_t {
 /**
  * Signals in message Currents.
  *
- * Measured currents in the control frame (position drive: f-g of (6); speed drive: estimated d-q) and their references.
+ * Measured currents in the control frame (position drive: f-g of (6); paper-001 speed drive: estimated d-q; paper-002 drive: d-q of the angle it runs on, the references from MTPA) and their references.
  *
  * All signal values are as on the CAN bus.
  */
@@ -354,7 +355,7 @@ struct drive_can_currents_t {
 /**
  * Signals in message Observer.
  *
- * Position drive: the current observer's estimates in the (f-g) frame and its back-EMF estimates e_hat = L d_hat of paper 000 eq. (28). Speed drive: I1Est = I2Est = 0 (its flux observer estimates no current), Emf1 = 0 and Emf2 = K_e w_hat |rho_hat|, the flux observer's back-EMF in the estimated d-q frame.
+ * Paper-002 drive: I1Est, I2Est the EKF's d-q currents, Emf1 = 0, Emf2 = p psi w_hat. Position drive: the current observer's estimates in the (f-g) frame and its back-EMF estimates e_hat = L d_hat of paper 000 eq. (28). Speed drive: I1Est = I2Est = 0 (its flux observer estimates no current), Emf1 = 0 and Emf2 = K_e w_hat |rho_hat|, the flux observer's back-EMF in the estimated d-q frame.
  *
  * All signal values are as on the CAN bus.
  */
@@ -504,7 +505,7 @@ struct drive_can_cmd_move_t {
 /**
  * Signals in message CmdSpeed.
  *
- * Speed drive: go to OmegaRef at Ramp from where the reference is; the ramp becomes the stop ramp. Refused by the position drive, in fault, when K_e |OmegaRef| exceeds 90 % of the phase voltage the measured bus gives, and when Ramp exceeds K_t i_max / J.
+ * Speed drives: go to OmegaRef at Ramp from where the reference is; the ramp becomes the stop ramp (paper-002 drive: by the C2 quintic of its reference, Ramp its peak acceleration). Refused by the position drive, in fault, when K_e |OmegaRef| exceeds 90 % of the phase voltage the measured bus gives, and when Ramp exceeds K_t i_max / J.
  *
  * All signal values are as on the CAN bus.
  */
@@ -543,7 +544,7 @@ struct drive_can_cmd_stop_t {
 /**
  * Signals in message CmdSetOmegaLim.
  *
- * Set omega_lim, the speed from which the loop closes (paper 000 section 5.1). Refused in closed loop and below the designed omega_lim (the observer's gains hold from there up); the position drive also refuses it above its designed top speed, the speed drive with the flux estimator (it closes by its probe, not by a speed). The designed value returns at every restart.
+ * Set omega_lim, the speed from which the loop closes (paper 000 section 5.1). Refused in closed loop and below the designed omega_lim (the observer's gains hold from there up); the position drive also refuses it above its designed top speed, the speed drive with the flux estimator (it closes by its probe, not by a speed), the paper-002 drive always (it has no open loop). The designed value returns at every restart.
  *
  * All signal values are as on the CAN bus.
  */
