@@ -28,7 +28,7 @@ double wrap_pi(double x)
 
 const char* const kPaper002ColumnNames[kP2NumColumns] = {
     "t_s",        "omega_d_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_rad", "theta_est_rad", "theta_meas_rad",
-    "M0_Nm",      "M0_est_Nm",     "M_d_Nm",      "i_d_A",           "i_q_A",     "i_d_est_A",
+    "M0_Nm",      "M0_est_Nm",     "M_d_Nm",      "i_d_A",           "i_q_A",     "i_d_meas_A", "i_q_meas_A", "i_d_est_A",
     "i_q_est_A",  "i_d_ref_A",     "i_q_ref_A",   "u_d_V",           "u_q_V",     "v_a_V",
     "v_b_V",      "v_c_V",         "mode",        "saturated",   "fault"};
 
@@ -129,6 +129,9 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
         r[kP2Md] = to_double(l.M_d_Nm);
         r[kP2Id] = i_d;
         r[kP2Iq] = i_q;
+        // the drive's measured currents, in the frame of the angle it runs on
+        r[kP2IdMeas] = to_double(l.i_d_A);
+        r[kP2IqMeas] = to_double(l.i_q_A);
         r[kP2IdEst] = to_double(l.i_d_hat_A);
         r[kP2IqEst] = to_double(l.i_q_hat_A);
         r[kP2IdRef] = to_double(l.i_dd_A);

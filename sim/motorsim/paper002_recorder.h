@@ -52,6 +52,8 @@ enum P002Column : int {
     kP2Md,
     kP2Id,
     kP2Iq,
+    kP2IdMeas,
+    kP2IqMeas,
     kP2IdEst,
     kP2IqEst,
     kP2IdRef,

@@ -2,7 +2,8 @@
 """SocketCAN end-to-end test of the drives on CAN (ctest label vcan; run in
 the VM fixture by tests/vcan/run_vcan_e2e.sh, or on any Linux with vcan):
 
-  for the paper-000 position drive and the paper-001 speed drive:
+  for the paper-000 position drive and the speed drives of papers 001
+  and 002:
   motorsim --can vcan0 --realtime runs a short scenario (tests/vcan/*.toml)
   while candump -L records the bus and this script commands the drive
   over python-can once the telemetry says it is ready. Then:
@@ -297,6 +298,55 @@ def speed_case(args, db):
     return log
 
 
+def paper002_case(args, db):
+    sent_bad = []
+
+    def commander(d):
+        if not d.wait_for(lambda s: s["Heartbeat"]["DriveKind"] == 2 and s["Velocity"]["OmegaRef"] > 99.99, 60,
+                          "the reference at 100 rad/s"):
+            return
+        time.sleep(0.2)
+        d.send("CmdSetOmegaLim", OmegaLim=3.0)  # no open loop: mode
+        sent_bad.append("CmdSetOmegaLim to paper 002's drive (mode)")
+        d.send("CmdSpeed", OmegaRef=50.0, Ramp=500.0)
+        if not d.wait_for(lambda s: abs(s["Velocity"]["OmegaRef"] - 50.0) < 0.01, 10, "the new reference 50 rad/s"):
+            return
+        time.sleep(0.5)
+        d.send("CmdStop", Reserved=0)
+
+    metrics, cols, rows, frames, stderr, log = run_case(args, db, "paper002",
+                                                         os.path.join(HERE, "paper002_can.toml"), commander)
+    mapping = {
+        "Position": [("ThetaEst", "theta_est_rad", 1e-5)],
+        "Velocity": [("OmegaRef", "omega_d_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
+                     ("LoadEst", "M0_est_Nm", 1e-4)],
+        "Currents": [("I1", "i_d_meas_A", 1e-3), ("I2", "i_q_meas_A", 1e-3), ("I1Ref", "i_d_ref_A", 1e-3),
+                     ("I2Ref", "i_q_ref_A", 1e-3)],
+        "Observer": [("I1Est", "i_d_est_A", 1e-3), ("I2Est", "i_q_est_A", 1e-3)],
+        "Voltages": [("V1", "u_d_V", 2e-3), ("V2", "u_q_V", 2e-3)],
+        "Heartbeat": [("Mode", "mode", 1.0)],
+    }
+    compare(frames, cols, rows, mapping, "paper002")
+    hb = frames["Heartbeat"]
+    check(bool(hb) and all(h["DriveKind"] == 2 for h in hb), "paper002: heartbeats carry DriveKind 2")
+    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
+          f"paper002: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
+    check(metrics.get("can_commands_accepted") == 2, f"paper002: {metrics.get('can_commands_accepted')} commands "
+          "carried out (CmdSpeed, CmdStop)")
+    w_d = [r[cols["omega_d_rad_s"]] for r in rows]
+    w = [r[cols["omega_rad_s"]] for r in rows]
+    k50 = [k for k, x in enumerate(w_d) if abs(x - 50.0) < 1e-6]
+    check(len(k50) > 3000, f"paper002: the CSV's reference held 50 rad/s for {len(k50) / FS_HZ:.3f} s after CmdSpeed")
+    if k50:
+        k_end = k50[-1]
+        err = max(abs(w[k] - 50.0) for k in range(k_end - 2000, k_end + 1))
+        check(err < 0.5, f"paper002: the rotor ran at 50 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
+    check(abs(w_d[-1]) < 1e-6 and abs(w[-1]) < 0.5,
+          f"paper002: after CmdStop the reference is {w_d[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
+    check(metrics.get("fault") == 0, "paper002: no fault")
+    return log
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--motorsim", required=True)
@@ -310,6 +360,7 @@ def main():
     db = cantools.database.load_file(DBC)
     pos_log = position_case(args, db)
     speed_case(args, db)
+    paper002_case(args, db)
     # the DBC as it is with cantools' own command line
     r = subprocess.run([sys.executable, "-m", "cantools", "decode", DBC], stdin=open(pos_log), capture_output=True,
                        text=True)
