@@ -45,6 +45,7 @@ FS_HZ = 10000
 ORDER = ["Heartbeat", "Position", "Velocity", "Currents", "Observer", "Voltages", "Timing"]
 PERIOD = {"Heartbeat": 1000}
 DEFAULT_PERIOD = 100
+HEARTBEAT_PERIOD_S = PERIOD["Heartbeat"] / FS_HZ
 
 failures = []
 
@@ -96,6 +97,16 @@ class Drive:
             except KeyError:
                 pass
         return check(False, f"telemetry never showed {what} within {timeout_s:g} s")
+
+    def wait_sim(self, seconds, timeout_s=30):
+        """Waits for `seconds` of the drive's own time, counted in heartbeats
+        (HEARTBEAT_PERIOD_S apart, Counter): under TCG the simulator can run
+        slower than the wall clock, and a wall-clock sleep then gives the
+        drive less time than the checks assume."""
+        c0 = self.last["Heartbeat"]["Counter"]
+        n = round(seconds / HEARTBEAT_PERIOD_S)
+        return self.wait_for(lambda s: (s["Heartbeat"]["Counter"] - c0) % 65536 >= n, timeout_s,
+                             f"{n} heartbeats ({seconds:g} s of drive time)")
 
     def send(self, name, **values):
         m = self.db.get_message_by_name(name)
@@ -266,7 +277,8 @@ def speed_case(args, db):
         d.send("CmdSpeed", OmegaRef=10.0, Ramp=20.0)
         if not d.wait_for(lambda s: abs(s["Velocity"]["OmegaRef"] - 10.0) < 0.01, 10, "the new reference 10 rad/s"):
             return
-        time.sleep(0.6)
+        if not d.wait_sim(0.6):
+            return
         d.send("CmdStop", Reserved=0)
 
     metrics, cols, rows, frames, stderr, log = run_case(args, db, "speed", os.path.join(HERE, "speed_can.toml"),
@@ -311,7 +323,8 @@ def paper002_case(args, db):
         d.send("CmdSpeed", OmegaRef=50.0, Ramp=500.0)
         if not d.wait_for(lambda s: abs(s["Velocity"]["OmegaRef"] - 50.0) < 0.01, 10, "the new reference 50 rad/s"):
             return
-        time.sleep(0.5)
+        if not d.wait_sim(0.5):
+            return
         d.send("CmdStop", Reserved=0)
 
     metrics, cols, rows, frames, stderr, log = run_case(args, db, "paper002",
