@@ -108,14 +108,16 @@ void write_atomic(const std::string& path, Body body)
         }
         return;
     }
-    const fs::path target = follow_links(path);
+    // What PATH is, as the kernel resolves it: that also follows the magic
+    // links of /proc (/dev/stdout -> /proc/self/fd/1 -> "pipe:[N]"), whose
+    // targets name no path that follow_links could walk to.
     std::error_code ec;
-    const fs::file_status st = fs::status(target, ec);
+    const fs::file_status st = fs::status(path, ec);
     if (fs::exists(st) && !fs::is_regular_file(st)) {
         if (fs::is_directory(st)) {
             throw std::runtime_error(path + ": is a directory");
         }
-        std::unique_ptr<std::FILE, FileCloser> f(std::fopen(target.c_str(), "wb"));
+        std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "wb"));
         if (!f) {
             throw std::runtime_error(path + ": cannot open (" + std::strerror(errno) + ")");
         }
@@ -128,6 +130,9 @@ void write_atomic(const std::string& path, Body body)
         }
         return;
     }
+    // A regular file or a new one: the temporary goes beside the file the
+    // links lead to, so the rename replaces that file and keeps the links.
+    const fs::path target = follow_links(path);
     const std::string tmp = tmp_name(target.string());
     const int slot = temp_register(tmp);
     std::unique_ptr<std::FILE, FileCloser> f(std::fopen(tmp.c_str(), "wb"));

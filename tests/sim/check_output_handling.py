@@ -5,6 +5,8 @@ end to end:
   1. --metrics-out to a symlink: the link stays, its target gets the JSON;
   2. --metrics-out to a FIFO read by another process: the reader gets the
      whole JSON and the FIFO is still a FIFO (not replaced by a file);
+     2b. --metrics-out /dev/stdout with stdout a pipe (a magic link of
+     /proc whose target names no path): the JSON goes down the pipe;
   3. SIGINT while the CSV is being written: the process ends by the signal
      and leaves neither the CSV nor its temporary file;
   4. SIGINT during the run: nothing is written;
@@ -62,6 +64,16 @@ def main() -> int:
         if "fault" not in m or not fifo.is_fifo():
             fail("fifo: JSON incomplete or the FIFO was replaced")
         print("ok   FIFO written in place, reader got the whole JSON")
+        # 2b. /dev/stdout into a pipe
+        r = subprocess.run([motorsim, "--scenario", str(good), "--metrics-out", "/dev/stdout", "--quiet"],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            m = json.loads(r.stdout)
+        except ValueError:
+            m = {}
+        if r.returncode != 0 or "fault" not in m:
+            fail(f"/dev/stdout into a pipe: rc {r.returncode}, stderr {r.stderr.strip()!r}, JSON complete: {'fault' in m}")
+        print("ok   /dev/stdout into a pipe: the whole JSON came through it")
         # 3. SIGINT during the CSV write: a 100 s run writes 1e6 rows (about 200 MB)
         long = d / "long.toml"
         text = (scdir.parent.parent / "sim" / "scenarios" / "paper000_experiment.toml").read_text()
