@@ -1,6 +1,7 @@
 #include "comm/can_link.h"
 
 #include "comm/generated/drive_can.h"
+#include "mc_version.h"
 
 /* Identifiers of node 0 (the DBC's) are multiples of 16; a node's id adds
  * its number, so the low four bits are the node and the rest the message. */
@@ -144,6 +145,16 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
         s.first_fault = t->first_fault;
         id = DRIVE_CAN_TIMING_FRAME_ID;
         n = drive_can_timing_pack(f->data, &s, sizeof f->data);
+        break;
+    }
+    case CAN_TLM_VERSION: {
+        struct drive_can_version_t s = {0};
+        s.fw_major = (uint8_t)MC_VERSION_MAJOR;
+        s.fw_minor = (uint8_t)MC_VERSION_MINOR;
+        s.fw_patch = (uint8_t)MC_VERSION_PATCH;
+        s.fixed_point = MC_FIXED ? 1u : 0u;
+        id = DRIVE_CAN_VERSION_FRAME_ID;
+        n = drive_can_version_pack(f->data, &s, sizeof f->data);
         break;
     }
     default:

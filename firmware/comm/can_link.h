@@ -23,7 +23,7 @@
 extern "C" {
 #endif
 
-#define CAN_LINK_MSG_SET_VERSION 1u   /* the DBC's MsgSetVersion; VERSION "drive-can 1" */
+#define CAN_LINK_MSG_SET_VERSION 2u   /* the DBC's MsgSetVersion; VERSION "drive-can 2" (1 + Version) */
 /* The heartbeat's DriveKind (the DBC's VAL_ table). */
 #define CAN_DRIVE_KIND_POSITION_P000 0u
 #define CAN_DRIVE_KIND_SPEED_P001 1u
@@ -42,7 +42,8 @@ typedef enum {
     CAN_TLM_OBSERVER = 4,
     CAN_TLM_VOLTAGES = 5,
     CAN_TLM_TIMING = 6,
-    CAN_TLM_COUNT = 7
+    CAN_TLM_VERSION = 7, /* the firmware's version (mc_version.h) and numeric type: constants */
+    CAN_TLM_COUNT = 8
 } can_tlm_msg_t;
 
 /* Everything the telemetry carries, SI in mc_t (the DBC's comments say

@@ -1,9 +1,11 @@
 #include "comm/can_tx.h"
 
-/* Default rates (docs/can.md): the heartbeat every 100 ms, the rest every
- * 10 ms: 610 frames/s, under 10 % of a 1 Mbit/s bus (about 7,700 8-byte
+/* Default rates (docs/can.md): the heartbeat every 100 ms, the version
+ * (constant: for a host that joins late) every 1 s, the rest every 10 ms:
+ * 611 frames/s, under 10 % of a 1 Mbit/s bus (about 7,700 8-byte
  * frames/s), and fast enough to plot a 2 s move. */
 #define CAN_TX_HEARTBEAT_MS 100u
+#define CAN_TX_VERSION_MS 1000u
 #define CAN_TX_DEFAULT_MS 10u
 
 static uint32_t ms_to_ticks(uint32_t ms, int32_t fs_hz)
@@ -18,7 +20,10 @@ void can_tx_defaults(can_tx_config_t *c, uint8_t node, int32_t fs_hz)
     c->node = node;
     c->fs_hz = fs_hz;
     for (uint32_t m = 0; m < CAN_TLM_COUNT; ++m) {
-        c->period_ticks[m] = ms_to_ticks(m == (uint32_t)CAN_TLM_HEARTBEAT ? CAN_TX_HEARTBEAT_MS : CAN_TX_DEFAULT_MS, fs_hz);
+        const uint32_t ms = (m == (uint32_t)CAN_TLM_HEARTBEAT) ? CAN_TX_HEARTBEAT_MS
+                            : (m == (uint32_t)CAN_TLM_VERSION) ? CAN_TX_VERSION_MS
+                                                               : CAN_TX_DEFAULT_MS;
+        c->period_ticks[m] = ms_to_ticks(ms, fs_hz);
     }
 }
 

@@ -22,7 +22,7 @@
 namespace {
 
 const char* const kNames[CAN_TLM_COUNT] = {"Heartbeat", "Position", "Velocity", "Currents",
-                                          "Observer",  "Voltages", "Timing"};
+                                          "Observer",  "Voltages", "Timing",   "Version"};
 
 int tlm()
 {

@@ -104,7 +104,7 @@ std::vector<std::pair<can_frame_t, can_reject_t>> bad_frames()
     v.push_back({frame(0x230, {1}), CAN_REJECT_RANGE});                    // Stop: reserved byte
     v.push_back({frame(0x240, {0, 0}), CAN_REJECT_RANGE});                 // SetOmegaLim 0 < 0.001
     v.push_back({frame(0x250, {0xFF}), CAN_REJECT_RANGE});                 // ClearFaults: reserved byte
-    v.push_back({frame(0x260, {7, 10, 0}), CAN_REJECT_RANGE});             // SetRate: message 7
+    v.push_back({frame(0x260, {CAN_TLM_COUNT, 10, 0}), CAN_REJECT_RANGE}); // SetRate: no such message
     v.push_back({frame(0x260, {1, 0x61, 0xEA}), CAN_REJECT_RANGE});        // SetRate: 60001 ms
     for (uint32_t id : {0x270u, 0x280u, 0x2F0u}) v.push_back({frame(id, {0}), CAN_REJECT_UNKNOWN_ID});
     for (uint32_t id : {0x211u, 0x23Fu, 0x100u, 0x110u, 0x1FFu, 0x300u, 0x7FFu, 0x800u, 0xFFFFFFFFu})

@@ -553,6 +553,7 @@ TEST(CanTx, RatesQueueAndDrops)
         }
     }
     EXPECT_EQ(per_id[0x105], 10);
+    EXPECT_EQ(per_id[0x175], 1);  // the version, every 1 s
     for (uint32_t id : {0x115u, 0x125u, 0x135u, 0x145u, 0x155u, 0x165u}) EXPECT_EQ(per_id[id], 100) << std::hex << id;
     EXPECT_EQ(t.dropped, 0u);
     // Position every 1 ms, Timing off
@@ -568,10 +569,10 @@ TEST(CanTx, RatesQueueAndDrops)
     }
     EXPECT_GE(per_id[0x115], 990);
     EXPECT_EQ(per_id[0x165], 0);
-    // all seven due at the same sample: one a sample, the others follow
+    // all eight due at the same sample: one a sample, the others follow
     can_tx_init(&t, &c);
     for (uint8_t m = 0; m < CAN_TLM_COUNT; ++m) ASSERT_TRUE(can_tx_set_period(&t, 0, m, 10));
-    for (uint32_t k = 0; k < 7; ++k) {
+    for (uint32_t k = 0; k < CAN_TLM_COUNT; ++k) {
         can_tx_step(&t, k, &tlm);
         EXPECT_EQ(t.sent, k + 1) << k;
     }
@@ -581,8 +582,8 @@ TEST(CanTx, RatesQueueAndDrops)
     EXPECT_EQ(t.count, CAN_TX_QUEUE);
     EXPECT_EQ(t.sent, CAN_TX_QUEUE);
     EXPECT_GT(t.dropped, 0u);
-    // 1 heartbeat and 10 of each other message were due in 1000 samples
-    EXPECT_EQ(t.sent + t.dropped, 1u + 10u * 6u);
+    // 1 heartbeat, 1 version and 10 of each other message were due in 1000 samples
+    EXPECT_EQ(t.sent + t.dropped, 1u + 1u + 10u * 6u);
 }
 
 // Over-current on any of the drive's phases, either sign; the third phase

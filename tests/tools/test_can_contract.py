@@ -6,6 +6,7 @@ out-of-range values; malformed command frames refused; the generated C
 current with the DBC. Needs the can_vectors binary (CAN_VECTORS env)."""
 import os
 import pathlib
+import re
 import subprocess
 
 import cantools
@@ -31,10 +32,27 @@ def telemetry_frames():
         yield name, float(value), int(fid), int(dlc), bytes.fromhex(data)
 
 
-# the integer test values can_vectors sets
-INTS = {"DriveKind": 1, "Mode": 2, "State": 4, "Enabled": 1, "MsgSetVersion": 1, "FaultCode": 5,
-        "FaultEvents": 7, "RejectedCommands": 9, "Counter": 65535, "Saturated": 1, "Overruns": 1234,
-        "Relocks": 3, "FirstFault": 11}
+def project_version():
+    """(major, minor, patch) from the one place it is set: project(VERSION)."""
+    m = re.search(r"project\(\s*\w+\s+VERSION\s+(\d+)\.(\d+)\.(\d+)", (ROOT / "CMakeLists.txt").read_text())
+    assert m, "CMakeLists.txt: no project(... VERSION x.y.z)"
+    return tuple(int(g) for g in m.groups())
+
+
+def dbc_msg_set_version():
+    """The message set's version, the N of the DBC's VERSION "drive-can N"."""
+    m = re.search(r'^VERSION "drive-can (\d+)"', DBC.read_text(), re.M)
+    assert m, "drive.dbc: no VERSION \"drive-can N\""
+    return int(m.group(1))
+
+
+# the integer test values can_vectors sets, and the constants the firmware
+# sends (its version, its numeric type, the message set's version)
+FW = project_version()
+INTS = {"DriveKind": 1, "Mode": 2, "State": 4, "Enabled": 1, "MsgSetVersion": dbc_msg_set_version(),
+        "FaultCode": 5, "FaultEvents": 7, "RejectedCommands": 9, "Counter": 65535, "Saturated": 1,
+        "Overruns": 1234, "Relocks": 3, "FirstFault": 11, "FwMajor": FW[0], "FwMinor": FW[1], "FwPatch": FW[2],
+        "FixedPoint": int(os.environ.get("CAN_VECTORS_FIXED", "0"))}
 
 
 def check_telemetry(db):
@@ -158,6 +176,7 @@ def test_malformed_commands_are_refused():
     db = cantools.database.load_file(str(DBC))
     move = db.get_message_by_name("CmdMove")
     rate = db.get_message_by_name("CmdSetRate")
+    n_tlm = len(rate.get_signal_by_name("Message").choices)  # one past the last telemetry message
     lim = db.get_message_by_name("CmdSetOmegaLim")
     good = move.encode({"ThetaTo": 1.0, "Duration": 2.0})
     cases = [
@@ -165,7 +184,7 @@ def test_malformed_commands_are_refused():
         (frame_line(move.frame_id + NODE, good + b"\x00"), "reject 3"),              # DLC 7
         (f"{move.frame_id + NODE} 9 {good.hex()}\n", "reject 3"),                     # DLC 9
         (frame_line(move.frame_id + NODE, raw_frame(move, {"ThetaTo": 0, "Duration": 0})), "reject 4"),
-        (frame_line(rate.frame_id + NODE, raw_frame(rate, {"Message": 7, "Period": 10})), "reject 4"),
+        (frame_line(rate.frame_id + NODE, raw_frame(rate, {"Message": n_tlm, "Period": 10})), "reject 4"),
         (frame_line(rate.frame_id + NODE, raw_frame(rate, {"Message": 1, "Period": 60001})), "reject 4"),
         (frame_line(lim.frame_id + NODE, raw_frame(lim, {"OmegaLim": 0})), "reject 4"),
         (frame_line(db.get_message_by_name("CmdStop").frame_id + NODE, b"\x01"), "reject 4"),

@@ -26,6 +26,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -42,8 +43,8 @@ SKIP = 77
 FS_HZ = 10000
 # firmware/comm/can_tx.c: message m first due at sample m; defaults 100 ms
 # (heartbeat) and 10 ms
-ORDER = ["Heartbeat", "Position", "Velocity", "Currents", "Observer", "Voltages", "Timing"]
-PERIOD = {"Heartbeat": 1000}
+ORDER = ["Heartbeat", "Position", "Velocity", "Currents", "Observer", "Voltages", "Timing", "Version"]
+PERIOD = {"Heartbeat": 1000, "Version": 10000}
 DEFAULT_PERIOD = 100
 HEARTBEAT_PERIOD_S = PERIOD["Heartbeat"] / FS_HZ
 
@@ -117,6 +118,18 @@ class Drive:
 
     def close(self):
         self.bus.shutdown()
+
+
+def project_version():
+    """(major, minor, patch) from project(VERSION) in CMakeLists.txt, the one place it is set."""
+    with open(os.path.join(ROOT, "CMakeLists.txt")) as f:
+        m = re.search(r"project\(\s*\w+\s+VERSION\s+(\d+)\.(\d+)\.(\d+)", f.read())
+    return tuple(int(g) for g in m.groups())
+
+
+def dbc_msg_set_version():
+    with open(DBC) as f:
+        return int(re.search(r'^VERSION "drive-can (\d+)"', f.read(), re.M).group(1))
 
 
 def read_log(path, db):
@@ -242,8 +255,13 @@ def position_case(args, db):
     }
     compare(frames, cols, rows, mapping, "position")
     hb = frames["Heartbeat"]
-    check(bool(hb) and all(h["MsgSetVersion"] == 1 and h["DriveKind"] == 0 for h in hb),
-          "position: heartbeats carry DriveKind 0 and MsgSetVersion 1")
+    msv = dbc_msg_set_version()
+    check(bool(hb) and all(h["MsgSetVersion"] == msv and h["DriveKind"] == 0 for h in hb),
+          f"position: heartbeats carry DriveKind 0 and MsgSetVersion {msv}")
+    fw = project_version()
+    ver = frames["Version"]
+    check(len(ver) >= 2 and all((v["FwMajor"], v["FwMinor"], v["FwPatch"], v["FixedPoint"]) == fw + (0,) for v in ver),
+          f"position: {len(ver)} Version frames carry firmware {'.'.join(map(str, fw))} (CMakeLists.txt), float build")
     check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
           f"position: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = the "
           f"{len(sent_bad)} bad frames sent ({'; '.join(sent_bad)})")

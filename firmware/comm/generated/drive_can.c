@@ -730,6 +730,73 @@ bool drive_can_timing_first_fault_is_in_range(uint8_t value)
 
     return (true);
 }
+int drive_can_version_pack(
+    uint8_t *dst_p,
+    const struct drive_can_version_t *src_p,
+    size_t size)
+{
+    if (size < 4u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 4);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->fw_major, 0u, 0xffu);
+    dst_p[1] |= pack_left_shift_u8(src_p->fw_minor, 0u, 0xffu);
+    dst_p[2] |= pack_left_shift_u8(src_p->fw_patch, 0u, 0xffu);
+    dst_p[3] |= pack_left_shift_u8(src_p->fixed_point, 0u, 0x01u);
+
+    return (4);
+}
+
+int drive_can_version_unpack(
+    struct drive_can_version_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 4u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fw_major = unpack_right_shift_u8(src_p[0], 0u, 0xffu);
+    dst_p->fw_minor = unpack_right_shift_u8(src_p[1], 0u, 0xffu);
+    dst_p->fw_patch = unpack_right_shift_u8(src_p[2], 0u, 0xffu);
+    dst_p->fixed_point = unpack_right_shift_u8(src_p[3], 0u, 0x01u);
+
+    return (0);
+}
+
+int drive_can_version_init(struct drive_can_version_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct drive_can_version_t));
+
+    return 0;
+}
+
+bool drive_can_version_fw_major_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_version_fw_minor_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_version_fw_patch_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_version_fixed_point_is_in_range(uint8_t value)
+{
+    return (value <= 1u);
+}
 int drive_can_cmd_enable_pack(
     uint8_t *dst_p,
     const struct drive_can_cmd_enable_t *src_p,
@@ -1079,7 +1146,7 @@ int drive_can_cmd_set_rate_init(struct drive_can_cmd_set_rate_t *msg_p)
 
 bool drive_can_cmd_set_rate_message_is_in_range(uint8_t value)
 {
-    return (value <= 6u);
+    return (value <= 7u);
 }
 bool drive_can_cmd_set_rate_period_is_in_range(uint16_t value)
 {

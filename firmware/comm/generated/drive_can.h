@@ -52,6 +52,7 @@ extern "C" {
 #define DRIVE_CAN_OBSERVER_FRAME_ID (0x140u)
 #define DRIVE_CAN_VOLTAGES_FRAME_ID (0x150u)
 #define DRIVE_CAN_TIMING_FRAME_ID (0x160u)
+#define DRIVE_CAN_VERSION_FRAME_ID (0x170u)
 #define DRIVE_CAN_CMD_ENABLE_FRAME_ID (0x200u)
 #define DRIVE_CAN_CMD_MOVE_FRAME_ID (0x210u)
 #define DRIVE_CAN_CMD_SPEED_FRAME_ID (0x220u)
@@ -68,6 +69,7 @@ extern "C" {
 #define DRIVE_CAN_OBSERVER_LENGTH (8u)
 #define DRIVE_CAN_VOLTAGES_LENGTH (8u)
 #define DRIVE_CAN_TIMING_LENGTH (8u)
+#define DRIVE_CAN_VERSION_LENGTH (4u)
 #define DRIVE_CAN_CMD_ENABLE_LENGTH (1u)
 #define DRIVE_CAN_CMD_MOVE_LENGTH (6u)
 #define DRIVE_CAN_CMD_SPEED_LENGTH (4u)
@@ -84,6 +86,7 @@ extern "C" {
 #define DRIVE_CAN_OBSERVER_IS_EXTENDED (0)
 #define DRIVE_CAN_VOLTAGES_IS_EXTENDED (0)
 #define DRIVE_CAN_TIMING_IS_EXTENDED (0)
+#define DRIVE_CAN_VERSION_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_ENABLE_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_MOVE_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_SPEED_IS_EXTENDED (0)
@@ -111,6 +114,7 @@ extern "C" {
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_OBSERVER_CHOICE (4u)
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_VOLTAGES_CHOICE (5u)
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_TIMING_CHOICE (6u)
+#define DRIVE_CAN_CMD_SET_RATE_MESSAGE_VERSION_CHOICE (7u)
 
 /* Frame Names. */
 #define DRIVE_CAN_HEARTBEAT_NAME "Heartbeat"
@@ -120,6 +124,7 @@ extern "C" {
 #define DRIVE_CAN_OBSERVER_NAME "Observer"
 #define DRIVE_CAN_VOLTAGES_NAME "Voltages"
 #define DRIVE_CAN_TIMING_NAME "Timing"
+#define DRIVE_CAN_VERSION_NAME "Version"
 #define DRIVE_CAN_CMD_ENABLE_NAME "CmdEnable"
 #define DRIVE_CAN_CMD_MOVE_NAME "CmdMove"
 #define DRIVE_CAN_CMD_SPEED_NAME "CmdSpeed"
@@ -160,6 +165,10 @@ extern "C" {
 #define DRIVE_CAN_TIMING_OVERRUNS_NAME "Overruns"
 #define DRIVE_CAN_TIMING_RELOCKS_NAME "Relocks"
 #define DRIVE_CAN_TIMING_FIRST_FAULT_NAME "FirstFault"
+#define DRIVE_CAN_VERSION_FW_MAJOR_NAME "FwMajor"
+#define DRIVE_CAN_VERSION_FW_MINOR_NAME "FwMinor"
+#define DRIVE_CAN_VERSION_FW_PATCH_NAME "FwPatch"
+#define DRIVE_CAN_VERSION_FIXED_POINT_NAME "FixedPoint"
 #define DRIVE_CAN_CMD_ENABLE_ENABLE_NAME "Enable"
 #define DRIVE_CAN_CMD_MOVE_THETA_TO_NAME "ThetaTo"
 #define DRIVE_CAN_CMD_MOVE_DURATION_NAME "Duration"
@@ -464,6 +473,45 @@ struct drive_can_timing_t {
 };
 
 /**
+ * Signals in message Version.
+ *
+ * The firmware's version (the project's, CMakeLists.txt project(VERSION), as motorsim --version prints it) and its numeric type, every 1 s by default.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct drive_can_version_t {
+    /**
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t fw_major;
+
+    /**
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t fw_minor;
+
+    /**
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t fw_patch;
+
+    /**
+     * 0 IEEE 754 build, 1 fixed-point build (Q14.17)
+     *
+     * Range: 0..1 (0..1 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t fixed_point;
+};
+
+/**
  * Signals in message CmdEnable.
  *
  * Enable (1) or disable (0) the power stage. Disable puts the drive in its safe state (0 V) until enabled; enabling a disabled drive starts it again as at power-up (alignment or probe, then its configured program): the rotor may have moved. Refused in fault (clear it first).
@@ -576,13 +624,13 @@ struct drive_can_cmd_clear_faults_t {
 /**
  * Signals in message CmdSetRate.
  *
- * Set the period of telemetry message Message (0 Heartbeat, 1 Position, 2 Velocity, 3 Currents, 4 Observer, 5 Voltages, 6 Timing); Period 0 turns it off, else 1-60000 ms.
+ * Set the period of telemetry message Message (0 Heartbeat, 1 Position, 2 Velocity, 3 Currents, 4 Observer, 5 Voltages, 6 Timing, 7 Version); Period 0 turns it off, else 1-60000 ms.
  *
  * All signal values are as on the CAN bus.
  */
 struct drive_can_cmd_set_rate_t {
     /**
-     * Range: 0..6 (0..6 -)
+     * Range: 0..7 (0..7 -)
      * Scale: 1
      * Offset: 0
      */
@@ -1133,6 +1181,79 @@ bool drive_can_timing_relocks_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool drive_can_timing_first_fault_is_in_range(uint8_t value);
+
+/**
+ * Pack message Version.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int drive_can_version_pack(
+    uint8_t *dst_p,
+    const struct drive_can_version_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message Version.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int drive_can_version_unpack(
+    struct drive_can_version_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from Version.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int drive_can_version_init(struct drive_can_version_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_version_fw_major_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_version_fw_minor_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_version_fw_patch_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_version_fixed_point_is_in_range(uint8_t value);
 
 /**
  * Pack message CmdEnable.
