@@ -26,11 +26,14 @@ double LoadProfile::torque_Nm(double t_s) const
     if (n == 0 || t_s < knot_t_[0]) {
         return 0.0;
     }
-    // A handful of knots at most: a linear scan beats a binary search here.
-    std::size_t k = 0;
+    // A handful of knots at most: a linear scan beats a binary search here,
+    // from the last lookup's knot when t_s has not gone back before it
+    // (knots are sorted: the scan ends on the last knot at or before t_s).
+    std::size_t k = (hint_ < n && knot_t_[hint_] <= t_s) ? hint_ : 0;
     while (k + 1 < n && knot_t_[k + 1] <= t_s) {
         ++k;
     }
+    hint_ = k;
     if (k + 1 == n) {
         return knot_v_[k];
     }

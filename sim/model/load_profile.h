@@ -5,6 +5,7 @@
 #ifndef MCSIM_MODEL_LOAD_PROFILE_H
 #define MCSIM_MODEL_LOAD_PROFILE_H
 
+#include <cstddef>
 #include <vector>
 
 namespace mcsim {
@@ -30,6 +31,10 @@ private:
     // Knots of the piecewise-linear profile; two knots at the same time make a step.
     std::vector<double> knot_t_, knot_v_;
     std::vector<bool> seg_cos_;  // segment k (knot k to k+1) is a raised cosine
+    // Where the last lookup ended: the plant asks at t, t + Ts/2, t + Ts
+    // and the recorder at t again, so the next lookup starts here rather
+    // than at the first knot (the same knot is found either way).
+    mutable std::size_t hint_ = 0;
 };
 
 }  // namespace mcsim
