@@ -271,9 +271,10 @@ void warn_feasibility(const mcsim::Scenario& sc)
     }
     if (i_need > sc.i_max_A) {
         std::fprintf(stderr,
-                     "warning: %s: the reference's peak acceleration %.4g rad/s^2 with %.4g N m of load needs %.4g A, "
-                     "more than [limits] i_max_A = %.4g A: the drive cannot follow it\n",
-                     sc.path.c_str(), a_pk, load_pk, i_need, sc.i_max_A);
+                     "warning: %s: the reference's peak acceleration %.4g rad/s^2 (J a = %.4g N m) plus %.4g N m of "
+                     "friction at its peak speed and load needs %.4g A, more than [limits] i_max_A = %.4g A: the "
+                     "drive cannot follow it\n",
+                     sc.path.c_str(), a_pk, m.J_kgm2 * a_pk, load_pk, i_need, sc.i_max_A);
     }
 }
 
