@@ -178,6 +178,29 @@ def write_png(res: dict, path: Path) -> None:
     os.replace(tmp, path)
 
 
+# Encoder noise (sigma, rad) of the sweep; the reference set's is 1e-4.
+ANGLE_NOISE_SWEEP_RAD = (1e-4, 9e-5, 8e-5, 6e-5, 4e-5, 2e-5, 0.0)
+
+
+def angle_noise_report(res: dict, markdown: bool) -> int:
+    """The sweep's table (markdown on stdout, or JSON on stdout and the
+    table on stderr); exit 1 if a run faulted."""
+    out = sys.stdout if markdown else sys.stderr
+    if not markdown:
+        print(json.dumps({f"{c}.angle_noise_{n:g}": m for (c, n), m in sorted(res.items())}, indent=1))
+    print("speed_rmse_rad_s [rad/s] on the reference case (DC, no inductance error, w(0) = 0, 5 mA of current "
+          "noise) against the encoder's angle noise\n", file=out)
+    print("| angle noise σ_θ [rad] | SOSMC | HTSMC |\n|---|---|---|", file=out)
+    for n in ANGLE_NOISE_SWEEP_RAD:
+        print(f"| {n:g} | {res[('sosmc', n)]['speed_rmse_rad_s']:.4g} | {res[('htsmc', n)]['speed_rmse_rad_s']:.4g} |",
+              file=out)
+    bad = [f"{c}, sigma {n:g}: motorsim exit {m['motorsim_exit']}, fault {m.get('fault')}"
+           for (c, n), m in sorted(res.items()) if m["motorsim_exit"] != 0 or m.get("fault", 0) != 0]
+    for b in bad:
+        print(f"paper002_table: FAILED: {b}", file=sys.stderr)
+    return 1 if bad else 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -186,6 +209,10 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="parallel runs (default: the cores)")
     ap.add_argument("--sensorless", action="store_true",
                     help="the sensorless variant (flux observer) beside the encoder on the reference case")
+    ap.add_argument("--angle-noise-sweep", action="store_true",
+                    help="the reference case (DC, no inductance error, w(0) = 0, 5 mA of current noise) at "
+                         "encoder noise " + ", ".join(f"{n:g}" for n in ANGLE_NOISE_SWEEP_RAD) + " rad: "
+                         "which angle noise the issue's 0.04 rad/s needs")
     ap.add_argument("--markdown", action="store_true",
                     help="print the tables (markdown) on stdout instead of the JSON")
     ap.add_argument("--check", action="store_true",
@@ -199,6 +226,18 @@ def main() -> int:
                             "cmake --build --preset host --target motorsim")
         text = REFERENCE.read_text()
         ref = tomllib.loads(text)
+        if args.angle_noise_sweep:
+            if args.sensorless:
+                raise ToolError("--angle-noise-sweep and --sensorless: one at a time")
+            res = {}
+            with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+                futs = {(c, n): pool.submit(run_case, args.binary,
+                                            set_key(variant(text, ref, c, 1, 0, 0, True), "encoder", "noise_rad",
+                                                    f"{n!r}"), f"{c}.angle_noise_{n:g}")
+                        for c in ("sosmc", "htsmc") for n in ANGLE_NOISE_SWEEP_RAD}
+                for k, f in futs.items():
+                    res[k] = f.result()
+            return angle_noise_report(res, args.markdown)
         if args.sensorless:
             cases = [(c, 1, 0, 0, nz, est) for c in ("sosmc", "htsmc") for est in ("encoder", "flux")
                      for nz in (True, False)]
