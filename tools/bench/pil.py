@@ -352,6 +352,52 @@ def run_p001(typ, est, args):
     return res
 
 
+def markdown_table(path):
+    """The paper-000 drive's cost table of a --results file, markdown on stdout."""
+    try:
+        with open(path) as f:
+            r = json.load(f)
+    except (OSError, ValueError) as e:
+        print("pil.py: %s: %s" % (path, e), file=sys.stderr)
+        return 2
+    cols = [("m4f_float", "Cortex-M4F, float"), ("m3_fixed", "Cortex-M3, fixed point Q14.17")]
+    if any(p + "_instr_mean" not in r for p, _ in cols):
+        print("pil.py: %s: no paper-000 results of both types (run pil.py --results FILE)" % path, file=sys.stderr)
+        return 2
+    tg = r.get("targets", {})
+
+    def row(name, fmt, target=""):
+        print("| %s | %s | %s | %s |" % (name, fmt("m4f_float"), fmt("m3_fixed"), target))
+
+    def n(x):
+        return "{:,}".format(int(round(x)))
+
+    def kb(x):
+        return "%.1f KB" % (x / 1000.0)
+
+    print("| | %s | %s | target |" % (cols[0][1], cols[1][1]))
+    print("| --- | --- | --- | --- |")
+    row("instructions per step, mean / max", lambda p: "%s / %s" % (n(r[p + "_instr_mean"]), n(r[p + "_instr_max"])),
+        "mean ≤ %s (M4F), ≤ %s (M3); max ≤ %s (M4F)" % (n(tg.get("m4f_float_instr_mean", 0)),
+                                                        n(tg.get("m3_fixed_instr_mean", 0)),
+                                                        n(tg.get("m4f_float_instr_max", 0))))
+    row("the CAN node's step after it, mean / max",
+        lambda p: "%s / %s" % (n(r[p + "_can_instr_mean"]), n(r[p + "_can_instr_max"])))
+    row("firmware library flash, static RAM", lambda p: "%s, %d" % (kb(r[p + "_lib_flash_bytes"]),
+                                                                    r[p + "_lib_ram_static_bytes"]))
+    row("PIL image flash without the recorded vectors", lambda p: kb(r[p + "_pil_image_flash_bytes_without_vectors"]))
+    row("`drive_t` (all state)", lambda p: "%s B" % n(r[p + "_drive_state_ram_bytes"]))
+    row("stack of `drive_step`, static / measured",
+        lambda p: "%d / %d B" % (r[p + "_step_stack_bytes_static"], r[p + "_step_stack_measured_bytes"]))
+    row("periods, bit-exact with the host build",
+        lambda p: "%s, %s" % (n(r[p + "_periods"]), "yes" if r.get(p + "_bit_exact_vs_host") else "NO"))
+    print()
+    print("%s, %s, GCC %s, -O3; `%s`. Targets missed: %s."
+          % (r.get("scenario", "?"), r.get("date", "?"), r.get("gcc", "?"), os.path.relpath(os.path.abspath(path), cb.ROOT),
+             "; ".join(r.get("target_misses", [])) or "none"))
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--types", default="float,fixed", help="comma list of float,fixed")
@@ -373,7 +419,12 @@ def main():
                     help="also exit 1 when a cost target is missed (float M4F mean/max, fixed M3 mean; "
                          "paper001: flux observer + IDA-PBC M4F mean)")
     ap.add_argument("--results", default=None, help="also write the JSON to this file")
+    ap.add_argument("--markdown", metavar="RESULTS.json", default=None,
+                    help="run nothing: print the paper-000 cost table of a results file (README.md and "
+                         "docs/fixed_point.md embed it)")
     args = ap.parse_args()
+    if args.markdown:
+        return markdown_table(args.markdown)
     args.build_root = os.path.abspath(args.build_root)
     drives = [d.strip() for d in args.drive.split(",") if d.strip()]
     ests = [e.strip() for e in args.estimators.split(",") if e.strip()]
