@@ -187,6 +187,12 @@
 #define ALIGN_SETTLE_PERIODS 8.0
 #define ALIGN_OFF_TAUS 7.0
 #define ALIGN_PHI_TURN_RAD 1.5707963267948966 /* pi/2: the unstable point (pi) is then pulled sideways */
+/* The longest alignment the design accepts: 20 T_m (hold, turn, settle)
+ * of a drive that a person waits for at power-up. 60 s is 140 times the
+ * rig's 0.43 s of swings; a motor file whose J, K or n_p asks for more is
+ * far from a stepper this drive is meant for (J = 1e12 kg m^2 on the rig
+ * asks for 2.4e7 s), and its tick counts would not fit an int32. */
+#define ALIGN_MAX_S 60.0
 
 /* Fault criteria (docs/faults.md), each threshold named and justified:
  * I^2 t: the drive limits its references to i_max, so i_max is the
@@ -545,6 +551,15 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         const double i_ol = i_open_loop;
         const double T_m = 2.0 * 3.14159265358979323846 * sqrt(J / (np * K * i_ol));
         const double tau = L / (R > 0.0 ? R : 1.0);
+        const double t_align = (ALIGN_HOLD_PERIODS + ALIGN_TURN_PERIODS + ALIGN_SETTLE_PERIODS) * T_m +
+                               (ALIGN_RAMP_TAUS + ALIGN_OFF_TAUS) * tau;
+        if (!(t_align <= ALIGN_MAX_S)) {
+            return fail(err, err_len, "align_rotor",
+                        "the rotor alignment would take longer than 60 s (its swing period 2 pi sqrt(J / (n_p K "
+                        "I)) from motor.J_kgm2, K_Nm_per_A, n_p and the open-loop current; or L/R): check the motor "
+                        "file, or turn the alignment off",
+                        t_align);
+        }
         align_config_t *ac = &cfg->align;
         ac->enabled = true;
         ac->ramp_ticks = ticks_of(ALIGN_RAMP_TAUS * tau, fs);

@@ -22,6 +22,8 @@
  */
 #include "drives/paper000_drive.h"
 
+#include <stddef.h>
+
 #include "mc_version.h"
 
 /* Samples between exact recomputations of the (f-g) frame rotation: in
@@ -245,22 +247,40 @@ static uint32_t drive_traj_tick(const drive_t *d, uint32_t n)
     return n > d->align_ticks ? n - d->align_ticks : 0u;
 }
 
-static bool drive_config_ok(const drive_config_t *c)
+/* The first inconsistency of c, named by its field (a string literal), or
+ * NULL when c is consistent. The design (design/drive_design.c) derives
+ * every field; a motor or limit far outside what it was written for can
+ * still give a gain that rounds to zero or overflows, and this says which. */
+const char *drive_config_problem(const drive_config_t *c)
 {
     const motor_model_t *m = &c->model;
     const drive_limits_t *l = &c->limits;
-    return m->n_p >= 1 && m->fs_hz > 0 && mc_ge(m->R_ohm, MC_ZERO) && mc_gt(m->L_H, MC_ZERO) && mc_gt(m->K_V_s, MC_ZERO) &&
-           mc_gt(l->v_max_V, MC_ZERO) && mc_gt(l->i_max_A, MC_ZERO) && mc_ge(l->i_trip_A, l->i_max_A) &&
-           mc_gt(l->omega_lim_rad_s, MC_ZERO) && mc_ge(c->sup.blend_decay, MC_ZERO) && mc_lt(c->sup.blend_decay, MC_ONE) &&
-           mc_ge(c->ctrl.pos.lambda_M, c->ctrl.pos.lambda_m) && mc_ge(c->ctrl.pos.lambda_m, MC_ZERO) &&
-           mc_ge(c->ctrl.cur.lambda, MC_ZERO) && mc_ge(c->ctrl.cur.alpha_ts, MC_ZERO) && mc_ge(c->est.emf.alpha_V, MC_ZERO) &&
-           mc_gt(c->est.emf.lpf_coeff, MC_ZERO) && mc_le(c->est.emf.lpf_coeff, MC_ONE) &&
-           (!c->align.enabled ||
-            (c->align.ramp_ticks >= 1 && c->align.hold_ticks >= 0 && c->align.turn_ticks >= 1 &&
-             c->align.settle_ticks >= 0 && c->align.off_ticks >= 0 && mc_gt(c->align.phi_turn_rad, MC_ZERO) &&
-             mc_lt(c->align.phi_turn_rad, MC_PI))) &&
-           mc_ge(c->delay.d, MC_ZERO) && mc_le(c->delay.d, MC_ONE) && mc_ge(c->delay.x, MC_ZERO) &&
-           mc_le(c->delay.x, MC_ONE) && mc_ge(c->delay.x2, MC_ZERO) && mc_le(c->delay.x2, c->delay.x);
+    if (m->n_p < 1) return "model.n_p: must be >= 1";
+    if (m->fs_hz <= 0) return "model.fs_hz: must be > 0";
+    if (!mc_ge(m->R_ohm, MC_ZERO)) return "model.R_ohm: must be >= 0";
+    if (!mc_gt(m->L_H, MC_ZERO)) return "model.L_H: must be > 0 (in the numeric type)";
+    if (!mc_gt(m->K_V_s, MC_ZERO)) return "model.K_V_s: must be > 0 (in the numeric type)";
+    if (!mc_gt(l->v_max_V, MC_ZERO)) return "limits.v_max_V: must be > 0";
+    if (!mc_gt(l->i_max_A, MC_ZERO)) return "limits.i_max_A: must be > 0";
+    if (!mc_ge(l->i_trip_A, l->i_max_A)) return "limits.i_trip_A: must be >= limits.i_max_A";
+    if (!mc_gt(l->omega_lim_rad_s, MC_ZERO)) return "limits.omega_lim_rad_s: must be > 0";
+    if (!mc_ge(c->sup.blend_decay, MC_ZERO) || !mc_lt(c->sup.blend_decay, MC_ONE))
+        return "sup.blend_decay: must be in [0, 1)";
+    if (!mc_ge(c->ctrl.pos.lambda_m, MC_ZERO)) return "ctrl.pos.lambda_m: must be >= 0";
+    if (!mc_ge(c->ctrl.pos.lambda_M, c->ctrl.pos.lambda_m)) return "ctrl.pos.lambda_M: must be >= ctrl.pos.lambda_m";
+    if (!mc_ge(c->ctrl.cur.lambda, MC_ZERO)) return "ctrl.cur.lambda: must be >= 0";
+    if (!mc_ge(c->ctrl.cur.alpha_ts, MC_ZERO)) return "ctrl.cur.alpha_ts: must be >= 0";
+    if (!mc_ge(c->est.emf.alpha_V, MC_ZERO)) return "est.emf.alpha_V: must be >= 0";
+    if (!mc_gt(c->est.emf.lpf_coeff, MC_ZERO) || !mc_le(c->est.emf.lpf_coeff, MC_ONE))
+        return "est.emf.lpf_coeff: must be in (0, 1]";
+    if (c->align.enabled &&
+        !(c->align.ramp_ticks >= 1 && c->align.hold_ticks >= 0 && c->align.turn_ticks >= 1 && c->align.settle_ticks >= 0 &&
+          c->align.off_ticks >= 0 && mc_gt(c->align.phi_turn_rad, MC_ZERO) && mc_lt(c->align.phi_turn_rad, MC_PI)))
+        return "align: tick counts must be >= 1 (ramp, turn) or >= 0, phi_turn_rad in (0, pi)";
+    if (!mc_ge(c->delay.d, MC_ZERO) || !mc_le(c->delay.d, MC_ONE)) return "delay.d: must be in [0, 1]";
+    if (!mc_ge(c->delay.x, MC_ZERO) || !mc_le(c->delay.x, MC_ONE)) return "delay.x: must be in [0, 1]";
+    if (!mc_ge(c->delay.x2, MC_ZERO) || !mc_le(c->delay.x2, c->delay.x)) return "delay.x2: must be in [0, delay.x]";
+    return NULL; /* the trajectory: trajectory_init's own check */
 }
 
 bool drive_init(drive_t *d, const drive_config_t *cfg)
@@ -299,7 +319,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->last.i_g_A = MC_ZERO;
     hal_command_t unused;
     drive_zero_output(d, &unused);
-    if (!drive_config_ok(cfg) || !traj_ok) {
+    if (drive_config_problem(cfg) != NULL || !traj_ok) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
         return false;
     }

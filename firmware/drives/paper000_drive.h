@@ -208,8 +208,13 @@ typedef struct {
 } drive_t;
 
 /* Validates cfg, copies it and resets every state. Returns false (drive in
- * FAULT, outputs 0 V) if cfg is inconsistent. */
+ * FAULT, outputs 0 V) if cfg is inconsistent; drive_config_problem says why. */
 bool drive_init(drive_t *d, const drive_config_t *cfg);
+
+/* NULL when cfg is consistent, else its first inconsistency, naming the
+ * field (a string literal: nothing to free, nothing kept). The trajectory
+ * is checked by trajectory_init (trajectory/trajectory.h). */
+const char *drive_config_problem(const drive_config_t *cfg);
 
 /* One sample: the HAL sample in (DRIVE_N_PHASES phase currents [A]), the
  * phase voltages [V] out. With the alignment enabled, the first

@@ -442,7 +442,6 @@ int run(const Options& opt)
                                     "--metrics-out without --out), which keeps no log");
     }
 
-    warn_feasibility(sc);
     if (opt.no_expect) {
         sc.expect.clear();
     }
@@ -536,6 +535,10 @@ int run(const Options& opt)
         rec = std::make_unique<mcsim::Recorder>(sc, plant, *drive, ref, /*record_rows=*/write_csv);
         hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, rec.get());
     }
+    // The reference against the supply and the current limit: a warning
+    // with the numbers, once the drive has accepted the scenario (a refused
+    // scenario gets its one error line and nothing else).
+    warn_feasibility(sc);
     // On CAN the callback is the drive's node (motorsim/can_glue.h); else
     // the drive alone.
     std::unique_ptr<mcsim::CanDriveContext> can_ctx;

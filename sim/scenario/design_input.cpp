@@ -168,7 +168,13 @@ void design_and_init_drive(Scenario& sc, drive_t* drive)
         throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "drive_design rejected the input"));
     }
     if (!drive_init(drive, &cfg)) {
-        throw ScenarioError(sc.path + ": design: drive_init rejected the derived configuration");
+        const char* why = drive_config_problem(&cfg);
+        throw ScenarioError(sc.path + ": design: the configuration derived from the motor file and the scenario is " +
+                            "not usable: " +
+                            (why != nullptr ? std::string(why) + " (a motor or limit value far outside what the "
+                                                                 "design was written for?)"
+                                            : std::string("trajectory: a segment of zero or too many samples, or "
+                                                          "segments out of order")));
     }
     sc.pre_ticks = drive->align_ticks;
 }

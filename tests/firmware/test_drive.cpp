@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "design/drive_design.h"
 #include "math/mc_convert.h"
@@ -292,7 +293,11 @@ TEST(Drive, BadConfigGoesToSafeState)
     drive_config_t cfg;
     char err[160];
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err));
+    EXPECT_EQ(drive_config_problem(&cfg), nullptr);
     cfg.limits.i_trip_A = M(1.0);  // below i_max: inconsistent
+    // the problem names the field
+    ASSERT_NE(drive_config_problem(&cfg), nullptr);
+    EXPECT_EQ(std::string(drive_config_problem(&cfg)).rfind("limits.i_trip_A:", 0), 0u) << drive_config_problem(&cfg);
     drive_t d;
     EXPECT_FALSE(drive_init(&d, &cfg));
     mc_t va = M(5), vb = M(5);
