@@ -6,14 +6,16 @@ out-of-range values; malformed command frames refused; the generated C
 current with the DBC. Needs the can_vectors binary (CAN_VECTORS env)."""
 import os
 import pathlib
-import re
 import subprocess
+import sys
 
 import cantools
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DBC = ROOT / "tools" / "can" / "drive.dbc"
+sys.path.insert(0, str(ROOT / "tools" / "can"))
+from drivecan import dbc_msg_set_version, project_version  # noqa: E402
 GEN = ROOT / "firmware" / "comm" / "generated"
 NODE = 3  # can_vectors packs and parses for node 3
 
@@ -30,20 +32,6 @@ def telemetry_frames():
     for line in out.splitlines():
         name, value, fid, dlc, data = line.split()
         yield name, float(value), int(fid), int(dlc), bytes.fromhex(data)
-
-
-def project_version():
-    """(major, minor, patch) from the one place it is set: project(VERSION)."""
-    m = re.search(r"project\(\s*\w+\s+VERSION\s+(\d+)\.(\d+)\.(\d+)", (ROOT / "CMakeLists.txt").read_text())
-    assert m, "CMakeLists.txt: no project(... VERSION x.y.z)"
-    return tuple(int(g) for g in m.groups())
-
-
-def dbc_msg_set_version():
-    """The message set's version, the N of the DBC's VERSION "drive-can N"."""
-    m = re.search(r'^VERSION "drive-can (\d+)"', DBC.read_text(), re.M)
-    assert m, "drive.dbc: no VERSION \"drive-can N\""
-    return int(m.group(1))
 
 
 # the integer test values can_vectors sets, and the constants the firmware

@@ -26,7 +26,6 @@ import argparse
 import csv
 import json
 import os
-import re
 import signal
 import subprocess
 import sys
@@ -37,6 +36,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "tools", "can"))
 import can  # noqa: E402
 import cantools  # noqa: E402
+from drivecan import dbc_msg_set_version, project_version  # noqa: E402
 
 DBC = os.path.join(ROOT, "tools", "can", "drive.dbc")
 SKIP = 77
@@ -118,18 +118,6 @@ class Drive:
 
     def close(self):
         self.bus.shutdown()
-
-
-def project_version():
-    """(major, minor, patch) from project(VERSION) in CMakeLists.txt, the one place it is set."""
-    with open(os.path.join(ROOT, "CMakeLists.txt")) as f:
-        m = re.search(r"project\(\s*\w+\s+VERSION\s+(\d+)\.(\d+)\.(\d+)", f.read())
-    return tuple(int(g) for g in m.groups())
-
-
-def dbc_msg_set_version():
-    with open(DBC) as f:
-        return int(re.search(r'^VERSION "drive-can (\d+)"', f.read(), re.M).group(1))
 
 
 def read_log(path, db):

@@ -28,6 +28,7 @@ import argparse
 import collections
 import csv
 import os
+import re
 import subprocess
 import sys
 import time
@@ -36,6 +37,27 @@ import can
 import cantools
 
 DBC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "drive.dbc")
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def project_version(root=ROOT):
+    """(major, minor, patch) from project(... VERSION) in the top
+    CMakeLists.txt, the one place it is set: what the Version message sends."""
+    with open(os.path.join(root, "CMakeLists.txt")) as f:
+        m = re.search(r"project\(\s*\w+\s+VERSION\s+(\d+)\.(\d+)\.(\d+)", f.read())
+    if not m:
+        raise ValueError("CMakeLists.txt: no project(... VERSION x.y.z)")
+    return tuple(int(g) for g in m.groups())
+
+
+def dbc_msg_set_version(path=DBC):
+    """The message set's version, N of the DBC's VERSION "drive-can N": what
+    the heartbeat's MsgSetVersion sends."""
+    with open(path) as f:
+        m = re.search(r'^VERSION "drive-can (\d+)"', f.read(), re.M)
+    if not m:
+        raise ValueError(f'{path}: no VERSION "drive-can N"')
+    return int(m.group(1))
 NODE_MASK = 0xF
 
 
