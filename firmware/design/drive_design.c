@@ -210,6 +210,15 @@
  * 2 V Ts / L = 22 mA on the rig, 70 ADC codes of the DS1104's 16 bits. */
 #define FAULT_STUCK_S 5e-3
 #define FAULT_STUCK_DV_V 2.0
+/* The over-current trip counts consecutive samples beyond i_trip: 1 (the
+ * default) trips on the first, instantaneously. A board whose current
+ * samples carry isolated glitches (EMI, a noisy converter) takes 2 or 3 and
+ * leaves the instantaneous protection to the power stage's own comparator
+ * (HAL_STATUS_PWM_TRIP): a sample beyond the trip that the next one does
+ * not confirm is then not a fault. At most FAULT_TRIP_SAMPLES_MAX (0.8 ms at
+ * 10 kHz): the current of a shorted phase rises by V/L per sample, so a
+ * longer count would no longer be a current protection. */
+#define FAULT_TRIP_SAMPLES_MAX 8
 /* Two consecutive samples at the ADC rail: one can be a spike. */
 #define FAULT_RAIL_TICKS 2
 /* Overruns: each adds 1000 to a level that leaks 1 per sample; 3000 trips,
@@ -268,14 +277,20 @@ void drive_design_defaults(drive_design_input_t *in)
 
 static int32_t ticks_of(double t_s, double fs) { return (int32_t)ceil(t_s * fs - 1e-9); }
 
-void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A, double i_rail_A,
-                          double ts_s)
+bool fault_trip_samples_ok(int i_trip_samples)
+{
+    return i_trip_samples >= 0 && i_trip_samples <= FAULT_TRIP_SAMPLES_MAX;
+}
+
+void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A,
+                          int i_trip_samples, double i_rail_A, double ts_s)
 {
     const double fs = 1.0 / ts_s;
     /* the monitor's I^2 t sums the squares of the phase currents: |i_ab|^2
      * for two phases, 3/2 |i_ab|^2 for three (amplitude-invariant Clarke) */
     const double k_sum = n_phases == 3 ? 1.5 : 1.0;
     fc->i_trip_A = mc_from_double(i_trip_A);
+    fc->i_trip_samples = i_trip_samples >= 1 ? i_trip_samples : 1;
     fc->i2t_cont_A2 = mc_from_double(k_sum * i_max_A * i_max_A);
     fc->i2t_gain = mc_from_double(FAULT_I2T_DECIMATION * ts_s / FAULT_I2T_OVERLOAD_S);
     fc->i2t_limit_A2 = mc_from_double(k_sum * (i_trip_A * i_trip_A - i_max_A * i_max_A));
@@ -370,6 +385,8 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     if (!(in->i_max_A > 0.0)) return fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
     if (!(in->omega_lim_rad_s > 0.0)) return fail(err, err_len, "limits.omega_lim_rad_s", "must be > 0", in->omega_lim_rad_s);
+    if (!fault_trip_samples_ok(in->i_trip_samples))
+        return fail(err, err_len, "limits.i_trip_samples", "must be 1..8 (0: 1)", (double)in->i_trip_samples);
     if (in->gain_design != DRIVE_GAIN_CONTINUOUS && in->gain_design != DRIVE_GAIN_DISCRETE)
         return fail(err, err_len, "design.gain_design", "must be continuous (0) or discrete (1)", (double)in->gain_design);
     if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
@@ -520,7 +537,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->open_loop.i_max_A = mc_from_double(i_open_loop);
     cfg->open_loop.v_max_V = cfg->limits.v_max_V;
     /* faults: generic criteria (supervisor/fault_monitor.h) */
-    fault_monitor_design(&cfg->faults, 2, in->i_max_A, in->i_trip_A, in->i_rail_A, Ts);
+    fault_monitor_design(&cfg->faults, 2, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, Ts);
     drive_protection_config_t *pc = &cfg->prot;
     for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
         pc->reaction[f] = (uint8_t)FAULT_REACT_SAFE;
@@ -531,6 +548,9 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
      * 3 s of the experiment a re-locked run finished the move one tooth
      * pitch (0.126 rad) off with no fault; for a position drive a silent
      * position error is worse than a stop (docs/faults.md). */
+    if (in->los_relock) {
+        pc->reaction[DRIVE_FAULT_LOSS_OF_SYNC] = (uint8_t)FAULT_REACT_RELOCK;
+    }
     pc->relock_max = RELOCK_MAX;
     pc->relock_hold_ticks = ticks_of(RELOCK_HOLD_S, fs);
     pc->relock_confirm_ticks = ticks_of(RELOCK_CONFIRM_S, fs);

@@ -85,6 +85,13 @@ typedef struct {
     /* current at which a sample is at the ADC's rail [A]; 0: unknown (the
      * rail check is off). The board's, or the scenario's ADC full scale. */
     double i_rail_A;
+    /* consecutive samples beyond i_trip_A that trip the drive; 0 or 1: the
+     * first (instantaneous), up to 8 (fault_monitor_design) */
+    int i_trip_samples;
+    /* 1: a loss of synchronism falls back to the open loop and closes again
+     * (FAULT_REACT_RELOCK, bounded retries, then the safe state); 0 (the
+     * default): the safe state at once (drive_design.c says why). */
+    int los_relock;
     /* The board's computation delay d in [0, 1] samples (0, the default:
      * none, the paper's sampled model): the voltage computed from the
      * currents of t_k acts from t_k + d Ts (drives/paper000_drive.h,
@@ -126,8 +133,11 @@ typedef struct {
  * i_rail_A (0: unknown), sampled every ts_s; every threshold is a named,
  * justified constant of drive_design.c (docs/faults.md). Shared by every
  * drive's design. */
-void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A, double i_rail_A,
-                          double ts_s);
+void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A,
+                          int i_trip_samples, double i_rail_A, double ts_s);
+/* i_trip_samples (consecutive samples beyond i_trip_A that trip; 0 means
+ * 1, instantaneous) is within what a current protection allows. */
+bool fault_trip_samples_ok(int i_trip_samples);
 
 /* *Pi_d_out (if not NULL): the back-EMF rate bound Pi_d of section 3.1.1. */
 void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t *ec, double *Pi_d_out);

@@ -163,6 +163,8 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     if (!(in->ts_s > 0.0)) return p001_fail(err, err_len, "ts_s", "must be > 0", in->ts_s);
     if (!(in->i_max_A > 0.0)) return p001_fail(err, err_len, "i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return p001_fail(err, err_len, "i_trip_A", "must be >= i_max_A", in->i_trip_A);
+    if (!fault_trip_samples_ok(in->i_trip_samples))
+        return p001_fail(err, err_len, "limits.i_trip_samples", "must be 1..8 (0: 1)", (double)in->i_trip_samples);
     if (in->n_points < 1 || in->n_points > SPEED_PROFILE_MAX_POINTS) {
         return p001_fail(err, err_len, "profile", "needs 1..16 points", (double)in->n_points);
     }
@@ -208,7 +210,8 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     cfg->limits.i_trip_A = mc_from_double(in->i_trip_A);
     /* faults (docs/faults.md): the generic set, and the loss of the
      * estimate (paper001_drive.h) */
-    fault_monitor_design(&cfg->faults, (int)m->n_phases, in->i_max_A, in->i_trip_A, in->i_rail_A, ts);
+    fault_monitor_design(&cfg->faults, (int)m->n_phases, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A,
+                         ts);
     for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
         cfg->reaction[f] = (uint8_t)FAULT_REACT_SAFE;
     }

@@ -44,7 +44,8 @@ typedef struct {
     double probe_s;          /* longest start-up probe [s]; 0: no probe (defaults: 0.3) */
     int estimator;           /* p001_estimator_t: FLUX (default) or BACK_EMF */
     double compute_delay_samples; /* the board's computation delay, [0, 1] samples */
-    double i_rail_A;         /* current at the ADC's rail; 0: unknown (no rail check) */
+    double i_rail_A;
+    int i_trip_samples;      /* consecutive samples beyond i_trip_A that trip (0 or 1: instantaneous; up to 8) */         /* current at the ADC's rail; 0: unknown (no rail check) */
     double omega_lim_rad_s;  /* BACK_EMF: closed loop from |w*| >= this; <= 0: derived */
     /* speed profile: corners (t [s], w [rad/s mechanical]) */
     size_t n_points;

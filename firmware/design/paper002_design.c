@@ -151,6 +151,8 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     if (!(in->ts_s > 0.0)) return p002_fail(err, err_len, "run.Ts_s", "must be > 0", in->ts_s);
     if (!(in->i_max_A > 0.0)) return p002_fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return p002_fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
+    if (!fault_trip_samples_ok(in->i_trip_samples))
+        return p002_fail(err, err_len, "limits.i_trip_samples", "must be 1..8 (0: 1)", (double)in->i_trip_samples);
     const bool flux = in->angle_source == P002_ANGLE_FLUX;
     if (!flux && in->angle_source != P002_ANGLE_ENCODER) return p002_fail(err, err_len, "paper002.estimator", "unknown angle source", in->angle_source);
     if (!flux && in->encoder_counts < 1) return p002_fail(err, err_len, "encoder.counts_per_turn", "must be >= 1", (double)in->encoder_counts);
@@ -232,7 +234,7 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     cfg->flux_theta0_rad = mc_from_double(in->theta0_rad);
     /* faults (docs/faults.md): the generic set, designed as the other
      * drives' are, and the loss of the estimate */
-    fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_rail_A, in->ts_s);
+    fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, in->ts_s);
     cfg->los_theta_rad = mc_from_double(P002_LOS_THETA_RAD);
     cfg->los_ticks = (int32_t)ceil(P002_LOS_S * fsr - 1e-9);
     cfg->stall_tol = mc_from_double(P002_STALL_TOL);

@@ -24,7 +24,8 @@ typedef struct {
     int p;
     double ts_s;
     double i_max_A, i_trip_A;
-    double i_rail_A;         /* the ADC's full scale (0: none; the rail check is off) */
+    double i_rail_A;
+    int i_trip_samples;      /* consecutive samples beyond i_trip_A that trip (0 or 1: instantaneous; up to 8) */         /* the ADC's full scale (0: none; the rail check is off) */
     /* the sensors: current noise (sigma) per phase, encoder counts and
      * angle noise (sigma) */
     double sigma_i_A, sigma_theta_rad;

@@ -14,6 +14,7 @@ void fault_monitor_init(fault_monitor_t *m, const fault_monitor_config_t *cfg)
         m->v_hi_V[k] = MC_ZERO;
         m->v_last_V[k] = MC_ZERO;
     }
+    m->oc_run = 0;
     m->rail_run = 0;
     m->rail_abs_A = mc_gt(cfg->i_rail_A, MC_ZERO) ? cfg->i_rail_A : MC_MAX;
     m->overrun_level = 0;
@@ -45,6 +46,7 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
         m->overrun_level -= 1;
     }
     bool at_rail = false;
+    bool over = false;
     mc_t i2 = MC_ZERO;
     for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
         const mc_t i = in->i_A[k];
@@ -53,7 +55,12 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
         }
         const mc_t a = mc_abs(i);
         if (mc_gt(a, c->i_trip_A)) {
-            return DRIVE_FAULT_OVERCURRENT;
+            /* the i_trip_samples-th sample in a row beyond the trip (the
+             * first one when it is 1: the instantaneous trip) */
+            if (m->oc_run + 1 >= c->i_trip_samples) {
+                return DRIVE_FAULT_OVERCURRENT;
+            }
+            over = true;
         }
         /* rail_abs_A is MC_MAX when the rail is unknown (never reached) */
         at_rail = at_rail || mc_ge(a, m->rail_abs_A);
@@ -75,6 +82,7 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
             m->same_run[k] = 0;
         }
     }
+    m->oc_run = over ? m->oc_run + 1 : 0;
     m->rail_run = at_rail ? m->rail_run + 1 : 0;
     if (m->rail_run >= c->rail_ticks && at_rail) {
         return DRIVE_FAULT_SENSOR_RAIL;

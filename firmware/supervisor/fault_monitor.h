@@ -2,7 +2,8 @@
  * fault_monitor.h - the faults every drive detects the same way, from the
  * HAL sample, the command and the backend's status, each with a stated
  * criterion (the thresholds are derived and justified in the drive's design,
- * firmware/design/): instantaneous over-current, I^2 t, voltage saturated
+ * firmware/design/): over-current (instantaneous, or on N consecutive
+ * samples where single samples can carry glitches), I^2 t, voltage saturated
  * too long, non-finite values (float build), current samples stuck or at the
  * ADC rails, converter errors, the hardware trip and control-step overruns.
  * Faults that need the drive's estimates (loss of synchronism) are the
@@ -36,7 +37,8 @@ extern "C" {
 #define FAULT_I2T_SUBSAMPLE 4
 
 typedef struct {
-    mc_t i_trip_A;          /* instantaneous: |i_phase| > i_trip_A */
+    mc_t i_trip_A;          /* over-current: |i_phase| > i_trip_A ... */
+    int32_t i_trip_samples; /* ... on this many consecutive samples (1: instantaneous) */
     mc_t i2t_cont_A2;       /* I_cont^2: a current vector |i|^2 below it cools the I^2 t integral */
     mc_t i2t_gain;          /* FAULT_I2T_DECIMATION Ts / t_overload: per-block weight of the mean excess */
     mc_t i2t_limit_A2;      /* trip when the integral of the excess, in A^2 x t_overload, exceeds it */
@@ -60,6 +62,7 @@ typedef struct {
     mc_t v_lo_V[HAL_MAX_PHASES];      /* command range over that run */
     mc_t v_hi_V[HAL_MAX_PHASES];
     mc_t v_last_V[HAL_MAX_PHASES];    /* the last command (acts on the next sample) */
+    int32_t oc_run;                   /* consecutive samples beyond i_trip_A before this one */
     int32_t rail_run;
     mc_t rail_abs_A;                  /* i_rail_A, or MC_MAX without a rail */
     int32_t overrun_level;

@@ -110,7 +110,9 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     in->v_max_V = sc.v_max_V;
     in->i_max_A = sc.i_max_A;
     in->i_trip_A = sc.i_trip_A;
+    in->i_trip_samples = sc.i_trip_samples;
     in->omega_lim_rad_s = sc.omega_lim_rad_s;
+    in->los_relock = sc.los_relock;
     if (sc.i_open_loop_A > 0.0) {
         in->i_open_loop_A = sc.i_open_loop_A;
     }
@@ -193,6 +195,7 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
     in->ts_s = sc.ts_s;
     in->i_max_A = sc.i_max_A;
     in->i_trip_A = sc.i_trip_A;
+    in->i_trip_samples = sc.i_trip_samples;
     in->i_open_loop_A = sc.i_open_loop_A;
     in->gamma = sc.speed_gains.gamma;
     in->a1 = sc.speed_gains.a1;
@@ -244,6 +247,7 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->ts_s = sc.ts_s;
     in->i_max_A = sc.i_max_A;
     in->i_trip_A = sc.i_trip_A;
+    in->i_trip_samples = sc.i_trip_samples;
     in->i_rail_A = adc_rail_A(sc.sensor);
     switch (sc.sensor.noise) {
     case NoiseKind::kGaussian: in->sigma_i_A = sc.sensor.noise_A; break;

@@ -750,7 +750,7 @@ Scenario load_scenario(const std::string& path)
     }
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
-    root.only({"description", "run", "motor", "drive_model", "supply", "limits", "design", "sensor", "load",
+    root.only({"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
                "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder", "paper002"});
     // [speed] makes it the speed drive (paper 001), [paper002] paper 002's
     // speed drive; else the position drive of paper 000 with its
@@ -908,12 +908,18 @@ Scenario load_scenario(const std::string& path)
     // [limits]
     {
         const View v = required_table("limits");
-        v.only({"i_max_A", "i_trip_A", "omega_lim_rad_s", "i_open_loop_A"});
+        v.only({"i_max_A", "i_trip_A", "i_trip_samples", "omega_lim_rad_s", "i_open_loop_A"});
         sc.i_max_A = v.number_req("i_max_A");
         gt(v, "i_max_A", sc.i_max_A, 0.0);
         sc.i_trip_A = v.number("i_trip_A").value_or(1.5 * sc.i_max_A);
         if (v.has("i_trip_A")) {
             ge(v, "i_trip_A", sc.i_trip_A, sc.i_max_A);
+        }
+        if (const auto n = v.integer("i_trip_samples")) {
+            if (*n < 1 || *n > 8) {
+                v.fail("i_trip_samples", "must be 1..8 (got " + std::to_string(*n) + ")");
+            }
+            sc.i_trip_samples = static_cast<int>(*n);
         }
         if ((!sc.speed_drive && !sc.paper002_drive) || v.has("omega_lim_rad_s")) {
             sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
@@ -948,6 +954,22 @@ Scenario load_scenario(const std::string& path)
                 sc.gain_design = 1;
             } else {
                 v->fail("gain_design", "must be \"continuous\" or \"discrete\" (got \"" + *g + "\")");
+            }
+        }
+    }
+
+    // [protection] (optional): reactions to faults
+    if (const auto v = root.table("protection")) {
+        v->only({"loss_of_sync"});
+        if (const auto r = v->string("loss_of_sync")) {
+            if (*r == "relock") {
+                if (sc.speed_drive || sc.paper002_drive) {
+                    v->fail("loss_of_sync", "\"relock\" needs the position drive ([trajectory]); the speed drives "
+                                            "have no re-lock");
+                }
+                sc.los_relock = 1;
+            } else if (*r != "safe") {
+                v->fail("loss_of_sync", "must be \"safe\" or \"relock\" (got \"" + *r + "\")");
             }
         }
     }

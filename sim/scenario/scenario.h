@@ -101,6 +101,8 @@ struct Scenario {
     double i_trip_A = 0.0;
     double omega_lim_rad_s = 0.0;
     double i_open_loop_A = 0.0;  // 0 = the design default (i_max_A)
+    int i_trip_samples = 1;      // [limits] i_trip_samples: consecutive samples beyond i_trip_A that trip
+    int los_relock = 0;          // [protection] loss_of_sync = "relock"
 
     // [design]: switches of drive_design_input_t; -1 = the design default.
     int load_feedforward = -1;

@@ -378,6 +378,30 @@ hal_sample_t two(double a, double b)
 }
 }  // namespace
 
+// The over-current trip on consecutive samples (i_trip_samples): 1, and 0
+// (a zeroed configuration), trip on the first sample beyond i_trip; 2
+// ignores single samples beyond it, on either phase, and trips on the
+// second of two in a row even when the phase beyond it changes.
+TEST(FaultMonitor, OvercurrentOnConsecutiveSamples)
+{
+    fault_monitor_t m;
+    fault_monitor_config_t c = rig_faults();
+    for (int n : {0, 1}) {
+        c.i_trip_samples = n;
+        fault_monitor_init(&m, &c);
+        EXPECT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(1.0, 0.5), 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(1.0, -4.6), 2), DRIVE_FAULT_OVERCURRENT) << n;
+    }
+    c.i_trip_samples = 2;
+    fault_monitor_init(&m, &c);
+    for (int k = 0; k < 100; ++k) {
+        const double a = (k % 4 == 0) ? 5.0 : 1.0, b = (k % 4 == 2) ? -5.0 : 1.0;
+        ASSERT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(a, b), 2), DRIVE_FAULT_NONE) << k;
+    }
+    EXPECT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(4.6, 0.0), 2), DRIVE_FAULT_NONE);
+    EXPECT_EQ(fault_monitor_sample(&m, &(const hal_sample_t &)two(0.0, -4.6), 2), DRIVE_FAULT_OVERCURRENT);
+}
+
 // I^2 t: a current vector of 4.2 A (just below the 4.5 A trip) trips after
 // (4.5^2 - 9)/(4.2^2 - 9) = 1.31 s; 3 A never; the integral cools below I_max.
 TEST(FaultMonitor, I2tTripsAfterTheOverloadTime)

@@ -36,6 +36,7 @@ struct Period {
     int fault;
     double va, vb;      // commanded
     double ia, ib;      // true plant currents
+    double theta;       // true rotor angle [rad]
 };
 
 struct Ctx {
@@ -54,7 +55,7 @@ void monitor(void* p, const hal_sw_plant_period_t* q)
 {
     Ctx* c = static_cast<Ctx*>(p);
     c->log.push_back({q->t_s, static_cast<int>(c->drive->sup.state), static_cast<int>(c->drive->sup.fault),
-                      q->v_a_cmd_V, q->v_b_cmd_V, c->plant->i_a_A(), c->plant->i_b_A()});
+                      q->v_a_cmd_V, q->v_b_cmd_V, c->plant->i_a_A(), c->plant->i_b_A(), c->plant->theta_rad()});
 }
 
 struct Result {
@@ -98,8 +99,11 @@ mcsim::Scenario experiment()
 // within [kInject, kInject + within_s]; the drive in FAULT at the end when
 // it must be (safe), no voltage step beyond the bounds, the currents within
 // i_max at the end, finite estimates; and a snapshot whose newest record
-// is the sample before the detection.
-void common_checks(const Result& r, drive_fault_t want, double within_s, bool safe_at_end)
+// is the sample before the detection. Samples in [noisy_from_s, noisy_to_s]
+// (a noise burst) are exempt from the voltage-step bounds: there the
+// closed-loop law acts on the injected noise.
+void common_checks(const Result& r, drive_fault_t want, double within_s, bool safe_at_end, double noisy_from_s = 0.0,
+                   double noisy_to_s = -1.0)
 {
     const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
     ASSERT_TRUE(fr->frozen) << "no fault recorded";
@@ -121,6 +125,9 @@ void common_checks(const Result& r, drive_fault_t want, double within_s, bool sa
         if (to_safe || in_safe) {
             EXPECT_EQ(b.va, 0.0);
             EXPECT_EQ(b.vb, 0.0);
+            continue;
+        }
+        if (b.t >= noisy_from_s && b.t <= noisy_to_s) {
             continue;
         }
         if (a.state != b.state && (a.state == SUP_STATE_CLOSED_LOOP || b.state == SUP_STATE_CLOSED_LOOP)) {
@@ -299,6 +306,69 @@ TEST(Faults, ClearedOnlyByCommand)
     EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_NONE);
     EXPECT_FALSE(drive_flight_recorder(&r.drive)->frozen);
     EXPECT_TRUE(drive_step(&r.drive, &in, &out));
+}
+
+// A burst of sensor noise, 20 ms at 1.5 s (injection's own random stream;
+// docs/faults.md, "What recovers"). 0.8 A (sigma) is ridden through: no
+// fault event, and the move ends where the nominal run's does (1.0 A too in
+// float; in fixed point it is a loss of synchronism at 15 ms). 1.2 A makes
+// the current observer's error persist: loss of synchronism within 11 ms
+// (measured 10.8 ms), the safe state by default. Within the burst the
+// closed-loop law's output moves by up to 17 V a sample (its current loop
+// acts on 1.2 A of noise), so the voltage-step bound is checked outside it.
+TEST(Faults, NoiseBurst)
+{
+    mcsim::Scenario sc = experiment();
+    const Result nominal = run(sc);
+    sc.faults.burst_t_s = kInject;
+    sc.faults.burst_duration_s = 0.02;
+    sc.faults.burst_noise_A = 0.8;
+    const Result ridden = run(sc);
+    EXPECT_EQ(drive_flight_recorder(&ridden.drive)->events, 0u);
+    EXPECT_NEAR(ridden.log.back().theta, nominal.log.back().theta, 0.05);
+    sc.faults.burst_noise_A = 1.2;
+    const Result lost = run(sc);
+    common_checks(lost, DRIVE_FAULT_LOSS_OF_SYNC, 11e-3, true, kInject, kInject + 0.02);
+}
+
+// The re-lock after a noise burst ([protection] loss_of_sync = "relock"):
+// the 1.2 A burst of the test above, detected as a loss of synchronism, the
+// drive falls back to the open loop, closes again and finishes the move
+// within 0.05 rad of the nominal run's end, no fault standing. Its noisy
+// samples reach 5.2 A while the current stays at 2 A, so this needs the
+// over-current trip on two consecutive samples ([limits] i_trip_samples =
+// 2): with the instantaneous trip the re-lock ends in an over-current
+// fault. Measured on this one case (seed 1, at 1.5 s); the re-lock does not
+// recover every burst (docs/faults.md).
+TEST(Faults, NoiseBurstReLocked)
+{
+    mcsim::Scenario sc = experiment();
+    const Result nominal = run(sc);
+    sc.faults.burst_t_s = kInject;
+    sc.faults.burst_duration_s = 0.02;
+    sc.faults.burst_noise_A = 1.2;
+    sc.los_relock = 1;
+    sc.i_trip_samples = 2;
+    // the scenario keys reach the design
+    {
+        drive_t d;
+        mcsim::design_and_init_drive(sc, &d);
+        EXPECT_EQ(d.cfg.prot.reaction[DRIVE_FAULT_LOSS_OF_SYNC], static_cast<std::uint8_t>(FAULT_REACT_RELOCK));
+        EXPECT_EQ(d.cfg.faults.i_trip_samples, 2);
+    }
+    const Result r = run(sc, FAULT_REACT_RELOCK);
+    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    EXPECT_GE(r.drive.relocks, 1);
+    EXPECT_NE(r.drive.sup.state, SUP_STATE_FAULT) << drive_fault_name(r.drive.sup.fault);
+    EXPECT_EQ(fr->fault, DRIVE_FAULT_LOSS_OF_SYNC);  // recorded, not standing
+    EXPECT_NEAR(r.log.back().theta, nominal.log.back().theta, 0.05);
+    for (const Period& p : r.log) {
+        ASSERT_LE(std::hypot(p.ia, p.ib), r.sc.i_max_A * 1.01) << "at t = " << p.t;
+    }
+    sc.i_trip_samples = 1;
+    const Result tripped = run(sc, FAULT_REACT_RELOCK);
+    EXPECT_EQ(tripped.drive.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(tripped.drive.sup.fault, DRIVE_FAULT_OVERCURRENT);
 }
 
 // The nominal experiment, seeds 1-5, and the ideal scenario: no fault event
