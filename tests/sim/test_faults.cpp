@@ -101,16 +101,17 @@ mcsim::Scenario experiment()
 // i_max at the end, finite estimates; and a snapshot whose newest record
 // is the sample before the detection. Samples in [noisy_from_s, noisy_to_s]
 // (a noise burst) are exempt from the voltage-step bounds: there the
-// closed-loop law acts on the injected noise.
+// closed-loop law acts on the injected noise. inject_s: when the fault
+// began (kInject unless it is there from the start).
 void common_checks(const Result& r, drive_fault_t want, double within_s, bool safe_at_end, double noisy_from_s = 0.0,
-                   double noisy_to_s = -1.0)
+                   double noisy_to_s = -1.0, double inject_s = kInject)
 {
     const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
     ASSERT_TRUE(fr->frozen) << "no fault recorded";
     EXPECT_EQ(fr->fault, want) << drive_fault_name(fr->fault);
     const double t = r.t_first();
-    EXPECT_GE(t, kInject - 0.5 * r.ts);
-    EXPECT_LE(t, kInject + within_s + 0.5 * r.ts) << "detected " << (t - kInject) * 1e3 << " ms after the injection";
+    EXPECT_GE(t, inject_s - 0.5 * r.ts);
+    EXPECT_LE(t, inject_s + within_s + 0.5 * r.ts) << "detected " << (t - inject_s) * 1e3 << " ms after the injection";
     EXPECT_EQ(r.drive.sup.state == SUP_STATE_FAULT, safe_at_end);
     // voltage steps
     const double v_start_step = 3.01 * 3.0 * 1.01;  // R I_max of the rig, 1 % for the measured R
@@ -369,6 +370,68 @@ TEST(Faults, NoiseBurstReLocked)
     const Result tripped = run(sc, FAULT_REACT_RELOCK);
     EXPECT_EQ(tripped.drive.sup.state, SUP_STATE_FAULT);
     EXPECT_EQ(tripped.drive.sup.fault, DRIVE_FAULT_OVERCURRENT);
+}
+
+// A gain error on phase a's current sensor from 1.5 s (closed loop at
+// 8 rad/s on the way to 18 rad): 0.9 is ridden through (the move ends where
+// the nominal run's does). 0.8 is tolerated while the loop stays closed,
+// but when it closes again on the way back (2.32 s, 0.82 s after the
+// injection) the distorted currents turn the estimated speed within 5 ms:
+// a loss of synchronism (measured 7 ms after the closing in float), the
+// safe state.
+TEST(Faults, SensorGain)
+{
+    mcsim::Scenario sc = experiment();
+    const Result nominal = run(sc);
+    sc.faults.gain_t_s = kInject;
+    sc.faults.gain[0] = 0.9;
+    const Result ridden = run(sc);
+    EXPECT_EQ(drive_flight_recorder(&ridden.drive)->events, 0u);
+    EXPECT_NEAR(ridden.log.back().theta, nominal.log.back().theta, 0.05);
+    sc.faults.gain[0] = 0.8;
+    const Result r = run(sc);
+    common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 0.83, true);
+}
+
+// A drive designed for the wrong motor ([drive_model]): R +-50 %, L +-45 %,
+// J x0.5 and x2 are ridden through, and K -30 % too (the closed-loop K
+// identification corrects it); K +30 % and K x0.5 are lost after the loop
+// closes and detected as a loss of synchronism within 0.3 s of the first
+// closed-loop sample (measured 0.09-0.22 s in float, up to 0.25 s in fixed
+// point), the safe state.
+TEST(Faults, ParameterMismatch)
+{
+    struct Case {
+        double mcsim::MotorParams::*field;
+        double value;
+        bool ridden;
+    };
+    const Case cases[] = {{&mcsim::MotorParams::R_ohm, 4.5, true},       {&mcsim::MotorParams::R_ohm, 2.0, true},
+                          {&mcsim::MotorParams::L_H, 0.006, true},       {&mcsim::MotorParams::L_H, 0.013, true},
+                          {&mcsim::MotorParams::J_kgm2, 6.4e-4, true},   {&mcsim::MotorParams::J_kgm2, 1.6e-4, true},
+                          {&mcsim::MotorParams::K_Nm_per_A, 0.19, true}, {&mcsim::MotorParams::K_Nm_per_A, 0.35, false},
+                          {&mcsim::MotorParams::K_Nm_per_A, 0.135, false}};
+    const Result nominal = run(experiment());
+    for (const Case& c : cases) {
+        mcsim::Scenario sc = experiment();
+        sc.drive_model.*(c.field) = c.value;
+        const Result r = run(sc);
+        SCOPED_TRACE("drive model value " + std::to_string(c.value));
+        if (c.ridden) {
+            EXPECT_EQ(drive_flight_recorder(&r.drive)->events, 0u);
+            EXPECT_NEAR(r.log.back().theta, nominal.log.back().theta, 0.05);
+            continue;
+        }
+        double t_closed = -1.0;
+        for (const Period& p : r.log) {
+            if (p.state == SUP_STATE_CLOSED_LOOP) {
+                t_closed = p.t;
+                break;
+            }
+        }
+        ASSERT_GE(t_closed, 0.0) << "the loop never closed";
+        common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 0.3, true, 0.0, -1.0, t_closed);
+    }
 }
 
 // The nominal experiment, seeds 1-5, and the ideal scenario: no fault event
