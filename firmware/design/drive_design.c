@@ -272,6 +272,8 @@ void drive_design_defaults(drive_design_input_t *in)
     in->align_rotor = 1;
     in->identify_k = 1;
     in->compute_delay_samples = 0.0;
+    in->i_trip_samples = 1;  /* the instantaneous trip */
+    in->los_relock = 0;      /* a loss of synchronism: the safe state */
     in->gain_design = DRIVE_GAIN_CONTINUOUS; /* see drive_gain_design_t and docs/paper000.md */
 }
 

@@ -135,6 +135,7 @@ void p001_design_defaults(p001_design_input_t *in)
     in->omega_lim_rad_s = 0.0;
     in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
     in->i_rail_A = 0.0;              /* unknown: no rail check */
+    in->i_trip_samples = 1;          /* the instantaneous trip */
 }
 
 /* A per-sample coefficient the fixed-point build can hold. */

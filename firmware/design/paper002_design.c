@@ -119,6 +119,7 @@ void p002_design_defaults(p002_design_input_t *in)
     in->i_max_A = 20.0;
     in->i_trip_A = 30.0;
     in->i_rail_A = 0.0;
+    in->i_trip_samples = 1; /* the instantaneous trip */
     in->sigma_i_A = 5e-3;
     in->sigma_theta_rad = 1e-4;
     in->encoder_counts = 65536;
