@@ -112,6 +112,9 @@ public:
     // and stays 0; -1 closes them all again).
     void set_locked(bool locked);
     void set_open_winding(int k);
+    // A prescribed speed (plant_replay's speed trajectory): the state's speed
+    // set to omega; with an inertia of 1e30 it holds over the next step.
+    void set_speed(double omega_rad_s) { x_[kOmega] = omega_rad_s; }
 
     const MotorParams& motor() const { return m_; }
     int substeps() const { return substeps_; }

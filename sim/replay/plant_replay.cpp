@@ -1,15 +1,20 @@
 // plant_replay - held phase voltages through our plant (sim/model/pm_plant)
-// at a constant speed: the side of the cross-check against
-// gym-electric-motor that is ours (tools/crosscheck/crosscheck_pmsm.py).
+// at a prescribed speed: the side of the cross-check against
+// gym-electric-motor that is ours (tools/crosscheck/crosscheck_pmsm.py),
+// and our plant alone in tools/bench/sim_speed.py.
 //
 //   plant_replay --motor FILE.toml --in V.csv --out I.csv --omega W --ts TS
 //                [--theta0-e RAD]
+//   plant_replay --motor FILE.toml --in VW.csv --out I.csv --ts TS [--theta0-e RAD]
 //
 // V.csv: header v_a_V,v_b_V,v_c_V (leg voltages about the bus midpoint),
-// row k held over [k Ts, (k+1) Ts). I.csv: t_s,i_a_A,i_b_A,i_c_A at k Ts,
-// before row k is applied (row 0: zero current). The speed is held by an
-// inertia of 1e30 kg m^2 (the torque changes it by < 1e-29 rad/s per
-// sample). Bad input: one line on stderr, exit 2, nothing written.
+// row k held over [k Ts, (k+1) Ts), at the constant speed --omega. VW.csv:
+// header v_a_V,v_b_V,v_c_V,omega_rad_s, the speed of row k set at k Ts and
+// held over the row (a speed trajectory, e.g. a closed-loop run's, given as
+// each sample's mean speed so the angle follows the run's; then no --omega). I.csv: t_s,i_a_A,i_b_A,i_c_A at k Ts, before row k is applied
+// (row 0: zero current). The speed is held by an inertia of 1e30 kg m^2 (the
+// torque changes it by < 1e-29 rad/s per sample). Bad input: one line on
+// stderr, exit 2, nothing written.
 #include <chrono>
 #include <array>
 #include <vector>
@@ -27,7 +32,9 @@
 
 namespace {
 
-std::vector<std::array<double, 3>> read_voltages(const std::string& path)
+// Rows of v_a_V, v_b_V, v_c_V and, with the fourth column, omega_rad_s
+// (*with_speed tells which header it was).
+std::vector<std::array<double, 4>> read_voltages(const std::string& path, bool* with_speed)
 {
     std::ifstream f(path);
     if (!f) {
@@ -35,22 +42,31 @@ std::vector<std::array<double, 3>> read_voltages(const std::string& path)
     }
     std::string line;
     std::getline(f, line);
-    if (line.rfind("v_a_V,v_b_V,v_c_V", 0) != 0) {
-        throw std::invalid_argument(path + ": header must be v_a_V,v_b_V,v_c_V");
+    if (!line.empty() && line.back() == '\r') {
+        line.pop_back();
     }
-    std::vector<std::array<double, 3>> v;
+    if (line == "v_a_V,v_b_V,v_c_V,omega_rad_s") {
+        *with_speed = true;
+    } else if (line == "v_a_V,v_b_V,v_c_V") {
+        *with_speed = false;
+    } else {
+        throw std::invalid_argument(path + ": header must be v_a_V,v_b_V,v_c_V or v_a_V,v_b_V,v_c_V,omega_rad_s");
+    }
+    const int n_cols = *with_speed ? 4 : 3;
+    std::vector<std::array<double, 4>> v;
     int row = 1;
     while (std::getline(f, line)) {
         ++row;
         if (line.empty()) {
             continue;
         }
-        std::array<double, 3> x{};
+        std::array<double, 4> x{};
         std::stringstream ss(line);
-        for (int k = 0; k < 3; ++k) {
+        for (int k = 0; k < n_cols; ++k) {
             std::string cell;
             if (!std::getline(ss, cell, ',')) {
-                throw std::invalid_argument(path + ":" + std::to_string(row) + ": expected 3 values");
+                throw std::invalid_argument(path + ":" + std::to_string(row) + ": expected " +
+                                            std::to_string(n_cols) + " values");
             }
             char* end = nullptr;
             x[k] = std::strtod(cell.c_str(), &end);
@@ -72,13 +88,13 @@ std::vector<std::array<double, 3>> read_voltages(const std::string& path)
 // NOLINTNEXTLINE(bugprone-exception-escape)
 int main(int argc, char** argv)
 {
-    CLI::App app{"plant_replay: held phase voltages through the PMSM plant at constant speed", "plant_replay"};
+    CLI::App app{"plant_replay: held phase voltages through the PMSM plant at a prescribed speed", "plant_replay"};
     std::string motor, in, out;
     double omega = 0.0, ts = 0.0, theta0_e = 0.0;
     app.add_option("--motor", motor, "motor file (sim/motors/*.toml)")->required();
-    app.add_option("--in", in, "CSV v_a_V,v_b_V,v_c_V")->required();
+    app.add_option("--in", in, "CSV v_a_V,v_b_V,v_c_V (then --omega), or v_a_V,v_b_V,v_c_V,omega_rad_s")->required();
     app.add_option("--out", out, "CSV to write: t_s,i_a_A,i_b_A,i_c_A")->required();
-    app.add_option("--omega", omega, "constant mechanical speed [rad/s]")->required();
+    CLI::Option* omega_opt = app.add_option("--omega", omega, "constant mechanical speed [rad/s]");
     app.add_option("--ts", ts, "hold time of a row [s]")->required();
     app.add_option("--theta0-e", theta0_e, "initial electrical angle [rad]");
     bool timing = false;
@@ -101,7 +117,17 @@ int main(int argc, char** argv)
         m.J_kgm2 = 1e30;
         m.fv_Nms_per_rad = 0.0;
         m.coulomb_Nm = 0.0;
-        const auto v = read_voltages(in);
+        bool with_speed = false;
+        const auto v = read_voltages(in, &with_speed);
+        if (with_speed && omega_opt->count() > 0) {
+            throw std::invalid_argument("--omega: " + in + " has an omega_rad_s column; give one speed, not both");
+        }
+        if (!with_speed && omega_opt->count() == 0) {
+            throw std::invalid_argument("--omega: required when " + in + " has no omega_rad_s column");
+        }
+        if (with_speed && !v.empty()) {
+            omega = v[0][3];
+        }
         mcsim::PmPlant plant(m, mcsim::LoadProfile(), mcsim::PmPlant::kDefaultSubsteps);
         mcsim::PmPlant::State x0 = mcsim::PmPlant::State::Zero();
         x0[mcsim::PmPlant::kOmega] = omega;
@@ -110,9 +136,17 @@ int main(int argc, char** argv)
         // the loop alone, timed; the currents are formatted afterwards
         std::vector<std::array<double, 3>> cur(v.size());
         const auto t0 = std::chrono::steady_clock::now();
-        for (std::size_t k = 0; k < v.size(); ++k) {
-            plant.phase_currents(cur[k].data());
-            plant.step_phases(v[k].data(), ts);
+        if (with_speed) {
+            for (std::size_t k = 0; k < v.size(); ++k) {
+                plant.phase_currents(cur[k].data());
+                plant.set_speed(v[k][3]);
+                plant.step_phases(v[k].data(), ts);
+            }
+        } else {
+            for (std::size_t k = 0; k < v.size(); ++k) {
+                plant.phase_currents(cur[k].data());
+                plant.step_phases(v[k].data(), ts);
+            }
         }
         const double loop_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::ostringstream os;

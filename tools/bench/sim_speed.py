@@ -19,10 +19,11 @@ ours, closed loop (headline)
     "end to end" column: the process's wall time). Median of --repeats runs.
 ours, plant only (unless --no-plant-replay)
     ``plant_replay --timing``: the same N held phase voltages through the
-    same plant (sim/model/pm_plant, RK4, one step per sample) at a constant
-    speed (the run's mean speed: plant_replay takes no speed trajectory),
-    timed by its own loop timer (the integration loop alone, no CSV I/O):
-    the like of GEM's physical-system line, plant against plant.
+    same plant (sim/model/pm_plant, RK4, one step per sample) with our run's
+    speed trajectory (each sample's mean speed, held over the sample), timed
+    by its own loop timer (the integration loop alone, no CSV I/O): the like
+    of GEM's lines, the same run through our simulator. Its currents must
+    match the closed-loop run's (they do to 1e-5 A, the CSV's digits).
 GEM env, default solver
     ``gem.make("Cont-CC-PMSM-v0", ...)`` with GEM's
     PermanentMagnetSynchronousMotor given the same parameters, its
@@ -92,6 +93,9 @@ import numpy as np
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEF_MOTORSIM = os.path.join(REPO, "build", "host", "sim", "motorsim")
 DEF_PLANT_REPLAY = os.path.join(REPO, "build", "host", "sim", "plant_replay")
+# plant_replay on our run's voltages and speeds gives its currents to the
+# CSV's 10 digits (1e-5 A measured): anything near a mA is not the same run
+REPLAY_TOL_A = 1e-3
 DEF_SCENARIO = os.path.join(REPO, "sim", "scenarios", "paper001_benchmark.toml")
 CSV_COLS = ("t_s", "omega_rad_s", "v_a_V", "v_b_V", "v_c_V", "i_a_A", "i_b_A", "i_c_A")
 
@@ -171,24 +175,33 @@ def time_ours_closed_loop(motorsim, setup, tmp, repeats):
 
 
 def time_ours_plant_replay(plant_replay, setup, data, tmp, repeats):
-    """Our plant alone on the same held voltages: plant_replay's own loop
-    timer (--timing: the integration loop, no CSV I/O, no formatting)."""
+    """Our plant alone on the same run: the same held voltages and our run's
+    speed trajectory (each sample's mean speed, as GEM's ExternalSpeedLoad
+    follows it), through plant_replay; its own loop timer (--timing: the
+    integration loop, no CSV I/O, no formatting). Its currents are checked
+    against the closed-loop run's (di_A)."""
     vin = os.path.join(tmp, "v.csv")
     iout = os.path.join(tmp, "i.csv")
-    v = np.column_stack([data["v_a_V"], data["v_b_V"], data["v_c_V"]])
-    np.savetxt(vin, v, delimiter=",", header="v_a_V,v_b_V,v_c_V", comments="", fmt="%.17g")
-    omega = float(np.mean(data["omega_rad_s"]))
+    w = np.asarray(data["omega_rad_s"], dtype=float)
+    w_mid = 0.5 * (w + np.append(w[1:], w[-1]))
+    v = np.column_stack([data["v_a_V"], data["v_b_V"], data["v_c_V"], w_mid])
+    np.savetxt(vin, v, delimiter=",", header="v_a_V,v_b_V,v_c_V,omega_rad_s", comments="", fmt="%.17g")
     loops, procs = [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
         r = subprocess.run([plant_replay, "--motor", setup["motor_file"], "--in", vin, "--out", iout,
-                            "--omega", repr(omega), "--ts", repr(setup["ts_s"]),
-                            "--theta0-e", repr(setup["theta0_e"]), "--timing"], capture_output=True, text=True)
+                            "--ts", repr(setup["ts_s"]), "--theta0-e", repr(setup["theta0_e"]), "--timing"],
+                           capture_output=True, text=True)
         procs.append(time.perf_counter() - t0)
         if r.returncode != 0:
             raise BenchError(f"plant_replay exit {r.returncode}: {r.stderr.strip()}")
         loops.append(float(json.loads(r.stdout)["loop_s"]))
-    return dict(wall_s=statistics.median(loops), e2e_s=statistics.median(procs), n=v.shape[0], omega=omega)
+    cur = np.loadtxt(iout, delimiter=",", skiprows=1)
+    ours = np.column_stack([data["i_a_A"], data["i_b_A"], data["i_c_A"]])
+    if cur.shape[0] != ours.shape[0]:
+        raise BenchError(f"plant_replay wrote {cur.shape[0]} rows for {ours.shape[0]} samples")
+    di = float(np.max(np.abs(cur[:, 1:4] - ours)))
+    return dict(wall_s=statistics.median(loops), e2e_s=statistics.median(procs), n=v.shape[0], di_A=di)
 
 
 # ----------------------------------------------------------------------------- GEM
@@ -359,8 +372,7 @@ def rows_of(res, ts):
         ("ours", "ours: motorsim, closed loop",
          "sensor + drive + plant (RK4, 1 step/sample) + metrics; loop timer"),
         ("replay", "ours: plant only (plant_replay)",
-         f"the same held voltages through our plant (RK4, 1 step/sample) at a constant "
-         f"{res.get('replay', {}).get('omega', 0):.2f} rad/s; loop timer"),
+         "the same held voltages and speed trajectory through our plant (RK4, 1 step/sample); loop timer"),
         ("gem_env", "GEM 3.0.3 env, default solver",
          "Cont-CC-PMSM-v0, ExternalSpeedLoad, scipy ode dopri5 (rtol 1e-6)"),
         ("gem_system", "GEM 3.0.3 physical system, default solver",
@@ -508,6 +520,10 @@ def main(argv=None) -> int:
     if a.json:
         with open(a.json, "w", encoding="utf-8") as f:
             json.dump(dict(setup=setup, results=res, rows=rows, machine=info_machine), f, indent=1)
+    if "replay" in res and not res["replay"]["di_A"] <= REPLAY_TOL_A:
+        print(f"sim_speed: error: plant_replay's currents differ from the closed-loop run's by "
+              f"{res['replay']['di_A']:.3g} A (> {REPLAY_TOL_A} A): not the same run", file=sys.stderr)
+        return 1
     bad = [k for k in ("gem_env", "gem_system") if k in res and not res[k]["di_A"] <= a.tol]
     if bad:
         print(f"sim_speed: error: GEM and ours disagree beyond {a.tol} A on {', '.join(bad)}: "
