@@ -311,6 +311,10 @@ int verdict(const mcsim::Scenario& sc, const mcsim::MetricList& metrics, const m
         if (f == DRIVE_FAULT_OVERCURRENT) {
             std::fprintf(stderr, ": measured phase current %.4g A beyond [limits] i_trip_A = %.4g A",
                          w.fault_i_meas_A(), sc.i_trip_A);
+            if (sc.i_trip_samples > 1) {
+                std::fprintf(stderr, " (the last of %d consecutive samples, [limits] i_trip_samples)",
+                             sc.i_trip_samples);
+            }
         }
         std::fprintf(stderr, "; the drive held 0 V from then on\n");
         double first_t = -1.0, events = 0.0, relocks = 0.0, first = 0.0;
