@@ -95,6 +95,25 @@ mcsim::Scenario experiment()
     return mcsim::load_scenario(std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_experiment.toml");
 }
 
+// The experiment with a 20 ms burst of sensor noise (sigma noise_A) at kInject.
+constexpr double kBurst_s = 0.02;
+mcsim::Scenario experiment_with_burst(double noise_A)
+{
+    mcsim::Scenario sc = experiment();
+    sc.faults.burst_t_s = kInject;
+    sc.faults.burst_duration_s = kBurst_s;
+    sc.faults.burst_noise_A = noise_A;
+    return sc;
+}
+
+// Where the nominal experiment's rotor ends [rad]: a run that rides a fault
+// through, or recovers from it, ends within 0.05 rad of it.
+double nominal_end_theta_rad()
+{
+    static const double theta = run(experiment()).log.back().theta;
+    return theta;
+}
+
 // What every fault run must show: the first fault's code and its detection
 // within [kInject, kInject + within_s]; the drive in FAULT at the end when
 // it must be (safe), no voltage step beyond the bounds, the currents within
@@ -319,17 +338,11 @@ TEST(Faults, ClearedOnlyByCommand)
 // acts on 1.2 A of noise), so the voltage-step bound is checked outside it.
 TEST(Faults, NoiseBurst)
 {
-    mcsim::Scenario sc = experiment();
-    const Result nominal = run(sc);
-    sc.faults.burst_t_s = kInject;
-    sc.faults.burst_duration_s = 0.02;
-    sc.faults.burst_noise_A = 0.8;
-    const Result ridden = run(sc);
+    const Result ridden = run(experiment_with_burst(0.8));
     EXPECT_EQ(drive_flight_recorder(&ridden.drive)->events, 0u);
-    EXPECT_NEAR(ridden.log.back().theta, nominal.log.back().theta, 0.05);
-    sc.faults.burst_noise_A = 1.2;
-    const Result lost = run(sc);
-    common_checks(lost, DRIVE_FAULT_LOSS_OF_SYNC, 11e-3, true, kInject, kInject + 0.02);
+    EXPECT_NEAR(ridden.log.back().theta, nominal_end_theta_rad(), 0.05);
+    const Result lost = run(experiment_with_burst(1.2));
+    common_checks(lost, DRIVE_FAULT_LOSS_OF_SYNC, 11e-3, true, kInject, kInject + kBurst_s);
 }
 
 // The re-lock after a noise burst ([protection] loss_of_sync = "relock"):
@@ -343,11 +356,7 @@ TEST(Faults, NoiseBurst)
 // recover every burst (docs/faults.md).
 TEST(Faults, NoiseBurstReLocked)
 {
-    mcsim::Scenario sc = experiment();
-    const Result nominal = run(sc);
-    sc.faults.burst_t_s = kInject;
-    sc.faults.burst_duration_s = 0.02;
-    sc.faults.burst_noise_A = 1.2;
+    mcsim::Scenario sc = experiment_with_burst(1.2);
     sc.los_relock = 1;
     sc.i_trip_samples = 2;
     // the scenario keys reach the design
@@ -362,7 +371,7 @@ TEST(Faults, NoiseBurstReLocked)
     EXPECT_GE(r.drive.relocks, 1);
     EXPECT_NE(r.drive.sup.state, SUP_STATE_FAULT) << drive_fault_name(r.drive.sup.fault);
     EXPECT_EQ(fr->fault, DRIVE_FAULT_LOSS_OF_SYNC);  // recorded, not standing
-    EXPECT_NEAR(r.log.back().theta, nominal.log.back().theta, 0.05);
+    EXPECT_NEAR(r.log.back().theta, nominal_end_theta_rad(), 0.05);
     for (const Period& p : r.log) {
         ASSERT_LE(std::hypot(p.ia, p.ib), r.sc.i_max_A * 1.01) << "at t = " << p.t;
     }
@@ -382,12 +391,11 @@ TEST(Faults, NoiseBurstReLocked)
 TEST(Faults, SensorGain)
 {
     mcsim::Scenario sc = experiment();
-    const Result nominal = run(sc);
     sc.faults.gain_t_s = kInject;
     sc.faults.gain[0] = 0.9;
     const Result ridden = run(sc);
     EXPECT_EQ(drive_flight_recorder(&ridden.drive)->events, 0u);
-    EXPECT_NEAR(ridden.log.back().theta, nominal.log.back().theta, 0.05);
+    EXPECT_NEAR(ridden.log.back().theta, nominal_end_theta_rad(), 0.05);
     sc.faults.gain[0] = 0.8;
     const Result r = run(sc);
     common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 0.83, true);
@@ -411,7 +419,6 @@ TEST(Faults, ParameterMismatch)
                           {&mcsim::MotorParams::J_kgm2, 6.4e-4, true},   {&mcsim::MotorParams::J_kgm2, 1.6e-4, true},
                           {&mcsim::MotorParams::K_Nm_per_A, 0.19, true}, {&mcsim::MotorParams::K_Nm_per_A, 0.35, false},
                           {&mcsim::MotorParams::K_Nm_per_A, 0.135, false}};
-    const Result nominal = run(experiment());
     for (const Case& c : cases) {
         mcsim::Scenario sc = experiment();
         sc.drive_model.*(c.field) = c.value;
@@ -419,7 +426,7 @@ TEST(Faults, ParameterMismatch)
         SCOPED_TRACE("drive model value " + std::to_string(c.value));
         if (c.ridden) {
             EXPECT_EQ(drive_flight_recorder(&r.drive)->events, 0u);
-            EXPECT_NEAR(r.log.back().theta, nominal.log.back().theta, 0.05);
+            EXPECT_NEAR(r.log.back().theta, nominal_end_theta_rad(), 0.05);
             continue;
         }
         double t_closed = -1.0;
