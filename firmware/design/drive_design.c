@@ -256,6 +256,59 @@
  * sliding time constant (SURFACE_POLE_PER_S). */
 #define RELOCK_CONFIRM_S 0.05
 
+/* Load-angle law (control/load_angle.h, drive_law_t LOAD_ANGLE).
+ * I_s = I_max: the spring's stiffness n_p K I_s is then the largest the
+ * limits allow (40.5 N m/rad for the rig: a 0.4 N m step moves the rotor
+ * by about 0.01 rad before any estimate has seen it).
+ * The spring's natural frequency w_n = sqrt(n_p K I_s / J) (357 rad/s for
+ * the rig) has only the motor's f_v to damp it (zeta 0.01); the observed
+ * speed adds k_d = 2 zeta w_n, with zeta LA_DAMPING_RATIO (0.55: k_d 393
+ * 1/s; measured on the experiment's 0.4 N m steps, docs/paper000.md). */
+#define LA_DAMPING_RATIO 0.55
+/* |i_g,r| <= LA_IG_MAX_OVER_IS I_s: at least sqrt(1 - 0.95^2) = 31 % of
+ * I_s stays on the spring axis whatever the feed-forward asks. */
+#define LA_IG_MAX_OVER_IS 0.95
+/* The observed load is fed forward up to LA_LOAD_FF_OVER_KIS K I_s: a
+ * load angle of asin(0.8) = 53 deg at most, the remaining 47 deg up to the
+ * pull-out angle (90 deg) left to the spring. */
+#define LA_LOAD_FF_OVER_KIS 0.8
+/* The fed-forward load moves by at most K I_s per LA_LOAD_SLEW_S (20 N m/s
+ * for the rig, 0.67 V of L di_g,r/dt): slow against the spring (1/w_n =
+ * 2.8 ms), so the rotor follows it quasi-statically. Without it the loop
+ * closing on a load the open loop carried (a step in the dwell) fed 0.24
+ * N m forward in one sample, 78 V of L di/dt, and lost the rotor. */
+#define LA_LOAD_SLEW_S 0.04
+/* i_f,r is cut to what LA_V_MARGIN V_max drives in steady state at the
+ * reference speed (load_angle_step): at the rig's peak speed, 19.7 rad/s,
+ * I_max on the f axis needs n_p L w I = 27 V plus R I and K w, more than
+ * the 30 V supply, and the experiment ran at the voltage limit on 10.6 %
+ * of its samples (a noise burst there kept it saturated past the 0.1 s
+ * fault limit). At 0.95 it is at the limit on 0.03 % (the PI's
+ * transients) and keeps 2.4 A of spring at the peak speed; at 0.85 the
+ * 0.4 N m step at the peak speed slips. */
+#define LA_V_MARGIN 0.95
+/* The current PI: kp = LA_KP_OVER_DEADBEAT L/Ts (a quarter of the gain
+ * that would cancel the error in one sample: the error then decays by 3/4
+ * per sample, 2.9 kHz, and a computation delay of one sample still leaves
+ * the loop well damped); its integral time Ts/LA_KI_OVER_KP (2 ms) takes
+ * the back-EMF the feed-forward K w_r misses when the rotor is off the
+ * reference (K w sin(n_p dtheta), up to 2 V at 20 rad/s for 0.01 rad). */
+#define LA_KP_OVER_DEADBEAT 0.25
+#define LA_KI_OVER_KP 0.05
+/* The load observer's linear term l (35) [1/s], three times the default
+ * (MECH_POLE_OVER_FS fs). A load step is first an unexplained deceleration
+ * for (35): until its load estimate has caught up (alpha, 4 N m/s for the
+ * rig's bounds: about 0.1 s for 0.4 N m; the spring holds the rotor
+ * meanwhile), the observed speed is biased by it, and the damping and the
+ * back-EMF check of the loss of synchronism read that bias. Measured on
+ * the experiment's 0.4 N m steps at twelve times of the move: 100 left the
+ * speed 3.7 rad/s off at 3.6 s and tripped on a loss of synchronism that
+ * was not there; 1000 lets the noise of (32) through and tripped at two
+ * loop closings; 300 held all twelve. Raising alpha instead (to follow
+ * half of K I_max within 20 ms) doubled the estimate's noise (0.015 rad
+ * on the plain run) and tripped at 0.2 s. */
+#define LA_MECH_L_PER_S 300.0
+
 void drive_design_defaults(drive_design_input_t *in)
 {
     memset(in, 0, sizeof(*in));
@@ -275,6 +328,7 @@ void drive_design_defaults(drive_design_input_t *in)
     in->i_trip_samples = 1;  /* the instantaneous trip */
     in->los_relock = 0;      /* a loss of synchronism: the safe state */
     in->gain_design = DRIVE_GAIN_CONTINUOUS; /* see drive_gain_design_t and docs/paper000.md */
+    in->control_law = DRIVE_LAW_TWISTING;    /* the paper's */
 }
 
 static int32_t ticks_of(double t_s, double fs) { return (int32_t)ceil(t_s * fs - 1e-9); }
@@ -389,6 +443,8 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     if (!(in->omega_lim_rad_s > 0.0)) return fail(err, err_len, "limits.omega_lim_rad_s", "must be > 0", in->omega_lim_rad_s);
     if (!fault_trip_samples_ok(in->i_trip_samples))
         return fail(err, err_len, "limits.i_trip_samples", "must be 1..8 (0: 1)", (double)in->i_trip_samples);
+    if (in->control_law != DRIVE_LAW_TWISTING && in->control_law != DRIVE_LAW_LOAD_ANGLE)
+        return fail(err, err_len, "design.control_law", "must be twisting (0) or load_angle (1)", (double)in->control_law);
     if (in->gain_design != DRIVE_GAIN_CONTINUOUS && in->gain_design != DRIVE_GAIN_DISCRETE)
         return fail(err, err_len, "design.gain_design", "must be continuous (0) or discrete (1)", (double)in->gain_design);
     if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
@@ -453,6 +509,9 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     ed.omega_lim_rad_s = in->omega_lim_rad_s;
     ed.i_max_A = in->i_max_A;
     ed.override = *ov;
+    if (in->control_law == DRIVE_LAW_LOAD_ANGLE && !(ov->mech_l_per_s > 0.0)) {
+        ed.override.mech_l_per_s = LA_MECH_L_PER_S;
+    }
     const bool discrete = in->gain_design == DRIVE_GAIN_DISCRETE;
     /* the sampled loop's cap on lambda_M and the load observer's alpha
      * (top comment); unused by the continuous design */
@@ -524,6 +583,22 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cc->load_ff_max_Nm = mc_from_double(LOAD_FF_TRUST_OVER_BOUND * load_max);
     /* (38): L di_g,r/dt of the fed-forward C_r/K (discrete design) */
     cc->load_ff_L_over_KTs = mc_from_double((discrete && in->load_feedforward) ? L / (K * Ts) : 0.0);
+    cfg->law = in->control_law;
+    {
+        load_angle_config_t *la = &cfg->load_angle;
+        const double i_s = in->i_max_A;
+        const double w_n = sqrt(np * K * i_s / J);
+        const double kp = LA_KP_OVER_DEADBEAT * L / Ts;
+        la->i_s_A = mc_from_double(i_s);
+        la->i_g_max_A = mc_from_double(LA_IG_MAX_OVER_IS * i_s);
+        la->damp_A_s_per_rad = mc_from_double((J / K) * 2.0 * LA_DAMPING_RATIO * w_n);
+        la->load_ff_max_Nm = mc_from_double(LA_LOAD_FF_OVER_KIS * K * i_s);
+        la->load_slew_Nm = mc_from_double(K * i_s * Ts / LA_LOAD_SLEW_S);
+        la->L_over_KTs_V_per_Nm = mc_from_double(L / (K * Ts));
+        la->kp_ohm = mc_from_double(kp);
+        la->ki_ohm = mc_from_double(LA_KI_OVER_KP * kp);
+        la->v_limit_V = mc_from_double(LA_V_MARGIN * in->v_max_V);
+    }
     cfg->close_dwell_ticks = (uint32_t)ceil(CLOSE_DWELL_S * fs - 1e-9);
     if (in->identify_rl) {
         const int32_t n = (int32_t)ceil(RL_WINDOW_TAUS * L / (R > 0.0 ? R : 1.0) / Ts);

@@ -97,7 +97,8 @@ typedef struct {
      * currents of t_k acts from t_k + d Ts (drives/paper000_drive.h,
      * drive_delay_config_t, says what the drive does with it). */
     double compute_delay_samples;
-    drive_gain_design_t gain_design;  /* see drive_gain_design_t; default DISCRETE */
+    drive_gain_design_t gain_design;  /* see drive_gain_design_t; default CONTINUOUS */
+    drive_law_t control_law;          /* see drive_law_t (drives/paper000_drive.h); default TWISTING */
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;

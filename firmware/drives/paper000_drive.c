@@ -188,7 +188,11 @@ static bool drive_lost_sync(drive_t *d, bool observable)
 {
     const drive_protection_config_t *p = &d->cfg.prot;
     if (!observable) {
-        return true; /* the back-EMF vanished while the reference is fast */
+        /* the back-EMF vanished while the reference is fast: the twisting
+         * law has lost its estimate. The load-angle law holds the rotor
+         * without one: it goes on in its open-loop form (the loop opens,
+         * want_closed in drive_step) and closes again once observable */
+        return d->cfg.law != DRIVE_LAW_LOAD_ANGLE;
     }
     if ((d->tick & (DRIVE_LOS_DECIMATION - 1u)) != 0u) {
         return false; /* the criteria below run on every DRIVE_LOS_DECIMATION-th sample */
@@ -296,6 +300,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->v_ext_V.beta = MC_ZERO;
     fg_estimator_init(&d->est, &cfg->est);
     fg_tracking_init(&d->ctrl, &cfg->ctrl);
+    load_angle_init(&d->la, &cfg->load_angle);
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
     rl_id_init(&d->rl_id, &cfg->rl_id);
     k_id_init(&d->k_id, &cfg->k_id);
@@ -510,12 +515,26 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
              * starts to act (they replace the measured ones of (44)) */
             drive_delay_currents(d, rot_half, i_f, i_g);
         }
-        if (switched) {
-            fg_tracking_start(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, est.load_Nm,
-                              d->est.i_d_A, d->est.i_q_A);
+        if (c->law == DRIVE_LAW_LOAD_ANGLE) {
+            /* the law's currents in the reference's frame: the measured
+             * ones, or their prediction turned back from the estimated frame */
+            mc_t i_f_law = i_f, i_g_law = i_g;
+            if (mc_ne(c->delay.d, MC_ZERO)) {
+                mc_rot_inv(d->est.u_est, d->est.i_d_A, d->est.i_q_A, &i_f_law, &i_g_law);
+            }
+            load_angle_step(&d->la, &d->model, &d->ref, i_f_law, i_g_law, true, est.omega_rad_s, est.load_Nm,
+                            d->sup.sat_prev, &v_f, &v_g);
+        } else {
+            if (switched) {
+                fg_tracking_start(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, est.load_Nm,
+                                  d->est.i_d_A, d->est.i_q_A);
+            }
+            fg_tracking_step(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, &est, d->est.u_est,
+                             d->est.i_d_A, d->est.i_q_A, d->sup.sat_prev, &v_f, &v_g);
         }
-        fg_tracking_step(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, &est, d->est.u_est,
-                         d->est.i_d_A, d->est.i_q_A, d->sup.sat_prev, &v_f, &v_g);
+    } else if (c->law == DRIVE_LAW_LOAD_ANGLE && d->sup.state == SUP_STATE_OPEN_LOOP) {
+        /* no estimate: the last observed load held, no damping */
+        load_angle_step(&d->la, &d->model, &d->ref, i_f, i_g, false, MC_ZERO, MC_ZERO, d->sup.sat_prev, &v_f, &v_g);
     } else {
         v_f = open_loop_voltage(&c->open_loop, &d->model, d->ref.omega_rad_s); /* eq. (68) */
         v_g = MC_ZERO;
@@ -698,8 +717,13 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     /* references: the law's in closed loop; the open-loop start (68)
      * drives i_max along f; none in FAULT */
     const bool fault = d->sup.state == SUP_STATE_FAULT;
-    t->i_f_ref_A = closed ? d->ctrl.i_f_ref_A : (fault ? MC_ZERO : d->cfg.open_loop.i_max_A);
-    t->i_g_ref_A = closed ? d->ctrl.i_g_ref_A : MC_ZERO;
+    if (d->cfg.law == DRIVE_LAW_LOAD_ANGLE && (closed || d->sup.state == SUP_STATE_OPEN_LOOP)) {
+        t->i_f_ref_A = d->la.i_f_ref_A;
+        t->i_g_ref_A = d->la.i_g_ref_A;
+    } else {
+        t->i_f_ref_A = closed ? d->ctrl.i_f_ref_A : (fault ? MC_ZERO : d->cfg.open_loop.i_max_A);
+        t->i_g_ref_A = closed ? d->ctrl.i_g_ref_A : MC_ZERO;
+    }
     t->i_f_A = d->last.i_f_A;
     t->i_g_A = d->last.i_g_A;
     /* the estimate the last sample was corrected with */

@@ -27,6 +27,7 @@
 
 #include "adapter/phase_adapter.h"
 #include "control/fg_tracking.h"
+#include "control/load_angle.h"
 #include "estimators/fg_estimator.h"
 #include "hal/hal_types.h"
 #include "math/frame_fg.h"
@@ -112,6 +113,17 @@ typedef struct {
     bool from_next;    /* base of the output frame: the next sample's (d >= 1/2) or the mid-sample one */
 } drive_delay_config_t;
 
+/* The position law. TWISTING: paper 000's super-twisting current loop
+ * (46)-(51) and twisting position loop (52)-(57) on the estimates, in
+ * closed loop; the open-loop range below omega_lim is (68). LOAD_ANGLE:
+ * current-vector control in the reference's frame (control/load_angle.h)
+ * in closed loop and in the open-loop range (after the standstill R, L
+ * measurement, which keeps (68)): a current of I_max whose angle ahead of
+ * the reference carries the torque the move and the observed load need,
+ * damped on the observed speed; a load step is held by the magnetic
+ * spring of that current before any estimate has seen it. */
+typedef enum { DRIVE_LAW_TWISTING = 0, DRIVE_LAW_LOAD_ANGLE = 1 } drive_law_t;
+
 /* Everything drive_init needs, in the firmware numeric type. Per-sample
  * coefficients already contain Ts (see firmware/design/drive_design.c).
  * Pointer-free, so it can be stored, copied and sent as bytes. */
@@ -120,6 +132,8 @@ typedef struct {
     drive_limits_t limits;
     fg_estimator_config_t est;
     fg_tracking_config_t ctrl;
+    drive_law_t law;
+    load_angle_config_t load_angle; /* with law LOAD_ANGLE */
     supervisor_config_t sup;
     fault_monitor_config_t faults;
     drive_protection_config_t prot;
@@ -185,6 +199,7 @@ typedef struct {
     mc_t theta_ref_prev_rad;
     fg_estimator_t est;
     fg_tracking_t ctrl;
+    load_angle_t la;
     align_t align;
     rl_id_t rl_id;
     k_id_t k_id;

@@ -185,15 +185,17 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     }
     const bool load_settled = load_done_t_ >= 0.0 && p.t_s - load_done_t_ >= kLoadSettleS &&
                               (load_next_ >= sc_.load.size() || sc_.load[load_next_].t_s > p.t_s);
+    // after a load change, every sample counts, open loop too: the rotor
+    // must be back on the reference whatever the drive's mode
+    if (load_settled) {
+        // fmax: the first one replaces the NaN of "no such sample"
+        theta_track_load_settled_max_ = std::fmax(theta_track_load_settled_max_, track);
+    }
     // "Closed loop" by the reference speed, as in section 5.4, so that the
     // open/closed switch transients count against the drive.
     if (std::fabs(ref.omega_rad_s) >= omega_lim_rad_s_) {
         ++n_closed_;
         theta_track_max_ = std::max(theta_track_max_, track);
-        if (load_settled) {
-            // fmax: the first one replaces the NaN of "no such sample"
-            theta_track_load_settled_max_ = std::fmax(theta_track_load_settled_max_, track);
-        }
         theta_est_max_ = std::max(theta_est_max_, est);
         current_obs_max_ = std::max(current_obs_max_, std::max(std::fabs(i_f - i_f_hat), std::fabs(i_g - i_g_hat)));
         omega_est_max_ = std::max(omega_est_max_, w_err);

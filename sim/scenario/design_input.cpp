@@ -133,6 +133,9 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     if (sc.gain_design >= 0) {
         in->gain_design = sc.gain_design == 1 ? DRIVE_GAIN_DISCRETE : DRIVE_GAIN_CONTINUOUS;
     }
+    if (sc.control_law >= 0) {
+        in->control_law = sc.control_law == 1 ? DRIVE_LAW_LOAD_ANGLE : DRIVE_LAW_TWISTING;
+    }
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
         in->segments[k].t_start_s = sc.segments[k].t_start_s;

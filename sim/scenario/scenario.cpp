@@ -934,7 +934,7 @@ Scenario load_scenario(const std::string& path)
 
     // [design] (optional): design switches that are neither gains nor bounds
     if (const auto v = root.table("design")) {
-        v->only({"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design"});
+        v->only({"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design", "control_law"});
         if (const auto b = v->boolean("load_feedforward")) {
             sc.load_feedforward = *b ? 1 : 0;
         }
@@ -954,6 +954,19 @@ Scenario load_scenario(const std::string& path)
                 sc.gain_design = 1;
             } else {
                 v->fail("gain_design", "must be \"continuous\" or \"discrete\" (got \"" + *g + "\")");
+            }
+        }
+        if (const auto g = v->string("control_law")) {
+            if (*g == "twisting") {
+                sc.control_law = 0;
+            } else if (*g == "load_angle") {
+                if (sc.speed_drive || sc.paper002_drive) {
+                    v->fail("control_law", "\"load_angle\" is the position drive's law ([trajectory]); the speed "
+                                           "drives have their own");
+                }
+                sc.control_law = 1;
+            } else {
+                v->fail("control_law", "must be \"twisting\" or \"load_angle\" (got \"" + *g + "\")");
             }
         }
     }

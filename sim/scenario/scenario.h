@@ -116,6 +116,7 @@ struct Scenario {
     // duration_s counts from t = 0.
     std::uint32_t pre_ticks = 0;
     int gain_design = -1; // [design] gain_design: 0 continuous, 1 discrete; -1: design default
+    int control_law = -1; // [design] control_law: 0 twisting, 1 load_angle; -1: design default
 
     // [speed] (the paper-001 speed drive instead of [trajectory])
     bool speed_drive = false;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 extern "C" {
+#include "control/load_angle.h"
 #include "control/super_twisting.h"
 #include "control/twisting.h"
 #include "math/frame_fg.h"
@@ -45,6 +46,8 @@ motor_model_t rig_model(double R, double L, double K, double J, double fv, doubl
     m.fv_Nm_s = M(fv);
     m.inv_J = M(1 / J);
     m.ts_over_J = M(Ts / J);
+    m.J_over_K_A_s2 = M(J / K);
+    m.fv_over_K_A_s = M(fv / K);
     return m;
 }
 }  // namespace
@@ -647,4 +650,119 @@ TEST(RlIdentification, RejectsMotionAndImplausibleResults)
     rl_id_init(&id, &off);
     EXPECT_EQ(id.state, RL_ID_OFF);
     EXPECT_FALSE(rl_id_step(&id, M(1.0), M(9.0), M(0.0)));
+}
+
+// ---- load-angle (current-vector) law, control/load_angle.h ----
+namespace {
+load_angle_config_t la_config(double Is, double K, double L, double Ts)
+{
+    load_angle_config_t c{};
+    c.i_s_A = M(Is);
+    c.i_g_max_A = M(0.95 * Is);
+    c.damp_A_s_per_rad = M(0.5);
+    c.load_ff_max_Nm = M(0.8 * K * Is);
+    c.load_slew_Nm = M(0.002);
+    c.L_over_KTs_V_per_Nm = M(L / (K * Ts));
+    c.kp_ohm = M(22.5);
+    c.ki_ohm = M(1.125);
+    return c;
+}
+}  // namespace
+
+// The references: i_g,r the torque of (39) with the observed load over K,
+// minus the damping; i_f,r the rest of I_s; the observed load reaches the
+// references at the slew rate, and without an estimate the last one holds.
+TEST(LoadAngle, CurrentVectorCarriesTheTorqueAndTheRestIsSpring)
+{
+    const double R = 3.01, L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4, Is = 3.0;
+    const motor_model_t mm = rig_model(R, L, K, J, fv, Ts);
+    load_angle_t la;
+    const load_angle_config_t cfg = la_config(Is, K, L, Ts);
+    load_angle_init(&la, &cfg);
+    trajectory_point_t r{};
+    r.omega_rad_s = M(10.0);
+    r.accel_rad_s2 = M(100.0);
+    mc_t vf, vg;
+    // a load of 0.3 N m observed: 150 samples of 0.002 N m to get there
+    for (int k = 0; k < 149; ++k) {
+        load_angle_step(&la, &mm, &r, M(0), M(0), true, r.omega_rad_s, M(0.3), true, &vf, &vg);
+    }
+    EXPECT_NEAR(D(la.load_Nm), 0.298, 1e-3);
+    load_angle_step(&la, &mm, &r, M(0), M(0), true, r.omega_rad_s, M(0.3), true, &vf, &vg);
+    EXPECT_NEAR(D(la.load_Nm), 0.3, 1e-3);
+    const double ig = (J * 100.0 + fv * 10.0 + 0.3) / K;
+    EXPECT_NEAR(D(la.i_g_ref_A), ig, 2e-3);
+    EXPECT_NEAR(D(la.i_f_ref_A), std::sqrt(Is * Is - ig * ig), 2e-3);
+    // an observed speed 1 rad/s too high takes damp_A_s_per_rad off i_g,r
+    load_angle_step(&la, &mm, &r, M(0), M(0), true, M(11.0), M(0.3), true, &vf, &vg);
+    EXPECT_NEAR(D(la.i_g_ref_A), ig - 0.5, 2e-3);
+    // no estimate: the load holds, the speed is not read (no damping)
+    load_angle_step(&la, &mm, &r, M(0), M(0), false, M(50.0), M(-0.7), true, &vf, &vg);
+    EXPECT_NEAR(D(la.load_Nm), 0.3, 1e-3);
+    EXPECT_NEAR(D(la.i_g_ref_A), ig, 2e-3);
+    // a torque beyond I_s: i_g,r capped at 0.95 I_s, 31 % of I_s left on f
+    load_angle_step(&la, &mm, &r, M(0), M(0), true, M(-20.0), M(0.3), true, &vf, &vg);
+    EXPECT_NEAR(D(la.i_g_ref_A), 0.95 * Is, 2e-3);
+    EXPECT_NEAR(D(la.i_f_ref_A), Is * std::sqrt(1 - 0.95 * 0.95), 5e-3);
+}
+
+// The voltage: the reference model (38) at the references, plus the PI,
+// with an estimate or without.
+TEST(LoadAngle, VoltageIsTheReferenceModelPlusThePi)
+{
+    const double R = 3.01, L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4, Is = 3.0;
+    const motor_model_t mm = rig_model(R, L, K, J, fv, Ts);
+    const load_angle_config_t cfg = la_config(Is, K, L, Ts);
+    trajectory_point_t r{};
+    r.omega_rad_s = M(10.0);
+    const double npLw = 50 * L * 10.0;
+    for (const bool est : {true, false}) {
+        load_angle_t la;
+        load_angle_init(&la, &cfg);
+        mc_t vf, vg;
+        // currents on their references: no PI term, no integral
+        load_angle_step(&la, &mm, &r, M(0), M(0), est, r.omega_rad_s, M(0), true, &vf, &vg);
+        const double f = D(la.i_f_ref_A), g = D(la.i_g_ref_A);
+        load_angle_step(&la, &mm, &r, M(f), M(g), est, r.omega_rad_s, M(0), false, &vf, &vg);
+        EXPECT_NEAR(D(vf), R * f - npLw * g, 1e-3) << est;
+        EXPECT_NEAR(D(vg), R * g + npLw * f + K * 10.0, 1e-3) << est;
+        // 0.1 A short on g: kp 0.1 + the integral's first step ki 0.1
+        const double gain = 1.0;
+        load_angle_step(&la, &mm, &r, M(f), M(g - 0.1), est, r.omega_rad_s, M(0), false, &vf, &vg);
+        EXPECT_NEAR(D(vg), R * g + npLw * f + K * 10.0 + gain * (22.5 + 1.125) * 0.1, 2e-3) << est;
+        EXPECT_NEAR(D(la.int_g_V), gain * 1.125 * 0.1, 1e-4) << est;
+        // saturated: the integral holds
+        load_angle_step(&la, &mm, &r, M(f), M(g - 0.1), est, r.omega_rad_s, M(0), true, &vf, &vg);
+        EXPECT_NEAR(D(la.int_g_V), gain * 1.125 * 0.1, 1e-4) << est;
+    }
+}
+
+// The spring current is cut to what v_limit_V drives in steady state at
+// the reference speed: the reference model's voltage at (i_f,r, i_g,r)
+// then has that magnitude; at low speed nothing is cut.
+TEST(LoadAngle, SpringCutToTheSupplyAtSpeed)
+{
+    const double R = 3.01, L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4, Is = 3.0, V = 28.5;
+    const motor_model_t mm = rig_model(R, L, K, J, fv, Ts);
+    load_angle_config_t cfg = la_config(Is, K, L, Ts);
+    cfg.v_limit_V = M(V);
+    for (const double w : {2.0, 19.7, -19.7}) {
+        load_angle_t la;
+        load_angle_init(&la, &cfg);
+        trajectory_point_t r{};
+        r.omega_rad_s = M(w);
+        mc_t vf, vg;
+        load_angle_step(&la, &mm, &r, M(0), M(0), true, r.omega_rad_s, M(0), true, &vf, &vg);
+        const double f = D(la.i_f_ref_A), g = D(la.i_g_ref_A);
+        const double ww = 50 * L * w;
+        const double v = std::hypot(R * f - ww * g, R * g + ww * f + K * w);
+        if (w == 2.0) {
+            EXPECT_NEAR(f, std::sqrt(Is * Is - g * g), 2e-3);
+            EXPECT_LT(v, V);
+        } else {
+            EXPECT_LT(f, 2.6) << w;   // cut from 3 A
+            EXPECT_GT(f, 2.2) << w;
+            EXPECT_NEAR(v, V, 0.05) << w;
+        }
+    }
 }

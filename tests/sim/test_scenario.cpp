@@ -149,6 +149,16 @@ bound_load_Nm = 0.2
     EXPECT_EQ(in.override.k_surface_per_s, 80.0);
     EXPECT_EQ(in.bound_load_Nm, 0.2);
     EXPECT_EQ(in.i_trip_A, 4.5);
+    EXPECT_EQ(in.control_law, DRIVE_LAW_TWISTING);  // the paper's unless asked
+}
+
+TEST(Scenario, ControlLawMapsToTheDesign)
+{
+    const TempScenario t(kBase + "[design]\ncontrol_law = \"load_angle\"\n");
+    const mcsim::Scenario sc = mcsim::load_scenario(t.path());
+    drive_design_input_t in;
+    mcsim::make_design_input(sc, &in);
+    EXPECT_EQ(in.control_law, DRIVE_LAW_LOAD_ANGLE);
 }
 
 struct BadCase {
@@ -224,6 +234,8 @@ INSTANTIATE_TEST_SUITE_P(
                               "limits.i_trip_samples: expected an integer"},
                       BadCase{"loss_of_sync", "", "[protection]\nloss_of_sync = \"retry\"\n",
                               "protection.loss_of_sync: must be \"safe\" or \"relock\" (got \"retry\")"},
+                      BadCase{"control_law", "", "[design]\ncontrol_law = \"spring\"\n",
+                              "design.control_law: must be \"twisting\" or \"load_angle\" (got \"spring\")"},
                       BadCase{"protection_key", "", "[protection]\nstall = \"safe\"\n", "protection.stall: unknown key"},
                       BadCase{"gain_name", "", "[gains]\nemf_alpha = 1.0\n", "gains.emf_alpha: unknown key"},
                       BadCase{"nan", "v_max_V = 30.0", "v_max_V = nan", "supply.v_max_V: must be finite"},

@@ -12,7 +12,8 @@
               0.475 with it)
   --load-capacity  load steps of 0.1-0.4 N m at 0.5, 1.0, 1.5, 2.5, 3.0 s on
               the experiment (seed 1), both designs, with the default bounds
-              and with bound_load_Nm = the step + the Coulomb friction; a cell
+              and with bound_load_Nm = the step + the Coulomb friction, and
+              with the load-angle law 0.4-0.6 N m; a cell
               is max / settled tracking error (theta_track_max_rad /
               theta_track_load_settled_max_rad) and passes (ok) when there is
               no trip, no pole slip, max < 0.05 and settled < 0.02 rad
@@ -100,11 +101,17 @@ COULOMB_NM = 0.0752   # sim/motors/paper000_stepper.toml: the default load bound
 HALF_PITCH_RAD = 0.0628  # pi/n_p: beyond it the rotor has slipped a pole
 STEP_TIMES = (0.5, 1.0, 1.5, 2.5, 3.0)
 STEP_LOADS = (0.1, 0.15, 0.2, 0.3, 0.4)
+# the load-angle law (control_law = "load_angle"): the issue's step, and
+# beyond it up to where it slips
+LOAD_ANGLE_LOADS = (0.4, 0.5, 0.6)
 
 
-def experiment_variant(design: str, bounds: dict[str, float], load: tuple[float, float] | None = None) -> str:
+def experiment_variant(design: str, bounds: dict[str, float], load: tuple[float, float] | None = None,
+                       law: str = "twisting") -> str:
     t = (SC / "paper000_experiment.toml").read_text()
     t += f'\n[design]\ngain_design = "{design}"\n'
+    if law != "twisting":
+        t += f'control_law = "{law}"\n'
     if bounds:
         t += "\n[bounds]\n" + "".join(f"{k} = {v}\n" for k, v in bounds.items())
     if load is not None:
@@ -145,8 +152,13 @@ def load_capacity(ms: Path) -> None:
         for raised in (False, True):
             for load in STEP_LOADS:
                 bounds = {"bound_load_Nm": round(load + COULOMB_NM, 4)} if raised else {}
-                cases.append((design, raised, load, [experiment_variant(design, bounds, (load, t)) for t in STEP_TIMES]))
-    flat = [(i, j, text) for i, c in enumerate(cases) for j, text in enumerate(c[3])]
+                cases.append(("twisting", design, raised, load,
+                              [experiment_variant(design, bounds, (load, t)) for t in STEP_TIMES]))
+    for design in ("continuous", "discrete"):
+        for load in LOAD_ANGLE_LOADS:
+            cases.append(("load_angle", design, False, load,
+                          [experiment_variant(design, {}, (load, t), "load_angle") for t in STEP_TIMES]))
+    flat = [(i, j, text) for i, c in enumerate(cases) for j, text in enumerate(c[4])]
     with ThreadPoolExecutor(2) as pool:
         res = list(pool.map(lambda x: run(ms, x[2], SC / "paper000_experiment.toml"), flat))
     cell: dict[tuple[int, int], str] = {}
@@ -159,11 +171,12 @@ def load_capacity(ms: Path) -> None:
             tr, st = m["theta_track_max_rad"], m["theta_track_load_settled_max_rad"]
             ok = tr < 0.05 and st is not None and st < 0.02
             cell[(i, j)] = f"{g(tr)} / {g(st) if st is not None else '-'}" + (" ok" if ok else "")
-    print("| design | bounds | step | " + " | ".join(f"at {t:g} s" for t in STEP_TIMES) + " |")
-    print("| --- | --- | --- | " + " | ".join("---" for _ in STEP_TIMES) + " |")
-    for i, (design, raised, load, _) in enumerate(cases):
+    print("| law | design | bounds | step | " + " | ".join(f"at {t:g} s" for t in STEP_TIMES) + " |")
+    print("| --- | --- | --- | --- | " + " | ".join("---" for _ in STEP_TIMES) + " |")
+    for i, (law, design, raised, load, _) in enumerate(cases):
         b = f"`bound_load_Nm = {load + COULOMB_NM:.3g}`" if raised else "default"
-        print(f"| {design} | {b} | {load:g} N m | " + " | ".join(cell[(i, j)] for j in range(len(STEP_TIMES))) + " |")
+        print(f"| {law} | {design} | {b} | {load:g} N m | "
+              + " | ".join(cell[(i, j)] for j in range(len(STEP_TIMES))) + " |")
 
 
 def main() -> int:
