@@ -118,7 +118,7 @@ typedef struct {
  * closed loop; the open-loop range below omega_lim is (68). LOAD_ANGLE:
  * current-vector control in the reference's frame (control/load_angle.h)
  * in closed loop and in the open-loop range (after the standstill R, L
- * measurement, which keeps (68)): a current of I_max whose angle ahead of
+ * measurement, which keeps (68)): a current of 0.97 I_max whose angle ahead of
  * the reference carries the torque the move and the observed load need,
  * damped on the observed speed; a load step is held by the magnetic
  * spring of that current before any estimate has seen it. */

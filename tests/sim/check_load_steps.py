@@ -8,7 +8,7 @@ and requires, for each run, the issue's load-step thresholds:
     included (a pole slip is 0.063 rad);
   * back within --settled (0.02 rad) from 100 ms after the step, every
     sample (theta_track_load_settled_max_rad);
-  * no phase current above i_trip_A;
+  * no phase current above --i-max (i_max_A of the scenario, 3 A);
   * the estimate within --est-max (0.03 rad, twice the experiment's
     threshold for its run without a step: the estimate is thrown at a loop
     closing right after a step) and the voltage limit active on no more
@@ -41,7 +41,7 @@ def main():
     ap.add_argument("scenario")
     ap.add_argument("--times", type=float, nargs="+", default=TIMES)
     ap.add_argument("--seeds", type=int, nargs="+", default=[1])
-    ap.add_argument("--i-trip", type=float, default=4.5, help="[limits] i_trip_A of the scenario")
+    ap.add_argument("--i-max", type=float, default=3.0, help="[limits] i_max_A of the scenario")
     ap.add_argument("--max-err", type=float, default=0.05, help="max tracking error over the run [rad]")
     ap.add_argument("--settled", type=float, default=0.02, help="max tracking error from 100 ms after the step [rad]")
     ap.add_argument("--est-max", type=float, default=0.03, help="max estimate error [rad]")
@@ -90,8 +90,8 @@ def main():
                        f"of the samples > {a.sat_max}")
         if st is None or not st < a.settled:
             bad.append(f"step at {t} s, seed {seed}: error from 100 ms after the step {st} rad, not < {a.settled} rad")
-        if m["max_abs_current_A"] > a.i_trip:
-            bad.append(f"step at {t} s, seed {seed}: phase current {m['max_abs_current_A']:.4g} A > i_trip {a.i_trip} A")
+        if m["max_abs_current_A"] > a.i_max:
+            bad.append(f"step at {t} s, seed {seed}: phase current {m['max_abs_current_A']:.4g} A > i_max {a.i_max} A")
     for b in bad:
         print("FAIL:", b)
     print(f"{len(results) - len(bad)} of {len(results)} runs pass" if not bad else f"{len(bad)} failure(s)")

@@ -12,7 +12,12 @@ ended in an over-current fault (code 1) and those whose loss of
 synchronism stood after the re-locks (code 5); and how many ended without
 a fault but off the end point (a silent wrong tooth).
 
-    python3 tools/bench/relock_bursts.py [--build build/host] [--jobs 2]
+--law load_angle runs the paper-000 drive's load-angle law ([design]
+control_law, control/load_angle.h) instead of paper 000's twisting law;
+"other" counts the runs that ended in another fault (4: the voltage
+limit active for too long).
+
+    python3 tools/bench/relock_bursts.py [--build build/host] [--jobs 2] [--law twisting|load_angle]
 
 126 motorsim runs, metrics only: a few seconds. Standard library only.
 """
@@ -36,21 +41,23 @@ BURST_S = 0.02
 END_TOL_RAD = 0.05  # the issue's "finishes the move within 0.05 rad"
 
 
-def scenario(count: int, noise_A: float, t_s: float) -> str:
+def scenario(count: int, noise_A: float, t_s: float, law: str = "twisting") -> str:
     text = SC.read_text().replace('file = "../motors/', f'file = "{SC.parent.parent}/motors/')
     if "[limits]\n" not in text:
         sys.exit("relock_bursts: no [limits] table in " + str(SC))
     text = text.replace("[limits]\n", f"[limits]\ni_trip_samples = {count}\n", 1)
     text += '\n[protection]\nloss_of_sync = "relock"\n'
+    if law != "twisting":
+        text += f'\n[design]\ncontrol_law = "{law}"\n'
     text += f"\n[faults]\nnoise_burst = {{t_s = {t_s}, duration_s = {BURST_S}, noise_A = {noise_A}}}\n"
     return text
 
 
-def run(ms: Path, case: tuple[int, float, float, int]) -> tuple[int, int, float]:
+def run(ms: Path, case: tuple[int, float, float, int], law: str = "twisting") -> tuple[int, int, float]:
     count, noise_A, t_s, seed = case
     with tempfile.TemporaryDirectory() as d:
         path = Path(d) / "burst.toml"
-        path.write_text(scenario(count, noise_A, t_s))
+        path.write_text(scenario(count, noise_A, t_s, law))
         out = Path(d) / "m.json"
         r = subprocess.run([str(ms), "--scenario", str(path), "--metrics-out", str(out), "--quiet", "--no-expect",
                             "--seed", str(seed)], capture_output=True, text=True)
@@ -64,6 +71,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "host"))
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--law", choices=("twisting", "load_angle"), default="twisting",
+                    help="the paper-000 drive's position law ([design] control_law)")
     a = ap.parse_args()
     ms = Path(a.build).resolve() / "sim" / "motorsim"
     if not ms.exists():
@@ -74,7 +83,7 @@ def main() -> int:
         return 2
     cases = [(c, n, t, s) for c in COUNTS for n in NOISE_A for t in TIMES_S for s in SEEDS]
     with ThreadPoolExecutor(a.jobs) as pool:
-        res = list(pool.map(lambda c: run(ms, c), cases))
+        res = list(pool.map(lambda c: run(ms, c, a.law), cases))
     n = len(cases) // len(COUNTS)
     print("| `[limits] i_trip_samples` | recovered | over-current (code 1) | loss of synchronism standing (code 5) "
           "| no fault, off the end |")
