@@ -6,8 +6,16 @@ void load_angle_init(load_angle_t *c, const load_angle_config_t *cfg)
     c->int_f_V = MC_ZERO;
     c->int_g_V = MC_ZERO;
     c->load_Nm = MC_ZERO;
+    c->i_amp_A = cfg->i_s_A;
     c->i_f_ref_A = MC_ZERO;
     c->i_g_ref_A = MC_ZERO;
+}
+
+void load_angle_start(load_angle_t *c, mc_t i_A)
+{
+    c->i_amp_A = mc_clamp(i_A, MC_ZERO, c->cfg.i_s_A);
+    c->int_f_V = MC_ZERO;
+    c->int_g_V = MC_ZERO;
 }
 
 void load_angle_step(load_angle_t *c, const motor_model_t *m, const trajectory_point_t *r, mc_t i_f_A, mc_t i_g_A,
@@ -36,9 +44,15 @@ void load_angle_step(load_angle_t *c, const motor_model_t *m, const trajectory_p
          * sqrt(n_p K I_s / J) with the motor's own f_v only */
         i_g = mc_sub(i_g, mc_mul(k->damp_A_s_per_rad, mc_sub(omega_est_rad_s, r->omega_rad_s)));
     }
-    i_g = mc_clamp(i_g, mc_neg(k->i_g_max_A), k->i_g_max_A);
-    /* the rest of I_s on the reference's f axis: the spring */
-    mc_t i_f = mc_sqrt(mc_sub(mc_mul(k->i_s_A, k->i_s_A), mc_mul(i_g, i_g)));
+    /* the amplitude: I_s, or ramping there after a hand-over */
+    if (mc_lt(c->i_amp_A, k->i_s_A)) {
+        c->i_amp_A = mc_min(k->i_s_A, mc_add(c->i_amp_A, k->i_amp_slew_A));
+    }
+    const mc_t i_amp = c->i_amp_A;
+    const mc_t i_g_max = mc_min(k->i_g_max_A, i_amp);
+    i_g = mc_clamp(i_g, mc_neg(i_g_max), i_g_max);
+    /* the rest of the amplitude on the reference's f axis: the spring */
+    mc_t i_f = mc_sqrt(mc_max(MC_ZERO, mc_sub(mc_mul(i_amp, i_amp), mc_mul(i_g, i_g))));
     if (mc_gt(k->v_limit_V, MC_ZERO)) {
         /* as much of it as the supply drives at this speed: the steady
          * state of (38) at (i_f, i_g), w = n_p L w_r, e = K w_r, Z^2 = R^2 + w^2,

@@ -50,6 +50,7 @@ typedef struct {
     mc_t L_over_KTs_V_per_Nm;/* L/(K Ts): the voltage of a fed-forward load change per sample [V/(N m)] */
     mc_t kp_ohm;             /* PI proportional gain [V/A] */
     mc_t ki_ohm;             /* PI integral gain per sample [V/A] */
+    mc_t i_amp_slew_A;       /* after load_angle_start, the amplitude moves to I_s by this per sample [A] */
     mc_t v_limit_V;          /* i_f,r no larger than this voltage drives in steady state; 0: off */
 } load_angle_config_t;
 
@@ -57,10 +58,16 @@ typedef struct {
     load_angle_config_t cfg;
     mc_t int_f_V, int_g_V;   /* PI integrals [V] */
     mc_t load_Nm;            /* the load fed forward at the last step with an estimate (held without one) */
+    mc_t i_amp_A;            /* current vector amplitude in use: I_s, or on its way there after a start */
     mc_t i_f_ref_A, i_g_ref_A; /* references of the last step */
 } load_angle_t;
 
 void load_angle_init(load_angle_t *c, const load_angle_config_t *cfg);
+
+/* Hand-over from another law (the open loop (68) of the R, L measurement):
+ * the amplitude starts at the current's i_A [A], so that the voltage does
+ * not step, and moves to I_s at i_amp_slew_A per sample; the PI restarts. */
+void load_angle_start(load_angle_t *c, mc_t i_A);
 
 /* One sample. r: the reference at this sample; i_f_A, i_g_A: the measured
  * (or, with a computation delay, predicted) currents in the reference's

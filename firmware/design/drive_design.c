@@ -295,6 +295,13 @@
  * transients) and keeps 2.4 A of spring at the peak speed; at 0.85 the
  * 0.4 N m step at the peak speed slips. */
 #define LA_V_MARGIN 0.95
+/* At the hand-over from the R, L measurement's open loop (68), which
+ * drives 2/3 I_max, the amplitude ramps from the current's to I_s over
+ * LA_START_RAMP_S: a step to I_s there moved the phase voltage by 24 V in
+ * one sample (the PI on a 0.9 A error), beyond the R I_max the start may
+ * step by (tests/sim/test_faults.cpp); over 10 ms the ramp asks L I_s /
+ * 10 ms = 2.6 V of L di/dt. */
+#define LA_START_RAMP_S 0.01
 /* The current PI: kp = LA_KP_OVER_DEADBEAT L/Ts (a quarter of the gain
  * that would cancel the error in one sample: the error then decays by 3/4
  * per sample, 2.9 kHz, and a computation delay of one sample still leaves
@@ -605,6 +612,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         la->L_over_KTs_V_per_Nm = mc_from_double(L / (K * Ts));
         la->kp_ohm = mc_from_double(kp);
         la->ki_ohm = mc_from_double(LA_KI_OVER_KP * kp);
+        la->i_amp_slew_A = mc_from_double(i_s * Ts / LA_START_RAMP_S);
         la->v_limit_V = mc_from_double(LA_V_MARGIN * in->v_max_V);
     }
     cfg->close_dwell_ticks = (uint32_t)ceil(CLOSE_DWELL_S * fs - 1e-9);

@@ -301,6 +301,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     fg_estimator_init(&d->est, &cfg->est);
     fg_tracking_init(&d->ctrl, &cfg->ctrl);
     load_angle_init(&d->la, &cfg->load_angle);
+    d->la_from_other = true;
     const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
     rl_id_init(&d->rl_id, &cfg->rl_id);
     k_id_init(&d->k_id, &cfg->k_id);
@@ -533,12 +534,19 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
                              d->est.i_d_A, d->est.i_q_A, d->sup.sat_prev, &v_f, &v_g);
         }
     } else if (c->law == DRIVE_LAW_LOAD_ANGLE && d->sup.state == SUP_STATE_OPEN_LOOP) {
+        if (d->la_from_other) {
+            /* from (68): the amplitude starts at the current's */
+            load_angle_start(&d->la, mc_hypot(i_f, i_g));
+        }
         /* no estimate: the last observed load held, no damping */
         load_angle_step(&d->la, &d->model, &d->ref, i_f, i_g, false, MC_ZERO, MC_ZERO, d->sup.sat_prev, &v_f, &v_g);
     } else {
         v_f = open_loop_voltage(&c->open_loop, &d->model, d->ref.omega_rad_s); /* eq. (68) */
         v_g = MC_ZERO;
     }
+    /* the load-angle law runs in OPEN_LOOP and CLOSED_LOOP; any other state
+     * (the R, L measurement, the alignment) drives another law */
+    d->la_from_other = d->sup.state != SUP_STATE_OPEN_LOOP && d->sup.state != SUP_STATE_CLOSED_LOOP;
     supervisor_blend(&d->sup, switched, &v_f, &v_g);
     fg_tracking_relax(&d->ctrl);
 

@@ -200,6 +200,7 @@ typedef struct {
     fg_estimator_t est;
     fg_tracking_t ctrl;
     load_angle_t la;
+    bool la_from_other;          /* the last step drove another law than the load-angle one */
     align_t align;
     rl_id_t rl_id;
     k_id_t k_id;
