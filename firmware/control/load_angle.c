@@ -53,14 +53,15 @@ void load_angle_step(load_angle_t *c, const motor_model_t *m, const trajectory_p
     i_g = mc_clamp(i_g, mc_neg(i_g_max), i_g_max);
     /* the rest of the amplitude on the reference's f axis: the spring */
     mc_t i_f = mc_sqrt(mc_max(MC_ZERO, mc_sub(mc_mul(i_amp, i_amp), mc_mul(i_g, i_g))));
-    if (mc_gt(k->v_limit_V, MC_ZERO)) {
+    const mc_t z2 = mc_dot2(m->R_ohm, m->R_ohm, mc_mul(m->npL_ohm_s, r->omega_rad_s), mc_mul(m->npL_ohm_s, r->omega_rad_s));
+    if (mc_gt(k->v_limit_V, MC_ZERO) && mc_gt(z2, MC_ZERO)) {
         /* as much of it as the supply drives at this speed: the steady
          * state of (38) at (i_f, i_g), w = n_p L w_r, e = K w_r, Z^2 = R^2 + w^2,
          *   |v|^2 = Z^2 (i_f^2 + i_g^2) + e^2 + 2 e (R i_g + w i_f) <= V^2,
-         * solved for the largest i_f */
+         * solved for the largest i_f (Z = 0, a motor model without R at
+         * rest, needs no voltage: nothing to cut) */
         const mc_t w = mc_mul(m->npL_ohm_s, r->omega_rad_s);
         const mc_t e = mc_mul(m->K_V_s, r->omega_rad_s);
-        const mc_t z2 = mc_dot2(m->R_ohm, m->R_ohm, w, w);
         const mc_t c0 = mc_sub(mc_add(mc_mul(z2, mc_mul(i_g, i_g)), mc_mac(mc_mul(e, e), mc_mul_i(e, 2), mc_mul(m->R_ohm, i_g))),
                                mc_mul(k->v_limit_V, k->v_limit_V));
         /* i_f = -a + sqrt(a^2 - b), a = e w / Z^2 [A], b = c0 / Z^2 [A^2]:

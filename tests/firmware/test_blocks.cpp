@@ -766,3 +766,23 @@ TEST(LoadAngle, SpringCutToTheSupplyAtSpeed)
         }
     }
 }
+
+// A motor model without resistance at rest asks no voltage: the cut is
+// skipped (its Z^2 = R^2 + (n_p L w)^2 is 0). Without that check the fixed
+// build's saturating 0/0 cut the spring to 0 A.
+TEST(LoadAngle, NoResistanceAtRestStaysFinite)
+{
+    const double L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4, Is = 3.0;
+    const motor_model_t mm = rig_model(0.0, L, K, J, fv, Ts);
+    load_angle_config_t cfg = la_config(Is, K, L, Ts);
+    cfg.v_limit_V = M(28.5);
+    load_angle_t la;
+    load_angle_init(&la, &cfg);
+    trajectory_point_t r{};
+    mc_t vf, vg;
+    load_angle_step(&la, &mm, &r, M(0), M(0), true, M(0), M(0), true, &vf, &vg);
+    EXPECT_TRUE(std::isfinite(D(la.i_f_ref_A)));
+    EXPECT_NEAR(D(la.i_f_ref_A), Is, 2e-3);
+    EXPECT_TRUE(std::isfinite(D(vf)));
+    EXPECT_TRUE(std::isfinite(D(vg)));
+}
