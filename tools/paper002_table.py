@@ -201,6 +201,44 @@ def angle_noise_report(res: dict, markdown: bool) -> int:
     return 1 if bad else 0
 
 
+# The EKF's process noise of the currents (Q's i_d and i_q entries, A^2 per
+# sample) in the sweep, beside the design's: how much the speed RMSE gains
+# when the filter trusts the voltage model more (the simulated inverter is
+# ideal; a real one is not, docs/paper002.md).
+Q_CURRENT_SWEEP_A2 = (1e-5, 1e-6, 1e-7)
+
+
+def with_ekf_q(text: str, q: list) -> str:
+    """The scenario with [paper002] ekf_q = q."""
+    if not re.search(r"^\[paper002\]\s*$", text, flags=re.M):
+        raise ToolError(f"{REFERENCE.name}: no [paper002] table")
+    return re.sub(r"^\[paper002\]\s*$", "[paper002]\nekf_q = [" + ", ".join(repr(float(x)) for x in q) + "]",
+                  text, count=1, flags=re.M)
+
+
+def q_current_report(res: dict, designed_qi: float, markdown: bool) -> int:
+    """The Q-current sweep's table, as angle_noise_report."""
+    out = sys.stdout if markdown else sys.stderr
+    if not markdown:
+        print(json.dumps({f"{c}.q_i_{q:g}" + ("" if nz else ".nonoise"): m for (c, q, nz), m in sorted(res.items())},
+                         indent=1))
+    print("speed_rmse_rad_s [rad/s] on the reference case (DC, no inductance error, w(0) = 0) against the EKF's "
+          "process noise of the currents (Q's i_d and i_q entries; the rest of Q as designed)\n", file=out)
+    print("| Q_i [A² per sample] | SOSMC | HTSMC | SOSMC, no noise | HTSMC, no noise | voltage_hf_rms_V, noise, "
+          "SOSMC / HTSMC |\n|---|---|---|---|---|---|", file=out)
+    for q in (designed_qi,) + Q_CURRENT_SWEEP_A2:
+        r = lambda c, nz: res[(c, q, nz)]  # noqa: E731
+        label = f"{q:.3g} (design)" if q == designed_qi else f"{q:g}"
+        print(f"| {label} | {r('sosmc', True)['speed_rmse_rad_s']:.4g} | {r('htsmc', True)['speed_rmse_rad_s']:.4g} "
+              f"| {r('sosmc', False)['speed_rmse_rad_s']:.4g} | {r('htsmc', False)['speed_rmse_rad_s']:.4g} "
+              f"| {r('sosmc', True)['voltage_hf_rms_V']:.3g} / {r('htsmc', True)['voltage_hf_rms_V']:.3g} |", file=out)
+    bad = [f"{c}, Q_i {q:g}{'' if nz else ', no noise'}: motorsim exit {m['motorsim_exit']}, fault {m.get('fault')}"
+           for (c, q, nz), m in sorted(res.items()) if m["motorsim_exit"] != 0 or m.get("fault", 0) != 0]
+    for b in bad:
+        print(f"paper002_table: FAILED: {b}", file=sys.stderr)
+    return 1 if bad else 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -213,6 +251,9 @@ def main() -> int:
                     help="the reference case (DC, no inductance error, w(0) = 0, 5 mA of current noise) at "
                          "encoder noise " + ", ".join(f"{n:g}" for n in ANGLE_NOISE_SWEEP_RAD) + " rad: "
                          "which angle noise the issue's 0.04 rad/s needs")
+    ap.add_argument("--q-current-sweep", action="store_true",
+                    help="the reference case with the EKF's current process noise at the design's and at " +
+                         ", ".join(f"{q:g}" for q in Q_CURRENT_SWEEP_A2) + " A^2 per sample ([paper002] ekf_q)")
     ap.add_argument("--markdown", action="store_true",
                     help="print the tables (markdown) on stdout instead of the JSON")
     ap.add_argument("--check", action="store_true",
@@ -238,6 +279,22 @@ def main() -> int:
                 for k, f in futs.items():
                     res[k] = f.result()
             return angle_noise_report(res, args.markdown)
+        if args.q_current_sweep:
+            if args.sensorless:
+                raise ToolError("--q-current-sweep and --sensorless: one at a time")
+            # the design's Q, as the drive ran with it (metrics ekf_q_*)
+            base = run_case(args.binary, variant(text, ref, "sosmc", 1, 0, 0, True), "design")
+            designed = [base[f"ekf_q_{s}"] for s in ("id", "iq", "theta", "omega", "M0")]
+            res = {}
+            with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+                futs = {(c, q, nz): pool.submit(run_case, args.binary,
+                                                with_ekf_q(variant(text, ref, c, 1, 0, 0, nz), [q, q] + designed[2:]),
+                                                f"{c}.q_i_{q:g}")
+                        for c in ("sosmc", "htsmc") for q in (designed[0],) + Q_CURRENT_SWEEP_A2
+                        for nz in (True, False)}
+                for k, f in futs.items():
+                    res[k] = f.result()
+            return q_current_report(res, designed[0], args.markdown)
         if args.sensorless:
             cases = [(c, 1, 0, 0, nz, est) for c in ("sosmc", "htsmc") for est in ("encoder", "flux")
                      for nz in (True, False)]

@@ -106,6 +106,19 @@ static bool p002_fail(char *err, size_t n, const char *field, const char *why, d
     return false;
 }
 
+#if !MC_FIXED
+/* true if any of the n entries is non-zero: the user gave the matrix */
+static bool p002_given(const double *v, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        if (v[i] != 0.0) {
+            return true;
+        }
+    }
+    return false;
+}
+#endif
+
 void p002_design_defaults(p002_design_input_t *in)
 {
     in->R_ohm = 0.3;
@@ -128,6 +141,12 @@ void p002_design_defaults(p002_design_input_t *in)
     in->angle_source = P002_ANGLE_ENCODER;
     in->theta0_rad = 0.0;
     in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
+    for (int i = 0; i < EKF_N; ++i) {
+        in->ekf_q[i] = 0.0; /* the design's Q */
+    }
+    for (int i = 0; i < EKF_M; ++i) {
+        in->ekf_r[i] = 0.0; /* the design's R */
+    }
     in->t0_s = 0.2;
     in->t1_s = 0.4;
     in->w0_rad_s = 0.0;
@@ -162,6 +181,21 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     if (!(in->t1_s > in->t0_s && in->t0_s >= 0.0)) return p002_fail(err, err_len, "reference.t1_s", "must be > t0_s >= 0", in->t1_s);
     if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
         return p002_fail(err, err_len, "run.compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
+    /* a user's Q or R: all entries given (> 0) or none (all 0) */
+    const bool user_q = p002_given(in->ekf_q, EKF_N), user_r = p002_given(in->ekf_r, EKF_M);
+    char key[24];
+    for (int i = 0; user_q && i < EKF_N; ++i) {
+        if (!(in->ekf_q[i] > 0.0 && isfinite(in->ekf_q[i]))) {
+            snprintf(key, sizeof key, "paper002.ekf_q[%d]", i);
+            return p002_fail(err, err_len, key, "must be > 0 and finite (Q positive definite)", in->ekf_q[i]);
+        }
+    }
+    for (int i = 0; user_r && i < EKF_M; ++i) {
+        if (!(in->ekf_r[i] > 0.0 && isfinite(in->ekf_r[i]))) {
+            snprintf(key, sizeof key, "paper002.ekf_r[%d]", i);
+            return p002_fail(err, err_len, key, "must be > 0 and finite (R positive definite)", in->ekf_r[i]);
+        }
+    }
     const double fs = 1.0 / in->ts_s;
     const double fsr = floor(fs + 0.5);
     if (fabs(fs - fsr) > 1e-6 * fs) return p002_fail(err, err_len, "run.Ts_s", "1/Ts must be a whole number of hertz", in->ts_s);
@@ -182,7 +216,7 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     e->ts_s = mc_from_double(in->ts_s);
     const double q[EKF_N] = {P002_Q_I, P002_Q_I, P002_Q_THETA, P002_Q_OMEGA, P002_Q_M0};
     for (int i = 0; i < EKF_N; ++i) {
-        e->q[i] = mc_from_double(q[i]);
+        e->q[i] = mc_from_double(user_q ? in->ekf_q[i] : q[i]);
         e->p0[i] = mc_from_double(P002_P0);
         e->x0[i] = MC_ZERO;
     }
@@ -198,8 +232,9 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         const double s_th = in->Lq_H * in->sigma_i_A * sqrt(2.0 / 3.0) / in->psi_Wb / (double)in->p;
         r_th = fmax(s_th * s_th, 1e-12);
     }
-    e->r[0] = e->r[1] = mc_from_double(r_i);
-    e->r[2] = mc_from_double(r_th);
+    e->r[0] = mc_from_double(user_r ? in->ekf_r[0] : r_i);
+    e->r[1] = mc_from_double(user_r ? in->ekf_r[1] : r_i);
+    e->r[2] = mc_from_double(user_r ? in->ekf_r[2] : r_th);
 
     /* the current loop (9) */
     const double lambda = P002_LAMBDA_TS * fsr;

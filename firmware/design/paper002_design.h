@@ -41,6 +41,14 @@ typedef struct {
     double theta0_rad;
     /* the board's computation delay in samples, [0, 1] (paper002_drive.h) */
     double compute_delay_samples;
+    /* the EKF's noise covariances given by the user instead of the
+     * design's, per sample: Q = diag(ekf_q) over [i_d A^2, i_q A^2,
+     * theta rad^2, omega (rad/s)^2, M_0 (N m)^2] (39) and R = diag(ekf_r)
+     * over [i_d A^2, i_q A^2, theta rad^2] (41). All 0 (the default): the
+     * design's (paper002_design.c); otherwise every entry must be > 0 (a
+     * positive definite diagonal) and finite. */
+    double ekf_q[EKF_N];
+    double ekf_r[EKF_M];
 } p002_design_input_t;
 
 /* The issue's reference set (p 4, R 0.3, L_d 3 mH, L_q 9 mH, psi 0.04,

@@ -174,6 +174,16 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
     m.emplace_back("ekf_p_min_eig", p_min_eig_);
     m.emplace_back("ekf_p_asym_max", p_asym_);
     m.emplace_back("ekf_spd_ok", static_cast<std::int64_t>(spd_ok_ ? 1 : 0));
+    // the EKF's Q and R diagonals it ran with (the design's or [paper002]
+    // ekf_q, ekf_r), per sample
+    static const char* const kQ[EKF_N] = {"ekf_q_id", "ekf_q_iq", "ekf_q_theta", "ekf_q_omega", "ekf_q_M0"};
+    static const char* const kR[EKF_M] = {"ekf_r_id", "ekf_r_iq", "ekf_r_theta"};
+    for (int i = 0; i < EKF_N; ++i) {
+        m.emplace_back(kQ[i], static_cast<double>(drive_.cfg.ekf.q[i]));
+    }
+    for (int i = 0; i < EKF_M; ++i) {
+        m.emplace_back(kR[i], static_cast<double>(drive_.cfg.ekf.r[i]));
+    }
     m.emplace_back("voltage_saturated_fraction", n > 0 ? static_cast<double>(n_sat_) / n : 0.0);
     m.emplace_back("max_abs_current_A", i_max_);
     m.emplace_back("i_max_A", sc_.i_max_A);

@@ -1,5 +1,7 @@
 #include "scenario/design_input.h"
 
+#include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstring>
 
@@ -268,6 +270,8 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->angle_source = sc.p002.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
     in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
+    std::copy(std::begin(sc.p002.ekf_q), std::end(sc.p002.ekf_q), in->ekf_q);
+    std::copy(std::begin(sc.p002.ekf_r), std::end(sc.p002.ekf_r), in->ekf_r);
 }
 
 void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)

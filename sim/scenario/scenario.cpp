@@ -2,6 +2,7 @@
 #include "scenario/scenario.h"
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -178,6 +179,36 @@ public:
                 mcsim::fail(file_, ki, std::string("expected a table (got ") + type_name(a[i]) + ")");
             }
             out.emplace_back(*a[i].as_table(), file_, ki);
+        }
+        return out;
+    }
+
+    // An array of exactly n finite numbers, each checked by ok (its
+    // index named on failure: "key[i]: why (got x)").
+    std::optional<std::vector<double>> numbers(const std::string& k, std::size_t n, bool (*ok)(double),
+                                               const std::string& why) const
+    {
+        const toml::node* node = t_.get(k);
+        if (node == nullptr) {
+            return std::nullopt;
+        }
+        const toml::array* a = node->as_array();
+        if (a == nullptr || a->size() != n) {
+            fail(k, "expected an array of " + std::to_string(n) + " numbers (got " +
+                        (a == nullptr ? std::string(type_name(*node)) : std::to_string(a->size()) + " entries") + ")");
+        }
+        std::vector<double> out;
+        for (std::size_t i = 0; i < n; ++i) {
+            const toml::node& x = (*a)[i];
+            const std::string ki = key(k) + "[" + std::to_string(i) + "]";
+            if (!x.is_number()) {
+                mcsim::fail(file_, ki, std::string("expected a number (got ") + type_name(x) + ")");
+            }
+            const double v = x.is_floating_point() ? x.as_floating_point()->get() : static_cast<double>(x.as_integer()->get());
+            if (!std::isfinite(v) || !ok(v)) {
+                mcsim::fail(file_, ki, why + " (got " + fmt_num(v) + ")");
+            }
+            out.push_back(v);
         }
         return out;
     }
@@ -1255,7 +1286,17 @@ Scenario load_scenario(const std::string& path)
 
     // [paper002]: paper 002's drive (sim/scenarios/README.md)
     if (const auto v = root.table("paper002")) {
-        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega0_rad_s", "estimator"});
+        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega0_rad_s", "estimator", "ekf_q",
+                 "ekf_r"});
+        // the EKF's Q and R diagonals instead of the design's: positive
+        // definite, so every entry > 0
+        const auto positive = [](double x) { return x > 0.0; };
+        if (const auto q = v->numbers("ekf_q", 5, positive, "must be > 0 (Q positive definite)")) {
+            std::copy(q->begin(), q->end(), sc.p002.ekf_q);
+        }
+        if (const auto r = v->numbers("ekf_r", 3, positive, "must be > 0 (R positive definite)")) {
+            std::copy(r->begin(), r->end(), sc.p002.ekf_r);
+        }
         if (const auto e = v->string("estimator")) {
             if (*e == "encoder") {
                 sc.p002.estimator = 0;

@@ -9,6 +9,7 @@
 // this checks the composition.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -175,5 +176,34 @@ TEST(Paper002Design, RefusesBadInputNamingTheKey)
     in.encoder_counts = 0;
     EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
     EXPECT_NE(std::string(err).find("encoder.counts_per_turn"), std::string::npos) << err;
+    // the user's Q and R: not positive definite is refused with the entry named
+    p002_design_defaults(&in);
+    const double q[EKF_N] = {1e-6, 2e-6, 1e-12, 1e-3, 4e-3};
+    std::copy(q, q + EKF_N, in.ekf_q);
+    in.ekf_q[4] = -4e-3;
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("paper002.ekf_q[4]: must be > 0"), std::string::npos) << err;
+    in.ekf_q[4] = 0.0;  // a partial Q is no Q: refused, not mixed with the design's
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("paper002.ekf_q[4]"), std::string::npos) << err;
+    p002_design_defaults(&in);
+    in.ekf_r[2] = std::nan("");
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("paper002.ekf_r[0]"), std::string::npos) << err;
+    // given, they replace the design's (and all 0 keeps the design's)
+    p002_design_defaults(&in);
+    paper002_config_t designed{};
+    ASSERT_TRUE(p002_design(&in, &designed, err, sizeof err)) << err;
+    std::copy(q, q + EKF_N, in.ekf_q);
+    const double r[EKF_M] = {3e-5, 4e-5, 2e-8};
+    std::copy(r, r + EKF_M, in.ekf_r);
+    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    for (int i = 0; i < EKF_N; ++i) {
+        EXPECT_EQ(c.ekf.q[i], static_cast<float>(q[i])) << i;
+    }
+    for (int i = 0; i < EKF_M; ++i) {
+        EXPECT_EQ(c.ekf.r[i], static_cast<float>(r[i])) << i;
+    }
+    EXPECT_NE(designed.ekf.q[0], c.ekf.q[0]);
 #endif
 }
