@@ -183,7 +183,7 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         return p002_fail(err, err_len, "run.compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
     /* a user's Q or R: all entries given (> 0) or none (all 0) */
     const bool user_q = p002_given(in->ekf_q, EKF_N), user_r = p002_given(in->ekf_r, EKF_M);
-    char key[24];
+    char key[32]; /* "paper002.ekf_q[" + an int + "]" */
     for (int i = 0; user_q && i < EKF_N; ++i) {
         if (!(in->ekf_q[i] > 0.0 && isfinite(in->ekf_q[i]))) {
             snprintf(key, sizeof key, "paper002.ekf_q[%d]", i);
