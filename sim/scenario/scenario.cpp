@@ -1076,17 +1076,11 @@ Scenario load_scenario(const std::string& path)
         };
         // an array of one number per phase
         auto per_phase = [&](const View& t, const char* k, double* out) {
-            const toml::node* n = t.raw().get(k);
-            const toml::array* a = n != nullptr ? n->as_array() : nullptr;
-            if (a == nullptr || static_cast<int>(a->size()) != n_ph) {
-                t.fail(k, "expected an array of " + std::to_string(n_ph) + " numbers, one per phase");
+            const auto v = t.numbers(k, static_cast<std::size_t>(n_ph), [](double) { return true; }, "must be finite");
+            if (!v) {
+                t.fail(k, "missing required field: an array of " + std::to_string(n_ph) + " numbers, one per phase");
             }
-            for (int i = 0; i < n_ph; ++i) {
-                const toml::node& e = (*a)[static_cast<std::size_t>(i)];
-                if (!e.is_number()) t.fail(k, "expected numbers");
-                out[i] = e.is_floating_point() ? e.as_floating_point()->get() : static_cast<double>(e.as_integer()->get());
-                if (!std::isfinite(out[i])) t.fail(k, "must be finite");
-            }
+            std::copy(v->begin(), v->end(), out);
         };
         if (v->has("locked_rotor_t_s")) {
             f.locked_rotor_t_s = time_of(*v, "locked_rotor_t_s");
@@ -1291,10 +1285,10 @@ Scenario load_scenario(const std::string& path)
         // the EKF's Q and R diagonals instead of the design's: positive
         // definite, so every entry > 0
         const auto positive = [](double x) { return x > 0.0; };
-        if (const auto q = v->numbers("ekf_q", 5, positive, "must be > 0 (Q positive definite)")) {
+        if (const auto q = v->numbers("ekf_q", std::size(sc.p002.ekf_q), positive, "must be > 0 (Q positive definite)")) {
             std::copy(q->begin(), q->end(), sc.p002.ekf_q);
         }
-        if (const auto r = v->numbers("ekf_r", 3, positive, "must be > 0 (R positive definite)")) {
+        if (const auto r = v->numbers("ekf_r", std::size(sc.p002.ekf_r), positive, "must be > 0 (R positive definite)")) {
             std::copy(r->begin(), r->end(), sc.p002.ekf_r);
         }
         if (const auto e = v->string("estimator")) {
