@@ -4,20 +4,32 @@
 Copies the working tree to a scratch directory (your checkout is never
 touched), configures and builds it with a host preset and checks that ctest
 passes there. Then, for each mutant of MUTANTS (a sign, a dropped term, a
-gain, a branch, an index: one small change to firmware/), applies it,
-rebuilds and runs ctest, stopping at the first failure: a mutant is killed
-when the build or any test fails, and survives when everything passes.
+gain, a branch, an index, a bound, a counter: one small change to
+firmware/), applies it, rebuilds and runs ctest in two stages (the unit
+tests first, then the scenario, CLI and tool tests), stopping at the first
+failure. A mutant is killed when a test fails, survives when every test
+passes, and is invalid when it does not compile (a broken mutant, not a
+kill: it is listed, counted apart and left out of the score).
 Prints progress on stderr and one JSON object on stdout:
 
-  {"mutants": N, "killed": K, "survived": S, "score": K/N,
-   "survivors": [{"id", "file", "why"}], "results": [{"id", "killed", "by", "seconds"}]}
+  {"mutants": N, "killed": K, "survived": S, "invalid": I, "score": K/(N-I),
+   "golden": true|false, "golden_only": [ids], "survivors": [{"id", "file", "why"}],
+   "results": [{"id", "file", "killed", "invalid", "by", "seconds", "golden_only"?}]}
 
 Every survivor is either killed by a new test or listed in docs/testing.md
 as equivalent, with the reason.
 
   --check-list     only check that every mutant still applies to the tree
                    (its text occurs exactly once); fast, run by ctest
+  --coverage       list the files of firmware/ (generated code aside) and
+                   how many mutants each has; exit 1 if a file with a
+                   decision or a formula has none
   --only ID,...    run these mutants only
+  --no-golden      leave the golden masters (GOLDEN: docs tables compared
+                   digit for digit) out of the verdict; a mutant that
+                   survives is then run against them alone, and those they
+                   catch are listed as golden_only: caught by a printed
+                   digit, not by a test that checks behaviour
   --preset P       host (default) or host-fixed
   --workdir DIR    scratch copy (default: a temporary directory, removed)
   --jobs N         ctest -j (default 2)
@@ -26,7 +38,8 @@ as equivalent, with the reason.
                    failure) and list every test that kills it: shows which
                    mutants a single test guards (about twice as long)
 
-Standard library only. A full run takes about a minute per mutant here.
+Standard library only. About 20 s per mutant a unit test kills, up to
+four minutes for one only a scenario catches, here (2 cores).
 """
 from __future__ import annotations
 
@@ -231,7 +244,222 @@ MUTANTS = [
        "c->beta = mc_div(mc_cross2(f->mxx, f->m2x, f->mxy, f->m2y), two_det);")),
     m("fit_decim_off_by_one", "startup/flux_circle_fit.c", "a point every decim + 1 samples",
       ("if (f->phase < f->cfg.decim) {", "if (f->phase <= f->cfg.decim) {")),
+    # ---- paper 002: EKF (37)-(44)
+    m("ekf_jacobian_no_friction", "estimators/ekf_ipmsm.c", "(39): A_d's omega row without -Ts d/J (the friction term)",
+      ("A[EKF_OMEGA][EKF_OMEGA] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->d_Nms, c->J_kgm2)));",
+       "A[EKF_OMEGA][EKF_OMEGA] = MC_ONE;")),
+    m("ekf_jacobian_load_sign", "estimators/ekf_ipmsm.c", "(39): dw/dM_0 = +Ts/J instead of -Ts/J",
+      ("A[EKF_OMEGA][EKF_M0] = mc_neg(mc_div(ts, c->J_kgm2));", "A[EKF_OMEGA][EKF_M0] = mc_div(ts, c->J_kgm2);")),
+    m("ekf_jacobian_emf_sign", "estimators/ekf_ipmsm.c", "(39): di_q/dw with the wrong sign",
+      ("A[EKF_IQ][EKF_OMEGA] =\n        mc_neg(mc_mul(", "A[EKF_IQ][EKF_OMEGA] =\n        (mc_mul(")),
+    m("ekf_reluctance_torque_sign", "estimators/ekf_ipmsm.c", "(6): reluctance torque with (L_q - L_d)",
+      ("const mc_t torque = mc_mul(mc_mul_i(mc_mac(c->psi_Wb, mc_sub(c->Ld_H, c->Lq_H), x[EKF_ID]), c->p),",
+       "const mc_t torque = mc_mul(mc_mul_i(mc_mac(c->psi_Wb, mc_sub(c->Lq_H, c->Ld_H), x[EKF_ID]), c->p),")),
+    m("ekf_euler_not_heun", "estimators/ekf_ipmsm.c", "prediction by Euler's method instead of Heun's",
+      ("e->x[i] = mc_mac(e->x[i], half_ts, mc_add(f1[i], f2[i]));", "e->x[i] = mc_mac(e->x[i], ts, f1[i]);")),
+    m("ekf_cholesky_failure_unflagged", "estimators/ekf_ipmsm.c", "a failed factorisation in the correction leaves spd_ok set",
+      ("            e->spd_ok = false;\n            return false;", "            return false;")),
+    m("ekf_innovation_angle_unwrapped", "estimators/ekf_ipmsm.c", "(44): the angle's innovation not wrapped to (-pi, pi]",
+      ("e->innovation[2] = mc_wrap_pi(mc_sub(theta_rad, e->x[EKF_THETA]));",
+       "e->innovation[2] = mc_sub(theta_rad, e->x[EKF_THETA]);")),
+    m("ekf_joseph_without_krk", "estimators/ekf_ipmsm.c", "Joseph form without + K R K^T",
+      ("s = mc_mac(s, mc_mul(K[i][k], c->r[k]), K[j][k]);", "(void)0;")),
+    # ---- paper 002: MTPA (10), (18)
+    m("mtpa_limit_sign_lost", "control/mtpa.c", "current limit: a negative torque demand comes out positive",
+      ("iq = neg ? mc_neg(lo) : lo;", "iq = lo;")),
+    m("mtpa_limit_no_abs", "control/mtpa.c", "current limit: the bisection on [0, i_q] instead of [0, |i_q|]",
+      ("mc_t lo = MC_ZERO, hi = mc_abs(iq);", "mc_t lo = MC_ZERO, hi = iq;")),
+    m("mtpa_root_branch", "control/mtpa.c", "(18): the other root of the quadratic (|i_d| largest)",
+      ("return mc_lt(a, MC_ZERO) ? mc_mul(half, mc_sub(mc_neg(a), r)) : mc_mul(half, mc_sub(r, a));",
+       "return mc_lt(a, MC_ZERO) ? mc_mul(half, mc_add(mc_neg(a), r)) : mc_mul(half, mc_sub(r, a));")),
+    m("mtpa_newton_no_slope_sign", "control/mtpa.c", "Newton on (10): d i_d/d i_q without its sign for L_d < L_q",
+      ("did = mc_lt(a, MC_ZERO) ? mc_neg(did) : did;", "(void)a;")),
+    # ---- paper 002: SOSMC (27)-(28)
+    m("sosmc_limit_positive_only", "control/sosmc.c", "limited flag on the positive side only",
+      ("c->limited = mc_gt(mc_abs(M), cfg->M_max_Nm);", "c->limited = mc_gt(M, cfg->M_max_Nm);")),
+    m("sosmc_windup_negative_side", "control/sosmc.c", "anti-windup: on the negative side frozen when the integrand pulls back",
+      ("(mc_lt(M, MC_ZERO) && mc_lt(rate, MC_ZERO))", "(mc_lt(M, MC_ZERO) && mc_gt(rate, MC_ZERO))")),
+    m("sosmc_no_compensation", "control/sosmc.c", "(27) without the estimated load M_0",
+      ("        M = mc_add(M, M0_hat);", "        (void)M0_hat;")),
+    m("smc_tanh_odd", "control/sosmc.c", "tanh(x) = tanh(|x|): the sign of the switching term lost",
+      ("return mc_lt(x, MC_ZERO) ? mc_neg(t) : t;", "return t;")),
+    # ---- paper 002: HTSMC (29)-(35)
+    m("htsmc_gain_choice", "control/htsmc.c", "(35): alpha_M while s ds/dt <= 0 and alpha_m otherwise",
+      ("} else if (!mc_gt(mc_mul(c->s, ds), MC_ZERO)) {", "} else if (mc_gt(mc_mul(c->s, ds), MC_ZERO)) {")),
+    m("htsmc_nu_max_no_abs", "control/htsmc.c", "(35): the bound |nu| > nu_max checked on the positive side only",
+      ("if (mc_gt(mc_abs(nu), cfg->nu_max)) {", "if (mc_gt(nu, cfg->nu_max)) {")),
+    m("htsmc_no_s0_cap", "control/htsmc.c", "nu_2 with |s| not capped at s0",
+      ("const mc_t as = mc_min(mc_abs(c->s), cfg->s0);", "const mc_t as = mc_abs(c->s);")),
+    # ---- paper 002: inversion-based current control (9)
+    m("ibcc_cross_coupling_sign_d", "control/ibcc.c", "(9): u_d with + L_q w i_q",
+      ("ud = mc_sub(ud, mc_mul(mc_mul(c->Lq_H, w_el), i_q_A));", "ud = mc_add(ud, mc_mul(mc_mul(c->Lq_H, w_el), i_q_A));")),
+    m("ibcc_no_prefilter", "control/ibcc.c", "the reference prefilter bypassed on the d axis",
+      ("const mc_t step_d = mc_mul(c->ref_alpha, mc_sub(i_dd_A, s->i_dd_prev_A));",
+       "const mc_t step_d = mc_sub(i_dd_A, s->i_dd_prev_A);")),
+    m("ibcc_limit_q_only", "control/ibcc.c", "the bus limit scales u_d only (direction lost)",
+      ("        uq = mc_mul(uq, k);\n", "")),
+    # ---- paper 000: the load-angle law
+    m("load_angle_slew_unbounded", "control/load_angle.c", "the fed-forward load jumps to the estimate (no slew)",
+      ("c->load_Nm = mc_add(c->load_Nm, mc_clamp(mc_sub(target, c->load_Nm), mc_neg(k->load_slew_Nm), k->load_slew_Nm));",
+       "c->load_Nm = target;")),
+    m("load_angle_ldi_sign", "control/load_angle.c", "(38): L di_g,r/dt of the load's change with the wrong sign",
+      ("mc_mul(k->L_over_KTs_V_per_Nm, mc_sub(c->load_Nm, load_prev))", "mc_mul(k->L_over_KTs_V_per_Nm, mc_sub(load_prev, c->load_Nm))")),
+    m("load_angle_damping_sign", "control/load_angle.c", "speed damping with the wrong sign",
+      ("i_g = mc_sub(i_g, mc_mul(k->damp_A_s_per_rad,", "i_g = mc_add(i_g, mc_mul(k->damp_A_s_per_rad,")),
+    m("load_angle_ff_clamp_one_side", "control/load_angle.c", "the fed-forward load bounded above only",
+      ("mc_clamp(load_est_Nm, mc_neg(k->load_ff_max_Nm), k->load_ff_max_Nm)", "mc_min(load_est_Nm, k->load_ff_max_Nm)")),
+    # ---- paper 002's drive
+    m("p002_stall_band_no_abs", "drives/paper002_drive.c", "stall band from w_d, not |w_d|: a false stall in reverse",
+      ("mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(w_d))", "mc_mac(c->stall_floor_rad_s, c->stall_tol, w_d)")),
+    m("p002_los_no_abs", "drives/paper002_drive.c", "loss of sync on a positive angle innovation only",
+      ("!mc_le(mc_abs(d->ekf.innovation[2]), c->los_theta_rad)", "!mc_le(d->ekf.innovation[2], c->los_theta_rad)")),
+    m("p002_output_lead_no_delay", "drives/paper002_drive.c", "output angle advanced by Ts/2 whatever the computation delay",
+      ("const mc_t lead = mc_mac(half_ts, c->compute_delay, c->ekf.ts_s);", "const mc_t lead = half_ts;")),
+    m("p002_delay_mean_is_command", "drives/paper002_drive.c", "with a delay, the EKF integrates the command, not the applied mean",
+      ("u_mean.alpha = mc_mac(u_ab.alpha, c->compute_delay, mc_sub(d->u_ab_prev_V.alpha, u_ab.alpha));",
+       "u_mean.alpha = u_ab.alpha;"),
+      ("u_mean.beta = mc_mac(u_ab.beta, c->compute_delay, mc_sub(d->u_ab_prev_V.beta, u_ab.beta));",
+       "u_mean.beta = u_ab.beta;")),
+    m("p002_set_speed_no_abs", "drives/paper002_drive.c", "speed command: the back-EMF limit on positive speeds only",
+      ("mc_gt(mc_mul(k_e, mc_abs(omega_rad_s)),", "mc_gt(mc_mul(k_e, omega_rad_s),")),
+    m("p002_fault_not_latched", "drives/paper002_drive.c", "a fault is not latched: the next sample runs again",
+      ("if (d->fault != DRIVE_FAULT_NONE || d->disabled) {\n        return p002_zero(d, out);",
+       "if (d->disabled) {\n        return p002_zero(d, out);")),
+    m("p002_clear_without_fault", "drives/paper002_drive.c", "clear-faults restarts a running drive",
+      ("    if (d->fault == DRIVE_FAULT_NONE) {\n        return false;\n    }\n    const paper002_config_t cfg = d->cfg;\n    return paper002_drive_init",
+       "    const paper002_config_t cfg = d->cfg;\n    return paper002_drive_init")),
+    # ---- paper 001's drive
+    m("p001_los_speed_no_abs", "drives/paper001_drive.c", "loss-of-sync speed band from w_ref, not |w_ref|",
+      ("mc_mac(c->los_speed_floor_rad_s, c->los_speed_tol, mc_abs(w_ref))", "mc_mac(c->los_speed_floor_rad_s, c->los_speed_tol, w_ref)")),
+    m("p001_set_speed_no_abs", "drives/paper001_drive.c", "speed command: the back-EMF limit on positive speeds only",
+      ("mc_gt(mc_mul(c->model.K_V_s, mc_abs(omega_rad_s)), mc_mul(P001_CMD_VOLTAGE_SHARE, v_phase))",
+       "mc_gt(mc_mul(c->model.K_V_s, omega_rad_s), mc_mul(P001_CMD_VOLTAGE_SHARE, v_phase))")),
+    # ---- CAN
+    m("can_tx_queue_overfilled", "comm/can_tx.c", "a full queue takes one frame more (overwrites the oldest)",
+      ("if (t->count >= CAN_TX_QUEUE) {", "if (t->count > CAN_TX_QUEUE) {")),
+    m("can_tx_drop_counted_sent", "comm/can_tx.c", "a frame dropped on a full queue is counted as sent",
+      ("        t->dropped += 1u;\n        return;", "        t->sent += 1u;\n        return;")),
+    m("can_node_heartbeat_counts_drops", "comm/can_node.c", "the heartbeat counter advances when its frame was dropped",
+      ("if (heartbeat_due && n->tx.sent != before) {", "if (heartbeat_due) {")),
+    m("can_link_round_negative", "comm/can_link.c", "telemetry: negative values rounded towards +inf by 0.5 (float)",
+      ("int64_t r = (int64_t)(y >= 0.0f ? y + 0.5f : y - 0.5f);", "int64_t r = (int64_t)(y + 0.5f);")),
+    m("can_link_enable_reserved_bits", "comm/can_link.c", "CmdEnable: a set reserved bit 1 accepted",
+      ("(f->data[0] & 0xFEu) != 0u", "(f->data[0] & 0xFCu) != 0u")),
+    m("can_p000_clear_while_running", "comm/can_paper000.c", "clear-faults re-initialises a running drive",
+      ("ok = d->sup.state == SUP_STATE_FAULT && drive_clear_fault(d);", "ok = drive_clear_fault(d);")),
+    m("can_p002_fault_events", "comm/can_paper002.c", "telemetry: a latched fault reported as no event",
+      ("t->fault_events = faulted ? 1u : 0u;", "t->fault_events = 0u;")),
+    m("can_p002_stop_ignored", "comm/can_paper002.c", "CmdStop acknowledged, not applied",
+      ("case CAN_CMD_STOP: ok = paper002_drive_stop(d); break;", "case CAN_CMD_STOP: ok = true; break;")),
+    # ---- fault set
+    m("recorder_events_first_only", "supervisor/flight_recorder.c", "event count moved inside the freeze: counts the first fault only",
+      ("    r->events += 1u;\n    if (!r->frozen) {\n", "    if (!r->frozen) {\n        r->events += 1u;\n")),
+    m("recorder_oldest_off_by_one", "supervisor/flight_recorder.c", "ring read one record late (the oldest skipped)",
+      ("const uint32_t oldest = r->n - count;", "const uint32_t oldest = r->n - count + 1u;")),
+    m("fm_overrun_no_leak", "supervisor/fault_monitor.c", "overrun level never leaks: isolated overruns add up to a trip",
+      ("        m->overrun_level -= 1;", "        m->overrun_level -= 0;")),
+    m("fm_overrun_limit_off_by_one", "supervisor/fault_monitor.c", "overrun trip one weight late (> instead of >=)",
+      ("if (m->overrun_level >= c->overrun_limit) {", "if (m->overrun_level > c->overrun_limit) {")),
+    m("fm_trip_samples_off_by_one", "supervisor/fault_monitor.c", "over-current trips one sample late",
+      ("if (m->oc_run + 1 >= c->i_trip_samples) {", "if (m->oc_run >= c->i_trip_samples) {")),
+    m("fm_rail_positive_only", "supervisor/fault_monitor.c", "ADC rail detected on the positive rail only",
+      ("at_rail = at_rail || mc_ge(a, m->rail_abs_A);", "at_rail = at_rail || mc_ge(i, m->rail_abs_A);")),
+    m("fm_saturation_off_by_one", "supervisor/fault_monitor.c", "saturation trips one sample early",
+      ("if (m->sat_run > m->cfg.sat_max_ticks) {", "if (m->sat_run >= m->cfg.sat_max_ticks) {")),
+    m("fm_stuck_run_not_reset", "supervisor/fault_monitor.c", "the stuck-sample run is not reset by a moving sample",
+      ("            m->i_last_A[k] = i;\n            m->same_run[k] = 0;", "            m->i_last_A[k] = i;")),
+    m("fm_i2t_negative", "supervisor/fault_monitor.c", "I^2 t allowed below 0 (cooling banks credit)",
+      ("m->i2t_A2 = mc_max(MC_ZERO, mc_mac(m->i2t_A2, excess, c->i2t_gain));", "m->i2t_A2 = mc_mac(m->i2t_A2, excess, c->i2t_gain);")),
+    # ---- start-up
+    m("kid_negative_speed_ignored", "startup/k_identification.c", "K identification ignores moves in the negative direction",
+      ("const mc_t w = mc_abs(omega_ref_rad_s);", "const mc_t w = omega_ref_rad_s;")),
+    m("kid_window_off_by_one", "startup/k_identification.c", "K computed one sample after the window",
+      ("if (k->n < k->cfg.n_window) {", "if (k->n <= k->cfg.n_window) {")),
+    m("kid_upper_bound", "startup/k_identification.c", "plausibility: K up to 4 K_model accepted",
+      ("!mc_gt(K, mc_mul(Km, MC_C(2.0)))", "!mc_gt(K, mc_mul(Km, MC_C(4.0)))")),
+    m("kid_deadband_swapped", "startup/k_identification.c", "a K within the deadband adopted, one outside kept",
+      ("(differs ? K_ID_DONE : K_ID_KEPT)", "(differs ? K_ID_KEPT : K_ID_DONE)")),
+    m("align_turn_back_off_by_one", "startup/align.c", "the turn back overshoots by one step",
+      ("2 * c->turn_ticks - (k + 1);", "2 * c->turn_ticks - k;")),
+    m("align_no_off_time", "startup/align.c", "alignment ends without the 0 V time for the current to decay",
+      ("+ c->settle_ticks + c->off_ticks;", "+ c->settle_ticks;")),
+    m("align_ramp_down_late", "startup/align.c", "ramp down one step late (a step at its end)",
+      ("mc_ratio_i(c->ramp_ticks - (k + 1), c->ramp_ticks)", "mc_ratio_i(c->ramp_ticks - k, c->ramp_ticks)")),
+    m("pmsm_id_overcurrent_no_abs", "startup/pmsm_identification.c", "identification: a negative over-current missed",
+      ("if (mc_gt(mc_abs(i_phase_A[j]), c->i_trip_A)) {", "if (mc_gt(i_phase_A[j], c->i_trip_A)) {")),
+    m("pmsm_id_overcurrent_first_phase", "startup/pmsm_identification.c", "identification: over-current on phase a only",
+      ("for (uint32_t j = 0; j < n; ++j) {", "for (uint32_t j = 0; j < n && j < 1u; ++j) {")),
+    m("pmsm_id_emf_resistive_sign", "startup/pmsm_identification.c", "paper 001 (1): e = v + R i on the alpha axis",
+      ("const mc_t ea = mc_sub(mc_sub(id->v_prev_V.alpha, mc_mul(id->R_ohm, ia)),",
+       "const mc_t ea = mc_sub(mc_add(id->v_prev_V.alpha, mc_mul(id->R_ohm, ia)),")),
+    m("pmsm_id_limit_alpha_only", "startup/pmsm_identification.c", "the bus limit scales alpha only (direction lost)",
+      ("        v_ab_V->beta = mc_mul(v_ab_V->beta, k);\n", "")),
+    # ---- trajectory, math
+    m("poly_slope_half", "trajectory/speed_poly.c", "dw/dt of the quintic with 15 x^2 (1-x)^2 instead of 30",
+      ("const mc_t dpoly = mc_mul_i(mc_mul(x2, mc_mul(one_x, one_x)), 30);",
+       "const mc_t dpoly = mc_mul_i(mc_mul(x2, mc_mul(one_x, one_x)), 15);")),
+    m("poly_end_not_held", "trajectory/speed_poly.c", "after t1 the reference falls back to w0",
+      ("*w_rad_s = (tick <= p->t0_tick) ? p->w0_rad_s : p->w1_rad_s;", "*w_rad_s = p->w0_rad_s;")),
+    m("decay_snap_positive_only", "math/decay.h", "a negative decaying offset snapped to 0 at once",
+      ("return (mc_lt(mc_abs(y), MC_DECAY_SNAP)) ? MC_ZERO : y;", "return (mc_lt(y, MC_DECAY_SNAP)) ? MC_ZERO : y;")),
+    m("mean_residual_dropped", "math/mc_mean.h", "running mean: the division's remainder not carried",
+      ("*res = mc_sub(t, mc_mul_i(q, n));", "*res = MC_ZERO;")),
+    m("rot_compose_sign", "math/frame_fg.h", "angle sum: cos(x + y) = cos cos + sin sin",
+      ("r.c = mc_cross2(x.c, y.c, x.s, y.s);", "r.c = mc_dot2(x.c, y.c, x.s, y.s);")),
+    # ---- gain design of papers 001 and 002
+    m("p002_design_torque_constant", "design/paper002_design.c", "K_t = p psi instead of 3/2 p psi",
+      ("const double Kt = 1.5 * in->p * in->psi_Wb;", "const double Kt = 1.0 * in->p * in->psi_Wb;")),
+    m("p002_design_trip_below_max", "design/paper002_design.c", "a trip current below i_max accepted",
+      ("if (!(in->i_trip_A >= in->i_max_A))", "if (!(in->i_trip_A >= 0.5 * in->i_max_A))")),
+    m("p001_design_torque_constant", "design/paper001_design.c", "K_t = n_p Phi whatever the phase count",
+      ("const double Kt = 0.5 * (double)m->n_phases * np * m->Phi_Wb;", "const double Kt = np * m->Phi_Wb;")),
+    m("p001_design_delay_advance", "design/paper001_design.c", "output advanced by n_p Ts/2 whatever the delay",
+      ("cfg->advance_np = mc_from_double(np * (0.5 + in->compute_delay_samples));", "cfg->advance_np = mc_from_double(np * 0.5);")),
+    m("persist_off_by_one", "supervisor/fault_monitor.h", "a persistent condition reported one sample late",
+      ("return condition && p->run >= n;", "return condition && p->run > n;")),
+    m("recorder_slot_after_freeze", "supervisor/flight_recorder.h", "the ring keeps recording after the fault froze it",
+      ("return r->frozen ? 0 : &r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)];",
+       "return &r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)];"),
+      ("r->n += r->frozen ? 0u : 1u;", "r->n += 1u;")),
+    m("p001_applied_mean_sign", "drives/paper001_drive.h", "computation delay: (1 + d) v - d v_prev on alpha",
+      ("m.alpha = mc_mac(v.alpha, c->compute_delay, mc_sub(v_prev.alpha, v.alpha));",
+       "m.alpha = mc_mac(v.alpha, c->compute_delay, mc_sub(v.alpha, v_prev.alpha));")),
+    m("can_p001_clear_while_running", "comm/can_paper001.c", "clear-faults re-initialises a running speed drive",
+      ("ok = d->sup.state == SUP_STATE_FAULT && paper001_drive_clear_fault(d);", "ok = paper001_drive_clear_fault(d);")),
+    m("emf_schedule_constant", "estimators/emf_observer.h", "scheduled injection: alpha stays at its standstill value",
+      ("o->alpha_V_now = mc_mac(o->cfg.alpha_V, o->cfg.alpha_V_per_rad_s, speed_abs_rad_s);", "o->alpha_V_now = o->cfg.alpha_V;")),
+    m("fixed_div_truncates", "math/mc_num_fixed.h", "Q14.17 division truncated instead of rounded (short path)",
+      ("return (int32_t)(((ua << MC_FRAC_BITS) + (ub >> 1)) / ub);", "return (int32_t)((ua << MC_FRAC_BITS) / ub);")),
+    m("float_wrap_pi_closed", "math/mc_num_float.h", "wrap to [-pi, pi] instead of [-pi, pi): +pi left as is",
+      ("if (x >= -MC_PI && x < MC_PI) {", "if (x >= -MC_PI && x <= MC_PI) {")),
 ]
+
+
+# Files of firmware/ with no mutant, each with the reason; every other file
+# with a decision or a formula (a .c file, or a header with a function body)
+# must have at least one (checked by --check-list, so by ctest).
+NO_MUTANT = {
+    "comm/generated/drive_can.c": "generated by cantools from tools/can/drive.dbc (scripts/gen_can.sh); "
+                                  "tools.can_contract checks it against the DBC",
+    "control/twisting.c": "only instantiates the inline twisting_step of control/twisting.h (which has one)",
+    "estimators/fg_estimator.c": "initialisation only; the composition's step is inline in fg_estimator.h (which has two)",
+    "comm/can_tx.h": "can_tx_due forwards to can_tx_next_due of can_tx.c",
+    "drives/paper000_drive.h": "its one function body is an accessor (drive_flight_recorder)",
+    "estimators/flux_observer.h": "its function bodies are setters (gradient on/off, target, held voltage)",
+    "math/mc_num.h": "chooses the backend; no function body (\"static inline\" appears in a comment)",
+    "math/mc_convert.h": "host-side conversions (mc_from_double is the designs'); every design mutant goes through it",
+}
+
+# Golden masters: tests that compare printed figures digit for digit (a
+# table of docs/ regenerated and diffed). They fail on any change of a
+# digit, so they "kill" anything; --no-golden leaves them out of the verdict.
+GOLDEN_RE = r"^docs[.]tables_"
+# The unit tests (GoogleTest suites: firmware.Suite.Case, sim.Suite.Case,
+# hal.Suite.Case), run first: seconds, against minutes for the scenarios.
+UNIT_RE = r"^(firmware|sim|hal)[.][A-Z]"
+# tools.mutants_list checks that the mutants apply to the tree: under a
+# mutant they do not, by design, so it would "kill" every one
+NOT_A_VERDICT_RE = r"^tools[.]mutants_list$"
 
 
 def apply(text: str, mut: Mutant) -> str:
@@ -241,6 +469,26 @@ def apply(text: str, mut: Mutant) -> str:
             raise ValueError(f"mutant {mut.id}: text occurs {n} times in firmware/{mut.file} (want 1): {orig!r}")
         text = text.replace(orig, repl)
     return text
+
+
+def needs_mutant(path: Path) -> bool:
+    """A .c file, or a header with a function body (static inline)."""
+    if path.suffix == ".c":
+        return True
+    return path.suffix == ".h" and "static inline" in path.read_text(encoding="utf-8")
+
+
+def coverage(src: Path) -> tuple[dict[str, int], list[str]]:
+    """Mutants per file of firmware/, and the files that need one and have none."""
+    counts: dict[str, int] = {}
+    for f in sorted((src / "firmware").rglob("*")):
+        if f.suffix in (".c", ".h"):
+            counts[f.relative_to(src / "firmware").as_posix()] = 0
+    for mut in MUTANTS:
+        counts[mut.file] = counts.get(mut.file, 0) + 1
+    missing = [f for f, n in counts.items()
+               if n == 0 and f not in NO_MUTANT and needs_mutant(src / "firmware" / f)]
+    return counts, missing
 
 
 def check_list(src: Path, out=sys.stdout) -> int:
@@ -257,8 +505,27 @@ def check_list(src: Path, out=sys.stdout) -> int:
         except (OSError, ValueError) as e:
             print(f"mutants.py: {e}", file=sys.stderr)
             bad += 1
-    print(json.dumps({"mutants": len(MUTANTS), "not_applicable": bad}), file=out)
-    return 1 if bad else 0
+    counts, missing = coverage(src)
+    for f in missing:
+        print(f"mutants.py: firmware/{f} has a decision or a formula and no mutant "
+              f"(add one to MUTANTS, or its reason to NO_MUTANT)", file=sys.stderr)
+    stale = [f for f in NO_MUTANT if f not in counts or counts[f] > 0]
+    for f in stale:
+        print(f"mutants.py: NO_MUTANT names firmware/{f}, which has mutants or does not exist", file=sys.stderr)
+    print(json.dumps({"mutants": len(MUTANTS), "files": sum(1 for n in counts.values() if n > 0),
+                      "not_applicable": bad, "files_without_mutant": missing}), file=out)
+    return 1 if bad or missing or stale else 0
+
+
+def print_coverage(src: Path) -> int:
+    counts, missing = coverage(src)
+    for f, n in counts.items():
+        note = "" if n else ("  (" + NO_MUTANT[f] + ")" if f in NO_MUTANT else
+                            ("  MISSING" if f in missing else "  (declarations only)"))
+        print(f"{n:3d}  firmware/{f}{note}")
+    print(f"{len(MUTANTS)} mutants over {sum(1 for n in counts.values() if n > 0)} files; "
+          f"{len(missing)} file(s) with a decision or a formula and no mutant")
+    return 1 if missing else 0
 
 
 def is_scenario_check(test: str) -> bool:
@@ -279,7 +546,11 @@ def markdown(path: Path) -> int:
         print(f"mutants.py: --markdown: cannot read {path}: {e}", file=sys.stderr)
         return 2
     by_id = {x.id: x for x in MUTANTS}
-    print(f"{doc['killed']} of {doc['mutants']} killed, {doc['survived']} survived.\n")
+    inv = doc.get("invalid", 0)
+    gold = "" if doc.get("golden", True) else \
+        f"; golden masters left out, {len(doc.get('golden_only', []))} survivor(s) caught by them alone"
+    print(f"{doc['killed']} of {doc['mutants'] - inv} valid mutants killed, {doc['survived']} survived, "
+          f"{inv} invalid (do not compile){gold}.\n")
     print("| mutant | file | change | killed by (tests) |")
     print("| --- | --- | --- | --- |")
     for r in results:
@@ -290,8 +561,13 @@ def markdown(path: Path) -> int:
         scen = len(short) - len(unit)
         what = ", ".join(unit) + (f"{', ' if unit else ''}{scen} scenario checks" if scen else "")
         why = (mut.why if mut else "").replace("|", "\\|")
-        print(f"| `{r['id']}` | `{mut.file if mut else '?'}` | {why} | "
-              f"{'**survived**' if not r['killed'] else f'{len(short)}: {what}'} |")
+        if r.get("invalid"):
+            verdict = "**invalid** (does not compile)"
+        elif not r["killed"]:
+            verdict = "**survived**" + (" (golden master only)" if r.get("golden_only") else "")
+        else:
+            verdict = f"{len(short)}: {what}"
+        print(f"| `{r['id']}` | `{mut.file if mut else '?'}` | {why} | {verdict} |")
     return 0
 
 
@@ -324,17 +600,33 @@ def failures(log: Path) -> list[str]:
     return names
 
 
-def first_failure(log: Path) -> str:
-    f = failures(log)
-    if f:
-        return f[0]
-    return "build" if "error" in log.read_text(encoding="utf-8", errors="replace") else "?"
+def ctest_stages(a, logs: Path, name: str, src: Path, golden: bool) -> tuple[bool, list[str], str]:
+    """ctest in two stages (unit tests, then the rest), stopping at the first
+    failure unless --full. Returns (failed, failed tests in order, first)."""
+    base = ["ctest", "--preset", a.preset, "-j", str(a.jobs), "--timeout", "300"]
+    if not a.full:
+        base.append("--stop-on-failure")
+    rest_excl = UNIT_RE + "|" + NOT_A_VERDICT_RE + ("" if golden else "|" + GOLDEN_RE)
+    stages = [("unit", ["-R", UNIT_RE, "-E", NOT_A_VERDICT_RE]), ("rest", ["-E", rest_excl])]
+    killers: list[str] = []
+    failed = False
+    for stage, sel in stages:
+        log = logs / f"{name}.{stage}.log"
+        if sh(base + sel, src, log) != 0:
+            failed = True
+            killers += [k for k in failures(log) if k not in killers]
+            if not a.full:
+                break
+    first = killers[0] if killers else ("?" if failed else "")
+    return failed, killers, first
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--check-list", action="store_true")
+    ap.add_argument("--coverage", action="store_true")
     ap.add_argument("--only", default="")
+    ap.add_argument("--no-golden", action="store_true")
     ap.add_argument("--preset", default="host", choices=["host", "host-fixed"])
     ap.add_argument("--workdir", default="")
     ap.add_argument("--jobs", type=int, default=2)
@@ -343,6 +635,8 @@ def main() -> int:
     a = ap.parse_args()
     if a.check_list:
         return check_list(ROOT)
+    if a.coverage:
+        return print_coverage(ROOT)
     if a.markdown:
         return markdown(Path(a.markdown))
     chosen = MUTANTS
@@ -367,11 +661,7 @@ def main() -> int:
     copy_tree(src)
     logs = work / "logs"
     logs.mkdir()
-    # tools.mutants_list checks that the mutants apply to the tree: under a
-    # mutant they do not, by design, so it would "kill" every one
-    ctest = ["ctest", "--preset", a.preset, "-j", str(a.jobs), "--timeout", "300", "-E", "^tools[.]mutants_list$"]
-    if not a.full:
-        ctest.append("--stop-on-failure")
+    golden = not a.no_golden
     print(f"mutants.py: building the unmutated copy in {src}", file=sys.stderr)
     # the copy has no venv of its own: the checkout's serves the python tests
     venv_python = ROOT / ".venv" / "bin" / "python"
@@ -382,42 +672,55 @@ def main() -> int:
             sh(["cmake", "--build", "--preset", a.preset], src, logs / "build.log") != 0:
         print(f"mutants.py: the unmutated tree does not build (see {logs})", file=sys.stderr)
         return 1
-    if sh(ctest, src, logs / "ctest_clean.log") != 0:
-        print(f"mutants.py: ctest fails on the unmutated tree: {first_failure(logs / 'ctest_clean.log')}",
-              file=sys.stderr)
+    # the unmutated tree passes every test, the golden masters included
+    # (else "caught by the golden master only" would mean nothing)
+    failed, _, first = ctest_stages(a, logs, "clean", src, golden=True)
+    if failed:
+        print(f"mutants.py: ctest fails on the unmutated tree: {first}", file=sys.stderr)
         return 1
+    golden_cmd = ["ctest", "--preset", a.preset, "--timeout", "300", "-R", GOLDEN_RE]
     results = []
     for i, mut in enumerate(chosen, 1):
         path = src / "firmware" / mut.file
         original = path.read_text(encoding="utf-8")
         t0 = time.monotonic()
+        invalid = False
+        golden_only = False
+        killers: list[str] = []
         try:
             path.write_text(apply(original, mut), encoding="utf-8")
-            log = logs / f"{mut.id}.log"
-            killers: list[str] = []
-            if sh(["cmake", "--build", "--preset", a.preset], src, log) != 0:
-                killed, by = True, "build"
+            if sh(["cmake", "--build", "--preset", a.preset], src, logs / f"{mut.id}.build.log") != 0:
+                # does not compile: a broken mutant, not a kill
+                invalid, killed, by = True, False, "build"
             else:
-                killed = sh(ctest, src, log) != 0
-                by = first_failure(log) if killed else ""
-                killers = failures(log) if killed else []
+                killed, killers, by = ctest_stages(a, logs, mut.id, src, golden)
+                if not killed and not golden:
+                    golden_only = sh(golden_cmd, src, logs / f"{mut.id}.golden.log") != 0
         finally:
             path.write_text(original, encoding="utf-8")
         dt = time.monotonic() - t0
-        r = {"id": mut.id, "killed": killed, "by": by, "seconds": round(dt, 1)}
+        r = {"id": mut.id, "file": "firmware/" + mut.file, "killed": killed, "invalid": invalid, "by": by,
+             "seconds": round(dt, 1)}
+        if not golden:
+            r["golden_only"] = golden_only
         if a.full:
             r["killed_by"] = killers
         results.append(r)
-        print(f"[{i}/{len(chosen)}] {mut.id}: {'killed by ' + by if killed else 'SURVIVED'} ({dt:.0f} s)",
-              file=sys.stderr)
+        verdict = ("INVALID (does not compile)" if invalid else "killed by " + by if killed else
+                   "SURVIVED" + (" (the golden master alone catches it)" if golden_only else ""))
+        print(f"[{i}/{len(chosen)}] {mut.id}: {verdict} ({dt:.0f} s)", file=sys.stderr)
     # leave the copy as unmutated as it started
     sh(["cmake", "--build", "--preset", a.preset], src, logs / "build_final.log")
     killed = sum(r["killed"] for r in results)
+    n_invalid = sum(r["invalid"] for r in results)
     by_id = {x.id: x for x in chosen}
-    out = {"mutants": len(results), "killed": killed, "survived": len(results) - killed,
-           "score": round(killed / len(results), 3) if results else None, "preset": a.preset,
-           "survivors": [{"id": r["id"], "file": "firmware/" + by_id[r["id"]].file, "why": by_id[r["id"]].why}
-                         for r in results if not r["killed"]],
+    valid = len(results) - n_invalid
+    out = {"mutants": len(results), "killed": killed, "survived": valid - killed, "invalid": n_invalid,
+           "score": round(killed / valid, 3) if valid else None, "preset": a.preset, "golden": golden,
+           "golden_only": [r["id"] for r in results if r.get("golden_only")],
+           "survivors": [{"id": r["id"], "file": r["file"], "why": by_id[r["id"]].why}
+                         for r in results if not r["killed"] and not r["invalid"]],
+           "invalid_mutants": [r["id"] for r in results if r["invalid"]],
            "results": results}
     print(json.dumps(out, indent=1))
     if tmp is not None:
