@@ -491,7 +491,8 @@ def coverage(src: Path) -> tuple[dict[str, int], list[str]]:
     return counts, missing
 
 
-def check_list(src: Path, out=sys.stdout) -> int:
+def check_list(src: Path, out=None) -> int:
+    out = out or sys.stdout
     bad = 0
     ids = set()
     for mut in MUTANTS:
