@@ -236,8 +236,8 @@ void warn_feasibility(const mcsim::Scenario& sc)
     double w_pk = 0.0, a_pk = 0.0;
     if (sc.paper002_drive) {
         // the C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0)
-        w_pk = std::fabs(sc.p002.omega_final_rad_s);
-        a_pk = 1.875 * w_pk / (sc.p002.t1_s - sc.p002.t0_s);
+        w_pk = std::max(std::fabs(sc.p002.omega_start_rad_s), std::fabs(sc.p002.omega_final_rad_s));
+        a_pk = 1.875 * std::fabs(sc.p002.omega_final_rad_s - sc.p002.omega_start_rad_s) / (sc.p002.t1_s - sc.p002.t0_s);
     } else if (sc.speed_drive) {
         for (std::size_t k = 0; k < sc.speed_points.size(); ++k) {
             w_pk = std::max(w_pk, std::fabs(sc.speed_points[k].second));

@@ -265,7 +265,7 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->compensate = sc.p002.compensate;
     in->t0_s = sc.p002.t0_s;
     in->t1_s = sc.p002.t1_s;
-    in->w0_rad_s = 0.0;
+    in->w0_rad_s = sc.p002.omega_start_rad_s;
     in->w1_rad_s = sc.p002.omega_final_rad_s;
     in->angle_source = sc.p002.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)

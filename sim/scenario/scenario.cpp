@@ -1280,7 +1280,7 @@ Scenario load_scenario(const std::string& path)
 
     // [paper002]: paper 002's drive (sim/scenarios/README.md)
     if (const auto v = root.table("paper002")) {
-        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega0_rad_s", "estimator", "ekf_q",
+        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega_start_rad_s", "omega0_rad_s", "estimator", "ekf_q",
                  "ekf_r"});
         // the EKF's Q and R diagonals instead of the design's: positive
         // definite, so every entry > 0
@@ -1319,6 +1319,7 @@ Scenario load_scenario(const std::string& path)
             v->fail("t1_s", "must be at least Ts_s after t0_s (got " + fmt_num(sc.p002.t1_s) + ")");
         }
         sc.p002.omega_final_rad_s = v->number("omega_final_rad_s").value_or(sc.p002.omega_final_rad_s);
+        sc.p002.omega_start_rad_s = v->number("omega_start_rad_s").value_or(0.0);
         sc.p002.omega0_rad_s = v->number("omega0_rad_s").value_or(0.0);
         if (sc.motor.type != MotorType::kPmsm3) {
             root.fail("motor.file", "paper 002's drive needs a pmsm3 motor (this one is a stepper2)");

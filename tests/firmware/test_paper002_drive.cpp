@@ -127,6 +127,35 @@ double run(p002_controller_t ctrl, bool dc, bool noise)
     }
     return std::sqrt(ss / 10000.0);
 }
+
+// One sample of the closed loop above (the same sensors and plant, noise
+// on): the drive's step on the plant's phases and encoder, its voltage
+// applied over the coming sample under load_at(t). Returns the step's
+// result; w_d - w of the sample in *err.
+bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, double* err)
+{
+    std::normal_distribution<double> n01(0.0, 1.0);
+    const double c = std::cos(kP * tr->th), s = std::sin(kP * tr->th);
+    const double ia = c * tr->id - s * tr->iq, ib = s * tr->id + c * tr->iq;
+    const double ph[3] = {ia, -0.5 * ia + 0.8660254037844386 * ib, -0.5 * ia - 0.8660254037844386 * ib};
+    hal_sample_t in{};
+    in.n_phases = 3;
+    for (int j = 0; j < 3; ++j) in.i_A[j] = M(ph[j] + 5e-3 * n01(*rng));
+    in.v_bus_V = M(48.0);
+    in.has_angle = true;
+    const double step = 2 * kPi / 65536.0;
+    double enc = std::floor(tr->th / step) * step + 1e-4 * n01(*rng);
+    enc -= 2 * kPi * std::floor((enc + kPi) / (2 * kPi));
+    in.angle_rad = M(enc);
+    hal_command_t out{};
+    const bool ok = paper002_drive_step(d, &in, &out);
+    const double v0 = (mc_to_double(out.v_V[0]) + mc_to_double(out.v_V[1]) + mc_to_double(out.v_V[2])) / 3.0;
+    const double va = mc_to_double(out.v_V[0]) - v0;
+    const double vb = (mc_to_double(out.v_V[1]) - mc_to_double(out.v_V[2])) / 1.7320508075688772;
+    *err = mc_to_double(d->last.w_d_rad_s) - tr->w;
+    tr->step(c * va + s * vb, c * vb - s * va, load_at(t));
+    return ok;
+}
 }  // namespace
 
 TEST(Paper002Drive, TracksTheReferenceWithCompensation)
@@ -206,4 +235,89 @@ TEST(Paper002Design, RefusesBadInputNamingTheKey)
     }
     EXPECT_NE(designed.ekf.q[0], c.ekf.q[0]);
 #endif
+}
+
+// In reverse and through zero, by the command path of the CAN node
+// (comm/can_paper002.c: CmdSpeed -> paper002_drive_set_speed, CmdStop ->
+// paper002_drive_stop), on the loop above with the 0.5 N m pulses (which
+// oppose positive speed, so at w < 0 they drive the rotor and the drive
+// brakes on each). After the first sample (the bus measured): a speed
+// whose back-EMF p psi |w| passes 0.9 x 48/sqrt(3) V (155.9 rad/s) is
+// refused either way, -150 and +150 accepted; then +50 rad/s at 500
+// rad/s^2 (0.1875 s), at 0.32 s a reversal to -50 rad/s (0.375 s, through
+// zero at 0.5075 s on the pulse's rising edge), held (a pulse at
+// 0.7-0.8 s), at 0.9 s stopped at the same ramp (to 0 at 1.0875 s, under
+// a pulse), held at 0 to 1.2 s. No fault (the stall band is 10 + 0.5 |w_d|,
+// rad/s), and the speed tracked.
+TEST(Paper002Drive, ReversesThroughZeroOnCommand)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    // measured: RMSE of w_d - w 0.0491 rad/s over the run, 0.0476 over the
+    // reversal (0.32-0.695 s), 0.0451 in the hold at -50 (0.695-0.9 s); max
+    // |w_d - w| after 50 ms 0.212 rad/s; w -50.04 at the stop, min -50.11,
+    // final -0.047 rad/s. Bounds 1.5 times the run's (the windows' 1.6),
+    // the speeds within 1 rad/s.
+    constexpr double kRmseBound = 0.075, kErrMaxBound = 0.32;
+    static paper002_drive_t d;
+    const paper002_config_t cfg = config(P002_SOSMC, true);
+    ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+    Truth tr;
+    std::mt19937_64 rng(11);
+    double err = 0.0;
+    ASSERT_TRUE(loop_step(&d, &tr, &rng, 0.0, &err));
+    // the back-EMF limit on |w|: the same either way
+    EXPECT_FALSE(paper002_drive_set_speed(&d, M(160.0), M(500.0)));
+    EXPECT_FALSE(paper002_drive_set_speed(&d, M(-160.0), M(500.0)));
+    EXPECT_TRUE(paper002_drive_set_speed(&d, M(150.0), M(500.0)));
+    EXPECT_TRUE(paper002_drive_set_speed(&d, M(-150.0), M(500.0)));
+    // the duration from |dw|: -150 from where the reference is (still 0)
+    // at 500 rad/s^2 takes 1.875 x 150 / 500 = 0.5625 s
+    mc_t w, dw;
+    speed_poly_eval(&d.reference, d.tick + 2812, &w, &dw);
+    EXPECT_NEAR(mc_to_double(w), -75.0, 0.2);
+    EXPECT_NEAR(mc_to_double(dw), -500.0, 2.0);
+    ASSERT_TRUE(paper002_drive_set_speed(&d, M(50.0), M(500.0)));
+    const int n = 12000;
+    double ss = 0.0, err_max = 0.0, ss_rev = 0.0, ss_neg = 0.0, w_min = 0.0, w_at_stop = 0.0;
+    int n_rev = 0, n_neg = 0, fault_k = -1;
+    for (int k = 1; k < n; ++k) {
+        const double t = k * kTs;
+        if (k == 3200) {
+            EXPECT_TRUE(paper002_drive_set_speed(&d, M(-50.0), M(500.0)));
+        }
+        if (k == 9000) {
+            w_at_stop = tr.w;
+            EXPECT_TRUE(paper002_drive_stop(&d));
+        }
+        if (!loop_step(&d, &tr, &rng, t, &err) && fault_k < 0) {
+            fault_k = k;
+        }
+        ss += err * err;
+        if (t >= 0.05) err_max = std::max(err_max, std::fabs(err));
+        if (t >= 0.32 && t < 0.695) {
+            ss_rev += err * err;
+            n_rev += 1;
+        }
+        if (t >= 0.695 && t < 0.9) {
+            ss_neg += err * err;
+            n_neg += 1;
+        }
+        w_min = std::min(w_min, tr.w);
+    }
+    const double rmse = std::sqrt(ss / (n - 1)), rmse_rev = std::sqrt(ss_rev / n_rev), rmse_neg = std::sqrt(ss_neg / n_neg);
+    std::printf("reverse on command: RMSE %.4g rad/s (reversal %.4g, hold at -50 %.4g), max |w_d - w| after 50 ms "
+                "%.4g, min w %.4g, w at the stop %.4g, final w %.4g rad/s\n",
+                rmse, rmse_rev, rmse_neg, err_max, w_min, w_at_stop, tr.w);
+    EXPECT_EQ(fault_k, -1) << "fault " << d.fault << " at t = " << fault_k * kTs << " s";
+    EXPECT_EQ(d.fault, DRIVE_FAULT_NONE);
+    EXPECT_NEAR(mc_to_double(d.last.w_d_rad_s), 0.0, 1e-6);
+    EXPECT_LT(rmse, kRmseBound);
+    EXPECT_LT(rmse_rev, kRmseBound);
+    EXPECT_LT(rmse_neg, kRmseBound);
+    EXPECT_LT(err_max, kErrMaxBound);
+    EXPECT_NEAR(w_at_stop, -50.0, 1.0);
+    EXPECT_GT(w_min, -51.0);
+    EXPECT_NEAR(tr.w, 0.0, 1.0);
 }
