@@ -10,8 +10,9 @@
  * (28) drops the J; eta is then in rad/s^3 everywhere). dw~/dt needs the
  * speed's derivative, which is not measured: the EKF's model acceleration
  * serves (errata). M0_hat is added only with disturbance compensation on.
- * The integral is explicit Euler; it stops growing while the torque is
- * at its limit (anti-windup by clamping).
+ * The integrals (of (28) and of w~ in s) are explicit Euler; both stop
+ * while the torque is at its limit and (28)'s integrand pushes it further
+ * (anti-windup by clamping, on either side).
  */
 #ifndef CONTROL_SOSMC_H
 #define CONTROL_SOSMC_H

@@ -58,7 +58,7 @@ typedef struct {
     mc_t x[EKF_N];                    /* the estimate (a priori after predict, a posteriori after correct) */
     mc_t P[EKF_N][EKF_N];
     mc_t innovation[EKF_M];           /* of the last correction */
-    bool spd_ok;                      /* S's Cholesky factor existed at every correction */
+    bool spd_ok;                      /* S's Cholesky factor existed at every correction (false stays false) */
 } ekf_ipmsm_t;
 
 /* Checks the configuration (every q, r, p0 > 0, inductances, J, Ts > 0,
@@ -66,7 +66,8 @@ typedef struct {
 bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg);
 
 /* (40)-(44) with the measurement of this sample: the a posteriori
- * estimate. False (estimate unchanged) if S lost positive definiteness. */
+ * estimate. False if S lost positive definiteness: x, P and innovation
+ * are then left as they were and spd_ok is cleared for good. */
 bool ekf_ipmsm_correct(ekf_ipmsm_t *e, mc_t i_d_A, mc_t i_q_A, mc_t theta_rad);
 
 /* (38)-(39): the a priori estimate of the next sample, the voltages u_d,
