@@ -131,8 +131,12 @@ double run(p002_controller_t ctrl, bool dc, bool noise)
 // One sample of the closed loop above (the same sensors and plant, noise
 // on): the drive's step on the plant's phases and encoder, its voltage
 // applied over the coming sample under load_at(t). Returns the step's
-// result; w_d - w of the sample in *err.
-bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, double* err)
+// result; w_d - w of the sample in *err; with v_err, the largest distance
+// so far [V] between the alpha-beta voltage applied (Clarke of the legs)
+// and step 6 of paper002_drive_step evaluated here in double: (u_d, u_q)
+// turned by the electrical angle p (theta_hat + (1/2 + d) Ts w_hat), the
+// estimate advanced to the middle of the sample the voltage acts over.
+bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, double* err, double* v_err = nullptr)
 {
     std::normal_distribution<double> n01(0.0, 1.0);
     const double c = std::cos(kP * tr->th), s = std::sin(kP * tr->th);
@@ -153,6 +157,13 @@ bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, d
     const double va = mc_to_double(out.v_V[0]) - v0;
     const double vb = (mc_to_double(out.v_V[1]) - mc_to_double(out.v_V[2])) / 1.7320508075688772;
     *err = mc_to_double(d->last.w_d_rad_s) - tr->w;
+    if (v_err != nullptr && ok) {
+        const double lead = (0.5 + mc_to_double(d->cfg.compute_delay)) * kTs;
+        const double e = kP * (mc_to_double(d->last.theta_hat_rad) + lead * mc_to_double(d->last.w_hat_rad_s));
+        const double ud = mc_to_double(d->last.u_d_V), uq = mc_to_double(d->last.u_q_V);
+        const double ea = va - (std::cos(e) * ud - std::sin(e) * uq), eb = vb - (std::sin(e) * ud + std::cos(e) * uq);
+        *v_err = std::max(*v_err, std::hypot(ea, eb));
+    }
     tr->step(c * va + s * vb, c * vb - s * va, load_at(t));
     return ok;
 }
@@ -280,7 +291,7 @@ TEST(Paper002Drive, ReversesThroughZeroOnCommand)
     EXPECT_NEAR(mc_to_double(dw), -500.0, 2.0);
     ASSERT_TRUE(paper002_drive_set_speed(&d, M(50.0), M(500.0)));
     const int n = 12000;
-    double ss = 0.0, err_max = 0.0, ss_rev = 0.0, ss_neg = 0.0, w_min = 0.0, w_at_stop = 0.0;
+    double ss = 0.0, err_max = 0.0, ss_rev = 0.0, ss_neg = 0.0, w_min = 0.0, w_at_stop = 0.0, v_err_neg = 0.0;
     int n_rev = 0, n_neg = 0, fault_k = -1;
     for (int k = 1; k < n; ++k) {
         const double t = k * kTs;
@@ -291,7 +302,7 @@ TEST(Paper002Drive, ReversesThroughZeroOnCommand)
             w_at_stop = tr.w;
             EXPECT_TRUE(paper002_drive_stop(&d));
         }
-        if (!loop_step(&d, &tr, &rng, t, &err) && fault_k < 0) {
+        if (!loop_step(&d, &tr, &rng, t, &err, t >= 0.695 && t < 0.9 ? &v_err_neg : nullptr) && fault_k < 0) {
             fault_k = k;
         }
         ss += err * err;
@@ -320,4 +331,11 @@ TEST(Paper002Drive, ReversesThroughZeroOnCommand)
     EXPECT_NEAR(w_at_stop, -50.0, 1.0);
     EXPECT_GT(w_min, -51.0);
     EXPECT_NEAR(tr.w, 0.0, 1.0);
+    // the output's angle in the hold at -50 rad/s: the estimate advanced
+    // by (1/2 + d) Ts w_hat, backwards there. Float rounding of |u| <= 28 V
+    // turned by a float sin/cos: 8.7e-6 V measured; a lead of the wrong
+    // sign at -50 rad/s, p = 4, Ts = 1e-4 s turns the voltage by 0.02 rad
+    // (mutant p002_output_lead_forward_only: 0.45 V measured).
+    std::printf("output angle in the hold at -50 rad/s: largest error %.3g V\n", v_err_neg);
+    EXPECT_LT(v_err_neg, 1e-3);
 }
