@@ -786,3 +786,103 @@ TEST(LoadAngle, NoResistanceAtRestStaysFinite)
     EXPECT_TRUE(std::isfinite(D(vf)));
     EXPECT_TRUE(std::isfinite(D(vg)));
 }
+
+// A changing load (issue 26): every step of a 1900-sample sequence against
+// the law evaluated in double from the block's state before the step and
+// the model's stored coefficients. The observed load ramps faster than the
+// slew (0.006 N m a sample), steps beyond +-load_ff_max (+-1 N m against
+// 0.648), ramps slower than the slew (followed exactly), steps by 0.2,
+// goes missing (no estimate: held), then swings as a sine after a
+// hand-over (load_angle_start: the amplitude ramps back to I_s). The load
+// fed forward moves towards the clamped estimate by at most load_slew_Nm
+// a sample and reaches both clamps; the voltage is (38) at the
+// references, with L di_g,r/dt = L/(K Ts) times the fed-forward load's
+// change over the sample (up to 0.67 V here), plus the PI. A dropped term,
+// a wrong sign, a missing clamp or slew is a step far above the rounding.
+TEST(LoadAngle, ChangingLoadEachStepFollowsEq38)
+{
+    const double R = 3.01, L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4, Is = 3.0;
+    const motor_model_t mm = rig_model(R, L, K, J, fv, Ts);
+    load_angle_config_t cfg = la_config(Is, K, L, Ts);
+    cfg.i_amp_slew_A = M(0.01);
+    load_angle_t la;
+    load_angle_init(&la, &cfg);
+    const double slew = D(cfg.load_slew_Nm), lmax = D(cfg.load_ff_max_Nm), LKT = D(cfg.L_over_KTs_V_per_Nm);
+    const double kp = D(cfg.kp_ohm), ki = D(cfg.ki_ohm), damp = D(cfg.damp_A_s_per_rad), ig_cap = D(cfg.i_g_max_A);
+    const double amp_slew = D(cfg.i_amp_slew_A), Is_m = D(cfg.i_s_A);
+    const double JK = D(mm.J_over_K_A_s2), fvK = D(mm.fv_over_K_A_s), Rm = D(mm.R_ohm), npL = D(mm.npL_ohm_s),
+                 Km = D(mm.K_V_s);
+    // float: single-precision rounding of each operation; fixed: a few LSB
+    // of Q14.17, times the gains (kp 22.5 V/A, L/(K Ts) 333 V/(N m))
+    const double tol_load = MC_FIXED ? 3.0 / 131072 : 2e-7;
+    const double tol_i = MC_FIXED ? 2e-4 : 5e-6;
+    const double tol_v = MC_FIXED ? 4e-3 : 1e-4;
+    bool hit_max = false, hit_min = false;
+    double max_ldi = 0.0;
+    for (int k = 0; k < 1900; ++k) {
+        double est_load;
+        bool est = true;
+        if (k < 400) {
+            est_load = 0.006 * k;                  // to 2.4 N m, beyond the clamp
+        } else if (k < 1100) {
+            est_load = -1.0;                       // a step beyond -load_ff_max
+        } else if (k < 1300) {
+            est_load = -0.6 + 0.0005 * (k - 1100); // slower than the slew
+        } else if (k < 1400) {
+            est_load = -0.3;                       // a step of 0.2
+        } else if (k < 1500) {
+            est_load = -5.0;                       // no estimate: ignored
+            est = false;
+        } else {
+            est_load = 0.5 * std::sin(0.05 * k);
+        }
+        if (k == 1500) load_angle_start(&la, M(1.0));
+        trajectory_point_t r{};
+        r.omega_rad_s = M(5.0 * std::sin(0.004 * k));
+        r.accel_rad_s2 = M(50.0 * std::cos(0.004 * k));
+        const double w = D(r.omega_rad_s), a = D(r.accel_rad_s2);
+        const mc_t w_est = M(w + 0.3 * std::sin(0.13 * k));
+        // currents about the last references (the PI's integral stays small)
+        const mc_t i_f_meas = M(D(la.i_f_ref_A) + 0.1 * std::sin(0.7 * k));
+        const mc_t i_g_meas = M(D(la.i_g_ref_A) + 0.1 * std::cos(0.3 * k));
+        const bool hold = k % 7 == 0;
+        // the block's state before the step
+        const double load0 = D(la.load_Nm), int_f0 = D(la.int_f_V), int_g0 = D(la.int_g_V), amp0 = D(la.i_amp_A);
+        mc_t vf, vg;
+        load_angle_step(&la, &mm, &r, i_f_meas, i_g_meas, est, w_est, M(est_load), hold, &vf, &vg);
+        // the fed-forward load: towards the clamped estimate, at most the slew
+        double load1 = load0;
+        if (est) {
+            const double target = std::fmin(std::fmax(D(M(est_load)), -lmax), lmax);
+            load1 = load0 + std::fmin(std::fmax(target - load0, -slew), slew);
+        }
+        const double load_blk = D(la.load_Nm);
+        ASSERT_NEAR(load_blk, load1, tol_load) << k;
+        ASSERT_LE(std::fabs(load_blk - load0), slew + tol_load) << k;
+        ASSERT_LE(std::fabs(load_blk), lmax + tol_load) << k;
+        hit_max = hit_max || load_blk >= lmax - tol_load;
+        hit_min = hit_min || load_blk <= -lmax + tol_load;
+        // the references from it
+        const double amp1 = amp0 < Is_m ? std::fmin(Is_m, amp0 + amp_slew) : amp0;
+        ASSERT_NEAR(D(la.i_amp_A), amp1, tol_load) << k;
+        double ig = JK * a + fvK * w + load_blk / Km;
+        if (est) ig -= damp * (D(w_est) - w);
+        const double cap = std::fmin(ig_cap, amp1);
+        ig = std::fmin(std::fmax(ig, -cap), cap);
+        const double i_f = std::sqrt(std::fmax(0.0, amp1 * amp1 - ig * ig));
+        ASSERT_NEAR(D(la.i_g_ref_A), ig, tol_i) << k;
+        ASSERT_NEAR(D(la.i_f_ref_A), i_f, tol_i) << k;
+        // (38) at the references, L di_g,r/dt of the load's change, the PI
+        const double e_f = i_f - D(i_f_meas), e_g = ig - D(i_g_meas);
+        const double int_f1 = hold ? int_f0 : int_f0 + ki * e_f, int_g1 = hold ? int_g0 : int_g0 + ki * e_g;
+        const double ldi = LKT * (load_blk - load0);
+        max_ldi = std::fmax(max_ldi, std::fabs(ldi));
+        const double want_f = Rm * i_f - npL * w * ig + int_f1 + kp * e_f;
+        const double want_g = Rm * ig + npL * w * i_f + Km * w + ldi + int_g1 + kp * e_g;
+        ASSERT_NEAR(D(vf), want_f, tol_v) << k;
+        ASSERT_NEAR(D(vg), want_g, tol_v) << k;
+    }
+    EXPECT_TRUE(hit_max) << "the load never reached +load_ff_max";
+    EXPECT_TRUE(hit_min) << "the load never reached -load_ff_max";
+    EXPECT_GT(max_ldi, 0.6);  // L/(K Ts) x the slew: 0.67 V
+}

@@ -6,6 +6,7 @@
 // drive as it was and is counted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -295,6 +296,206 @@ TEST(CanNode, SetRateAndHeartbeatCounter)
     EXPECT_EQ(heartbeats, 10);
     EXPECT_EQ(last_counter, 9u);
     EXPECT_EQ(n.tx.dropped, 0u);
+}
+
+// ---- a full transmit queue (comm/can_tx.h, can_node.h), issue 26 ----
+//
+// The contract: at most one due message is packed per sample; when the
+// 16-frame queue is full that message is dropped and counted, never waited
+// for (its next due sample is a period on, as if sent); the queued frames
+// stay, oldest first (the newest is what is lost); the heartbeat's Counter
+// is the number of heartbeats queued before it, so a dropped heartbeat
+// is not counted as sent.
+namespace {
+uint16_t hb_counter(const can_frame_t& f) { return static_cast<uint16_t>(f.data[5] | (f.data[6] << 8)); }
+int32_t theta_ref_raw(const can_frame_t& f)
+{
+    return static_cast<int32_t>(static_cast<uint32_t>(f.data[0]) | (static_cast<uint32_t>(f.data[1]) << 8) |
+                                (static_cast<uint32_t>(f.data[2]) << 16) | (static_cast<uint32_t>(f.data[3]) << 24));
+}
+// the node's telemetry step as a backend calls it, with a telemetry that
+// changes with the sample (so that every frame differs)
+void transmit_at(can_node_t* n, uint32_t k, can_telemetry_t* t)
+{
+    if (!can_node_due(n, k)) return;
+    *t = can_telemetry_t{};
+    t->theta_ref_rad = M(1e-3 * k);
+    t->omega_ref_rad_s = M(1e-2 * k);
+    t->i1_A = M(-1e-4 * k);
+    t->step_time_us = M(k % 97);
+    can_node_transmit(n, k, t);
+}
+}  // namespace
+
+// Default rates, node 0, nobody transmits for 105 ms: the first 16 due
+// frames stay queued in order (heartbeat at 0, the six 10 ms messages at
+// 1-6, the version at 7, the six at 101-106, Position and Velocity at 201,
+// 202), the 53 other messages due by then are dropped, the heartbeat due
+// at 100 ms among them: heartbeats stays 1. One slot freed at 105 ms: the
+// dropped heartbeat is not retried, the next due message (Position at
+// 110.1 ms) takes the slot, behind the 15 old frames. With the bus back,
+// the heartbeats of 200 and 300 ms carry Counter 1 and 2: the dropped
+// one was never counted. sent + dropped = every message due (215 in
+// 350 ms).
+TEST(CanNode, FullQueueDropsTheNewestCountsItAndRecovers)
+{
+    can_node_t n = make_node(0);
+    can_telemetry_t t{};
+    for (uint32_t k = 0; k < 1050; ++k) transmit_at(&n, k, &t);
+    EXPECT_EQ(n.tx.count, CAN_TX_QUEUE);
+    EXPECT_EQ(n.tx.sent, CAN_TX_QUEUE);
+    EXPECT_EQ(n.tx.dropped, 69u - CAN_TX_QUEUE);  // 2 heartbeats, 1 version, 6 x 11 in [0, 1050)
+    EXPECT_EQ(n.heartbeats, 1u) << "a dropped heartbeat counted as sent";
+    // the backend takes one frame: the oldest, left queued by peek
+    can_frame_t f, g;
+    ASSERT_TRUE(can_node_peek(&n, &f));
+    ASSERT_TRUE(can_node_peek(&n, &g));
+    EXPECT_EQ(std::memcmp(&f, &g, sizeof f), 0);
+    EXPECT_EQ(f.id, 0x100u);
+    EXPECT_EQ(hb_counter(f), 0u);
+    can_node_pop(&n);
+    EXPECT_EQ(n.tx.count, CAN_TX_QUEUE - 1);
+    for (uint32_t k = 1050; k < 1101; ++k) {
+        transmit_at(&n, k, &t);
+        ASSERT_EQ(n.tx.count, CAN_TX_QUEUE - 1) << "something was queued at " << k;
+    }
+    transmit_at(&n, 1101, &t);
+    EXPECT_EQ(n.tx.count, CAN_TX_QUEUE);
+    EXPECT_EQ(n.tx.sent, CAN_TX_QUEUE + 1);
+    const uint32_t first_ids[] = {0x110, 0x120, 0x130, 0x140, 0x150, 0x160, 0x170, 0x110, 0x120, 0x130,
+                                  0x140, 0x150, 0x160, 0x110, 0x120, 0x110};
+    const int32_t first_theta[] = {1, 2, 3, 4, 5, 6, 7, 101, 102, 103, 104, 105, 106, 201, 202, 1101};
+    for (int j = 0; j < 16; ++j) {
+        ASSERT_TRUE(can_node_peek(&n, &f)) << j;
+        can_node_pop(&n);
+        EXPECT_EQ(f.id, first_ids[j]) << j;
+        if (f.id == 0x110) {
+            EXPECT_EQ(theta_ref_raw(f), first_theta[j] * 100) << j;  // 1e-3 k rad at 1e-5
+        }
+    }
+    EXPECT_FALSE(can_node_peek(&n, &f));
+    can_node_pop(&n);  // on an empty queue: nothing
+    EXPECT_EQ(n.tx.count, 0u);
+    // the bus back: every frame taken at once
+    std::vector<uint16_t> counters;
+    int positions = 0;
+    for (uint32_t k = 1102; k < 3500; ++k) {
+        transmit_at(&n, k, &t);
+        while (can_node_peek(&n, &f)) {
+            can_node_pop(&n);
+            if (f.id == 0x100) counters.push_back(hb_counter(f));
+            if (f.id == 0x110) ++positions;
+        }
+    }
+    EXPECT_EQ(counters, (std::vector<uint16_t>{1, 2}));
+    EXPECT_EQ(n.heartbeats, 3u);
+    EXPECT_EQ(positions, 23);  // 1201, 1301, .., 3401
+    EXPECT_EQ(n.tx.dropped, 53u) << "drops after the queue had room again";
+    EXPECT_EQ(n.tx.sent + n.tx.dropped, 215u);  // 4 heartbeats, 1 version, 6 x 35 in [0, 3500)
+}
+
+// Every message at 1 ms on node 9 (0.8 frames a sample) while the backend
+// alternates 50 ms of a fast bus (about one frame a sample) and 50 ms of a
+// slow one (0.3): the queue fills, drops, drains and wraps its ring many
+// times. Each frame taken is the one a FIFO model of 16 frames says,
+// byte for byte (nothing reordered, overwritten or lost but what found
+// the queue full), the counters match the model, and every heartbeat's
+// Counter is the number of heartbeats taken before it.
+TEST(CanNode, QueueIsFifoAcrossTheRingAndAFullQueue)
+{
+    can_node_t n = make_node(9);
+    for (uint8_t m = 0; m < CAN_TLM_COUNT; ++m) ASSERT_TRUE(can_tx_set_period(&n.tx, 0, m, 1));
+    std::vector<can_frame_t> model;  // front = oldest
+    size_t head = 0;
+    uint32_t queued = 0, dropped = 0, taken = 0, hb_taken = 0;
+    uint32_t rng = 12345u;
+    can_telemetry_t t{};
+    for (uint32_t k = 0; k < 20000; ++k) {
+        const int32_t m = can_tx_next_due(&n.tx, k);
+        transmit_at(&n, k, &t);
+        if (m >= 0) {
+            if (model.size() - head < CAN_TX_QUEUE) {
+                can_frame_t f{};
+                ASSERT_TRUE(can_link_pack(static_cast<can_tlm_msg_t>(m), 9, &t, &f));
+                model.push_back(f);
+                ++queued;
+            } else {
+                ++dropped;
+            }
+        }
+        rng = rng * 1664525u + 1013904223u;
+        const uint32_t r = (rng >> 16) % 10;
+        const bool fast = (k / 500) % 2 == 0;
+        const int pops = fast ? (r < 2 ? 2 : (r < 8 ? 1 : 0)) : (r < 3 ? 1 : 0);
+        for (int p = 0; p < pops; ++p) {
+            can_frame_t f;
+            const bool any = can_node_peek(&n, &f);
+            ASSERT_EQ(any, model.size() > head) << k;
+            if (!any) break;
+            const can_frame_t& w = model[head++];
+            ASSERT_EQ(f.id, w.id) << "frame " << taken << " at " << k;
+            ASSERT_EQ(f.dlc, w.dlc) << "frame " << taken;
+            ASSERT_EQ(std::memcmp(f.data, w.data, w.dlc), 0) << "frame " << taken << " at " << k;
+            if (f.id == 0x109) {
+                EXPECT_EQ(hb_counter(f), hb_taken) << "heartbeat at " << k;
+                ++hb_taken;
+            }
+            can_node_pop(&n);
+            ++taken;
+        }
+        ASSERT_EQ(n.tx.count, model.size() - head) << k;
+    }
+    EXPECT_EQ(n.tx.sent, queued);
+    EXPECT_EQ(n.tx.dropped, dropped);
+    EXPECT_GT(dropped, 1000u);
+    EXPECT_GT(taken, 10u * CAN_TX_QUEUE);
+    EXPECT_GT(hb_taken, 100u);
+    EXPECT_EQ(n.heartbeats, hb_taken + static_cast<uint32_t>(std::count_if(
+                                          model.begin() + static_cast<long>(head), model.end(),
+                                          [](const can_frame_t& f) { return f.id == 0x109; })));
+}
+
+// The position drive's telemetry (can_paper000_step) through a 50 ms bus
+// outage from 100 ms: its heartbeat, the 6 messages of 100.1-100.6 ms and
+// those of 110.1-110.6 and 120.1-120.3 ms fill the queue; the 15 due later
+// in the outage are dropped (Position of 130.1 and 140.1 ms among them);
+// when the bus comes back the host gets the old frames first, in order,
+// then fresh ones: the Position frames it receives carry the drive's
+// theta_r of 0.1, 10.1, ..., 120.1, 150.1, ... ms, none of the dropped
+// ones; the heartbeats' Counter runs 0, 1, 2. The drive's steps are not
+// affected.
+TEST(CanNode, PositionDriveTelemetryThroughABusOutage)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_position(&d));
+    can_node_t n = make_node(0);
+    hal_command_t out;
+    std::vector<double> theta_at;
+    std::vector<int32_t> got_theta;
+    std::vector<uint16_t> counters;
+    for (int k = 0; k < 3000; ++k) {
+        ASSERT_TRUE(step_position(&d, k, &out)) << k;
+        theta_at.push_back(D(d.ref.theta_rad));
+        can_paper000_step(&n, &d, static_cast<uint32_t>(k), M(30.0), M(12.0));
+        const bool bus_down = k >= 1000 && k < 1500;
+        can_frame_t f;
+        while (!bus_down && can_node_peek(&n, &f)) {
+            can_node_pop(&n);
+            if (f.id == 0x110) got_theta.push_back(theta_ref_raw(f));
+            if (f.id == 0x100) counters.push_back(hb_counter(f));
+        }
+    }
+    EXPECT_EQ(n.tx.dropped, 15u);
+    EXPECT_EQ(n.tx.sent + n.tx.dropped, 3u + 1u + 6u * 30u);
+    EXPECT_EQ(counters, (std::vector<uint16_t>{0, 1, 2}));
+    std::vector<int> want_ticks;
+    for (int k = 1; k < 3000; k += 100) {
+        if (k != 1301 && k != 1401) want_ticks.push_back(k);
+    }
+    ASSERT_EQ(got_theta.size(), want_ticks.size());
+    for (size_t j = 0; j < want_ticks.size(); ++j) {
+        EXPECT_NEAR(got_theta[j] * 1e-5, theta_at[static_cast<size_t>(want_ticks[j])], 1e-5) << "frame " << j;
+    }
 }
 
 // speed_profile_retarget: w* and theta* continuous, the target reached in

@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "design/drive_design.h"
+#include "design/paper001_design.h"
 #include "math/mc_convert.h"
 
 namespace {
@@ -356,5 +358,313 @@ TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
         step2(&d, M(ia), M(ib), &va, &vb);
         EXPECT_LE(std::fabs(D(va)), 30.0 + 1e-4);
         EXPECT_LE(std::fabs(D(vb)), 30.0 + 1e-4);
+    }
+}
+
+// ---- faults during the start (issue 26) ----
+
+namespace {
+// The rig's windings as an R-L circuit each (exact zero-order hold of the
+// voltage the drive commanded), the rotor held: what the start sees at
+// standstill. A small ripple keeps the samples changing (no stuck-sample
+// fault).
+struct RlRig {
+    double R = 3.01, L = 9e-3, Ts = 1e-4;
+    double ia = 0.0, ib = 0.0;
+    int k = 0;
+    void apply(const hal_command_t &out)
+    {
+        const double a = std::exp(-R * Ts / L);
+        ia = a * ia + (1.0 - a) * D(out.v_V[0]) / R;
+        ib = a * ib + (1.0 - a) * D(out.v_V[1]) / R;
+        ++k;
+    }
+    hal_sample_t sample(uint32_t status = 0u) const
+    {
+        hal_sample_t s{};
+        s.n_phases = 2;
+        s.tick = static_cast<uint32_t>(k);
+        s.i_A[0] = M(ia + 1e-3 * std::sin(0.37 * k));
+        s.i_A[1] = M(ib + 1e-3 * std::cos(0.23 * k));
+        s.v_bus_V = M(30.0);
+        s.status = status;
+        return s;
+    }
+};
+// one sample of the drive on the rig, the sample possibly altered first
+bool rig_step(drive_t *d, RlRig *rig, hal_command_t *out, double ia_A = NAN, double ib_A = NAN, uint32_t status = 0u)
+{
+    hal_sample_t s = rig->sample(status);
+    if (!std::isnan(ia_A)) s.i_A[0] = M(ia_A);
+    if (!std::isnan(ib_A)) s.i_A[1] = M(ib_A);
+    out->v_V[0] = M(99.0);  // must be overwritten, fault or not
+    out->v_V[1] = M(99.0);
+    const bool ok = drive_step(d, &s, out);
+    rig->apply(*out);
+    return ok;
+}
+bool init_drive(drive_t *d, bool align)
+{
+    drive_design_input_t in = paper_input();
+    in.align_rotor = align ? 1 : 0;
+    drive_config_t cfg;
+    char err[160];
+    return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+}
+}  // namespace
+
+// An over-current sample in the middle of the standstill R/L measurement
+// (startup/rl_identification.h, state IDENTIFY): a sample at the trip
+// itself (-4.5 A on phase b) is not beyond it; -4.52 A is: FAULT at once
+// with code OVERCURRENT, 0 V on both phases on that very sample, the
+// snapshot frozen at it; the measurement never completes (no measured R
+// replaces the model's) and the fault latches: 200 more samples of
+// ordinary currents give 0 V, no new event, nothing measured.
+TEST(Drive, OvercurrentDuringTheRlMeasurementTripsAndLatches)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_drive(&d, false));
+    const double R_model = D(d.model.R_ohm);
+    RlRig rig;
+    hal_command_t out;
+    const int n_half = d.cfg.rl_id.window_ticks / 4;
+    ASSERT_GT(n_half, 10);
+    for (int k = 0; k < n_half; ++k) ASSERT_TRUE(rig_step(&d, &rig, &out)) << k;
+    ASSERT_EQ(d.sup.state, SUP_STATE_IDENTIFY);
+    ASSERT_EQ(d.rl_id.state, RL_ID_RUNNING);
+    EXPECT_GT(D(out.v_V[0]), 5.0);  // the step's R I along phase a
+    ASSERT_TRUE(rig_step(&d, &rig, &out, NAN, -4.5)) << "a sample at the trip is not beyond it";
+    const uint32_t t_trip = d.tick;
+    const int32_t rl_k = d.rl_id.k;
+    EXPECT_FALSE(rig_step(&d, &rig, &out, NAN, -4.52));
+    EXPECT_EQ(D(out.v_V[0]), 0.0);
+    EXPECT_EQ(D(out.v_V[1]), 0.0);
+    EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_FAULT);
+    const flight_recorder_t *fr = drive_flight_recorder(&d);
+    EXPECT_TRUE(fr->frozen);
+    EXPECT_EQ(fr->fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(fr->fault_tick, t_trip);
+    EXPECT_EQ(fr->events, 1u);
+    ASSERT_GT(flight_recorder_count(fr), 0u);
+    EXPECT_EQ(flight_recorder_get(fr, flight_recorder_count(fr) - 1)->tick + 1, t_trip);
+    for (int k = 0; k < 200; ++k) {
+        EXPECT_FALSE(rig_step(&d, &rig, &out)) << k;
+        EXPECT_EQ(D(out.v_V[0]), 0.0);
+        EXPECT_EQ(D(out.v_V[1]), 0.0);
+    }
+    EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(fr->events, 1u);
+    EXPECT_EQ(d.rl_id.state, RL_ID_RUNNING) << "the measurement went on after the trip";
+    EXPECT_EQ(d.rl_id.k, rl_k);
+    EXPECT_EQ(D(d.model.R_ohm), R_model);
+    EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_OVERCURRENT);
+}
+
+// The rotor alignment (startup/align.h) inside the drive: for its
+// align_total_ticks samples the state is ALIGN and the phase voltages are
+// the stages' (f-g) vector at theta_r(0) = 0 (phase a = v_f, b = v_g) for
+// the hold voltage R I of (68) at rest; on the next sample the drive
+// starts the R/L measurement (IDENTIFY) with R I along phase a.
+TEST(Drive, AlignmentStagesThenTheMeasurement)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_drive(&d, true));
+    const align_config_t &c = d.cfg.align;
+    const int n = align_total_ticks(&c);
+    ASSERT_GT(n, 1000);
+    const double V = D(d.model.R_ohm) * D(d.cfg.open_loop.i_max_A), phi = D(c.phi_turn_rad);
+    const int ramp = c.ramp_ticks, hold = c.hold_ticks, turn = c.turn_ticks, settle = c.settle_ticks;
+    RlRig rig;
+    hal_command_t out;
+    for (int k = 0; k < n; ++k) {
+        ASSERT_EQ(d.sup.state, SUP_STATE_ALIGN) << k;
+        ASSERT_TRUE(rig_step(&d, &rig, &out)) << k;
+        double vf = 0.0, vg = 0.0;
+        int j = k;
+        if (j < ramp) {
+            vf = V * (j + 1) / ramp;
+        } else if ((j -= ramp) < hold) {
+            vf = V;
+        } else if ((j -= hold) < 2 * turn) {
+            const int m = j < turn ? j + 1 : 2 * turn - (j + 1);
+            vf = V * std::cos(phi * m / turn);
+            vg = V * std::sin(phi * m / turn);
+        } else if ((j -= 2 * turn) < settle) {
+            vf = V;
+        } else if ((j -= settle) < ramp) {
+            vf = V * (ramp - (j + 1)) / ramp;
+        }
+        ASSERT_NEAR(D(out.v_V[0]), vf, 2e-3) << k;
+        ASSERT_NEAR(D(out.v_V[1]), vg, 2e-3) << k;
+    }
+    ASSERT_TRUE(rig_step(&d, &rig, &out));
+    EXPECT_EQ(d.sup.state, SUP_STATE_IDENTIFY);
+    EXPECT_NEAR(D(out.v_V[0]), V, 2e-3);
+    EXPECT_NEAR(D(out.v_V[1]), 0.0, 2e-3);
+}
+
+// Over-current during the alignment with the re-lock reaction configured
+// for it: the alignment is no place for a re-lock (the drive has no
+// estimate to re-lock on): FAULT at once, no re-lock counted, 0 V.
+TEST(Drive, OvercurrentDuringTheAlignmentIsNeverReLocked)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_drive(&d, true));
+    d.cfg.prot.reaction[DRIVE_FAULT_OVERCURRENT] = static_cast<uint8_t>(FAULT_REACT_RELOCK);
+    RlRig rig;
+    hal_command_t out;
+    for (int k = 0; k < 300; ++k) ASSERT_TRUE(rig_step(&d, &rig, &out)) << k;
+    ASSERT_EQ(d.sup.state, SUP_STATE_ALIGN);
+    EXPECT_FALSE(rig_step(&d, &rig, &out, 4.6));
+    EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(d.relocks, 0);
+    EXPECT_EQ(D(out.v_V[0]), 0.0);
+    EXPECT_EQ(D(out.v_V[1]), 0.0);
+    EXPECT_EQ(drive_flight_recorder(&d)->events, 1u);
+}
+
+// Faults with the REPORT reaction (commissioning): the drive goes on, and
+// the flight recorder counts every event (telemetry fault_events) while
+// its snapshot, code and tick stay those of the first: three over-current
+// samples at 10, 20 and 30 ms, a hardware trip at 40 ms; then an ADC
+// fault, whose reaction is the safe state: FAULT with that code, the
+// recorder still naming the first over-current (its snapshot ends on the
+// sample before it).
+TEST(Drive, ReportedFaultsAreEachCountedAndTheFirstIsKept)
+{
+    static drive_t d;
+    ASSERT_TRUE(init_drive(&d, false));
+    d.cfg.prot.reaction[DRIVE_FAULT_OVERCURRENT] = static_cast<uint8_t>(FAULT_REACT_REPORT);
+    d.cfg.prot.reaction[DRIVE_FAULT_HW_TRIP] = static_cast<uint8_t>(FAULT_REACT_REPORT);
+    RlRig rig;
+    hal_command_t out;
+    const flight_recorder_t *fr = drive_flight_recorder(&d);
+    for (int k = 0; k < 450; ++k) {
+        const bool oc = k == 100 || k == 200 || k == 300;
+        const uint32_t status = k == 400 ? HAL_STATUS_PWM_TRIP : 0u;
+        ASSERT_TRUE(rig_step(&d, &rig, &out, oc ? -5.0 : NAN, NAN, status)) << k;
+        const uint32_t want = (k >= 100) + (k >= 200) + (k >= 300) + (k >= 400);
+        ASSERT_EQ(fr->events, want) << k;
+        ASSERT_EQ(tlm_of(d).fault_events, want) << k;
+    }
+    EXPECT_NE(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(fr->fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(fr->fault_tick, 100u);
+    ASSERT_EQ(flight_recorder_count(fr), FLIGHT_RECORDER_DEPTH);
+    EXPECT_EQ(flight_recorder_get(fr, 0)->tick, 100u - FLIGHT_RECORDER_DEPTH);
+    EXPECT_EQ(flight_recorder_get(fr, FLIGHT_RECORDER_DEPTH - 1)->tick, 99u);
+    EXPECT_FALSE(rig_step(&d, &rig, &out, NAN, NAN, HAL_STATUS_ADC_FAULT));
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_ADC);
+    EXPECT_EQ(fr->events, 5u);
+    EXPECT_EQ(fr->fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(fr->fault_tick, 100u);
+    EXPECT_EQ(flight_recorder_get(fr, FLIGHT_RECORDER_DEPTH - 1)->tick, 99u);
+    EXPECT_EQ(D(out.v_V[0]), 0.0);
+}
+
+// ---- the PMSM commissioning run (startup/pmsm_identification.h) ----
+
+namespace {
+// paper 001's PMSM (sim/motors/paper001_pmsm.toml), 48 V bus, 8 A, trip 12 A
+p001_design_input_t p001_input()
+{
+    p001_design_input_t in;
+    p001_design_defaults(&in);
+    in.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
+    in.ts_s = 1e-4;
+    in.i_max_A = 8.0;
+    in.i_trip_A = 12.0;
+    in.n_points = 2;
+    in.t_s[0] = 0.0;
+    in.omega_rad_s[0] = 0.0;
+    in.t_s[1] = 1.0;
+    in.omega_rad_s[1] = 5.0;
+    return in;
+}
+// Its windings as R-L circuits in alpha-beta (R 10 % above the model's,
+// L 10 % below, so a measurement differs from the model), the rotor held.
+struct PmsmRig {
+    double R = 0.225 * 1.1, L = 3.8e-3 * 0.9, Ts = 1e-4;
+    mc_ab_t i{M(0.0), M(0.0)};
+    mc_t ph[3] = {M(0.0), M(0.0), M(0.0)};
+    void apply(mc_ab_t v)
+    {
+        const double a = std::exp(-R * Ts / L);
+        const double ia = a * D(i.alpha) + (1.0 - a) * D(v.alpha) / R;
+        const double ib = a * D(i.beta) + (1.0 - a) * D(v.beta) / R;
+        i.alpha = M(ia);
+        i.beta = M(ib);
+        ph[0] = M(ia);
+        ph[1] = M(-0.5 * ia + 0.8660254037844386 * ib);
+        ph[2] = M(-0.5 * ia - 0.8660254037844386 * ib);
+    }
+};
+}  // namespace
+
+// An over-current sample in each phase of the commissioning run (the two
+// alignments, the rest, the R/L step, the spin), on each of the three
+// phase currents in turn and of either sign: a sample exactly at the trip
+// passes, one 0.05 A beyond it ends the run: REJECTED for "over-current",
+// 0 V on that sample, the model's R, L and Phi (not the measured R and L
+// the spin already used), and it stays so whatever comes next.
+TEST(PmsmIdentification, OvercurrentInAnyPhaseRejectsAndLatches)
+{
+    const p001_design_input_t in = p001_input();
+    pmsm_id_config_t cfg;
+    double dur = 0.0;
+    char err[160];
+    ASSERT_TRUE(p001_identification_design(&in, &cfg, &dur, err, sizeof err)) << err;
+    const double trip = D(cfg.i_trip_A);
+    const double R0 = D(cfg.model.R_ohm), L0 = D(cfg.model.L_H) * cfg.model.fs_hz, Phi0 = D(cfg.Phi_model_Wb);
+    const pmsm_id_phase_t phases[] = {PMSM_ID_ALIGN_BETA, PMSM_ID_ALIGN_ALPHA, PMSM_ID_REST, PMSM_ID_RL, PMSM_ID_SPIN};
+    for (const pmsm_id_phase_t target : phases) {
+        SCOPED_TRACE("phase " + std::to_string(static_cast<int>(target)));
+        static pmsm_id_t id;
+        ASSERT_TRUE(pmsm_id_init(&id, &cfg));
+        PmsmRig rig;
+        mc_ab_t v;
+        // into the phase, and some way through it
+        int into = 0;
+        for (int k = 0; k < 200000 && into < 300; ++k) {
+            ASSERT_TRUE(pmsm_id_step(&id, rig.i, rig.ph, 3, M(27.0), &v)) << k << " " << id.why;
+            rig.apply(v);
+            into = id.phase == target ? into + 1 : 0;
+            ASSERT_LE(static_cast<int>(id.phase), static_cast<int>(target));
+        }
+        ASSERT_EQ(id.phase, target);
+        if (target == PMSM_ID_SPIN) {
+            ASSERT_NE(D(id.R_ohm), R0) << "the measured R is in use";
+        }
+        const int j = static_cast<int>(target) % 3;
+        const double sign = (static_cast<int>(target) % 2 == 0) ? 1.0 : -1.0;
+        mc_t ph[3] = {rig.ph[0], rig.ph[1], rig.ph[2]};
+        ph[j] = M(sign * trip);
+        ASSERT_TRUE(pmsm_id_step(&id, rig.i, ph, 3, M(27.0), &v)) << "a sample at the trip is not beyond it";
+        rig.apply(v);
+        ph[0] = rig.ph[0];
+        ph[1] = rig.ph[1];
+        ph[2] = rig.ph[2];
+        ph[j] = M(sign * (trip + 0.05));
+        v.alpha = v.beta = M(5.0);
+        EXPECT_FALSE(pmsm_id_step(&id, rig.i, ph, 3, M(27.0), &v));
+        EXPECT_EQ(id.phase, PMSM_ID_REJECTED);
+        EXPECT_STREQ(id.why, "over-current");
+        EXPECT_EQ(D(v.alpha), 0.0);
+        EXPECT_EQ(D(v.beta), 0.0);
+        EXPECT_EQ(D(id.R_ohm), R0);
+        EXPECT_NEAR(D(id.L_fs_ohm), L0, 1e-5 * L0);
+        EXPECT_EQ(D(id.Phi_Wb), Phi0);
+        for (int k = 0; k < 100; ++k) {
+            rig.apply(mc_ab_t{M(0.0), M(0.0)});
+            v.alpha = v.beta = M(5.0);
+            EXPECT_FALSE(pmsm_id_step(&id, rig.i, rig.ph, 3, M(27.0), &v));
+            EXPECT_EQ(D(v.alpha), 0.0);
+            EXPECT_EQ(D(v.beta), 0.0);
+        }
+        EXPECT_EQ(id.phase, PMSM_ID_REJECTED);
+        EXPECT_STREQ(id.why, "over-current");
     }
 }

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
+#include <vector>
 
 extern "C" {
 #include "adapter/phase_adapter.h"
@@ -15,6 +17,7 @@ extern "C" {
 #include "startup/align.h"
 #include "startup/k_identification.h"
 #include "supervisor/fault_monitor.h"
+#include "supervisor/flight_recorder.h"
 #include "supervisor/supervisor.h"
 }
 
@@ -630,4 +633,314 @@ TEST(FaultMonitor, OvercurrentOnAnyPhase)
     s = sample3(0.0, 0.0, 9.0);
     fault_monitor_init(&m, &c);
     EXPECT_EQ(fault_monitor_sample(&m, &s, 2), DRIVE_FAULT_NONE);
+}
+
+// ---- overruns (supervisor/fault_monitor.h), issue 26 ----
+//
+// The criterion: each overrun adds overrun_weight (1000) to a level, every
+// sample without a status bit takes 1 off it (not below 0), and the level
+// reaching overrun_limit (3000) trips. With g clean samples between
+// overruns the level after the n-th is 1000 + (n - 1)(1000 - g) while it
+// stays above 0, so the trip comes at the n-th exactly where that reaches
+// 3000; with g >= 1000 the level is back at 0 before each overrun and
+// nothing ever trips.
+namespace {
+hal_sample_t overrun_sample()
+{
+    hal_sample_t s = two(0.0, 0.0);
+    s.status = HAL_STATUS_OVERRUN;
+    return s;
+}
+// Overruns every (gap + 1)-th sample (the first at once); returns the
+// number of the overrun that tripped, 0 if none did within n_max overruns.
+int overruns_until_trip(fault_monitor_t* m, int gap, int n_max)
+{
+    const hal_sample_t clean = two(0.0, 0.0), over = overrun_sample();
+    for (int n = 1; n <= n_max; ++n) {
+        const drive_fault_t f = fault_monitor_sample(m, &over, 2);
+        if (f == DRIVE_FAULT_OVERRUN) return n;
+        EXPECT_EQ(f, DRIVE_FAULT_NONE) << "overrun " << n;
+        for (int k = 0; k < gap; ++k) {
+            if (fault_monitor_sample(m, &clean, 2) != DRIVE_FAULT_NONE) {
+                ADD_FAILURE() << "a clean sample faulted";
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+}  // namespace
+
+// Isolated overruns are tolerated however many: 1000 clean samples between
+// them leak the level back to 0 (200 overruns, 0.2 M samples); 990 leave
+// 10 of each, and the 201st then trips, the level exactly at the limit.
+// Every overrun is counted for the telemetry either way.
+TEST(FaultMonitor, IsolatedOverrunsAreTolerated)
+{
+    const fault_monitor_config_t c = rig_faults();
+    fault_monitor_t m;
+    fault_monitor_init(&m, &c);
+    EXPECT_EQ(overruns_until_trip(&m, 1000, 200), 0);
+    EXPECT_EQ(m.overruns, 200u);
+    EXPECT_EQ(m.overrun_level, 0);
+    fault_monitor_init(&m, &c);
+    EXPECT_EQ(overruns_until_trip(&m, 990, 300), 201);
+    EXPECT_EQ(m.overruns, 201u);
+}
+
+// The trip at exactly the stated count: back to back the 3rd; one clean
+// sample between them the 4th (1000 + 2 x 999 = 2998 after the 3rd); 500
+// between them the 5th, whose level is exactly 3000 (the limit trips);
+// 501 between them the 6th (2996 after the 5th); 666 the 7th (3004),
+// 667 the 8th (2998 after the 7th).
+TEST(FaultMonitor, OverrunsTripAtTheStatedCount)
+{
+    const fault_monitor_config_t c = rig_faults();
+    const int cases[][2] = {{0, 3}, {1, 4}, {500, 5}, {501, 6}, {666, 7}, {667, 8}};
+    for (const auto& gc : cases) {
+        fault_monitor_t m;
+        fault_monitor_init(&m, &c);
+        EXPECT_EQ(overruns_until_trip(&m, gc[0], 20), gc[1]) << "gap " << gc[0];
+    }
+}
+
+// The level leaks 1 per clean sample and never goes below 0: two overruns
+// back to back (2000), then 1000 clean samples, then two more: the 4th
+// trips (1000 + 2000 = 3000); after 1001 clean samples it does not (2999),
+// and a 5th then does. One overrun followed by 5000 clean samples leaves
+// 0, not -4000: three back to back then trip on the third.
+TEST(FaultMonitor, OverrunLevelLeaksOnePerSampleDownToZero)
+{
+    const fault_monitor_config_t c = rig_faults();
+    const hal_sample_t clean = two(0.0, 0.0), over = overrun_sample();
+    for (const int quiet : {1000, 1001}) {
+        fault_monitor_t m;
+        fault_monitor_init(&m, &c);
+        EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(m.overrun_level, 2000);
+        for (int k = 0; k < quiet; ++k) ASSERT_EQ(fault_monitor_sample(&m, &clean, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(m.overrun_level, 2000 - quiet);
+        EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_NONE) << quiet;
+        EXPECT_EQ(fault_monitor_sample(&m, &over, 2), quiet == 1000 ? DRIVE_FAULT_OVERRUN : DRIVE_FAULT_NONE) << quiet;
+        if (quiet == 1001) {
+            EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_OVERRUN);
+        }
+    }
+    fault_monitor_t m;
+    fault_monitor_init(&m, &c);
+    EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_NONE);
+    for (int k = 0; k < 5000; ++k) ASSERT_EQ(fault_monitor_sample(&m, &clean, 2), DRIVE_FAULT_NONE);
+    EXPECT_EQ(m.overrun_level, 0);
+    EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_NONE);
+    EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_NONE);
+    EXPECT_EQ(fault_monitor_sample(&m, &over, 2), DRIVE_FAULT_OVERRUN);
+}
+
+// ---- flight recorder (supervisor/flight_recorder.h), issue 26 ----
+
+namespace {
+void record(flight_recorder_t* r, uint32_t tick)
+{
+    flight_record_t* s = flight_recorder_slot(r);
+    if (s == nullptr) return;  // frozen: the drive writes nothing
+    *s = flight_record_t{};
+    s->tick = tick;
+    s->i_A[0] = M(0.001 * tick);
+    flight_recorder_commit(r);
+}
+}  // namespace
+
+// The ring: the k-th oldest of the last min(n, 64) records, oldest first,
+// before and after it wraps (100 written: ticks 36..99 of 0..99), NULL
+// beyond; frozen by the first fault with its code and tick, after which
+// nothing is written (slot NULL, commit a no-op) and the snapshot stays.
+// Every later fault is counted (events) but the first cause and tick are
+// kept; init empties it.
+TEST(FlightRecorder, RingWrapsFreezesAtTheFirstFaultAndCountsEveryEvent)
+{
+    flight_recorder_t r;
+    flight_recorder_init(&r);
+    EXPECT_EQ(flight_recorder_count(&r), 0u);
+    EXPECT_EQ(flight_recorder_get(&r, 0), nullptr);
+    for (uint32_t t = 0; t < 10; ++t) record(&r, t);
+    ASSERT_EQ(flight_recorder_count(&r), 10u);
+    for (uint32_t k = 0; k < 10; ++k) EXPECT_EQ(flight_recorder_get(&r, k)->tick, k);
+    EXPECT_EQ(flight_recorder_get(&r, 10), nullptr);
+    for (uint32_t t = 10; t < 100; ++t) record(&r, t);
+    ASSERT_EQ(flight_recorder_count(&r), FLIGHT_RECORDER_DEPTH);
+    for (uint32_t k = 0; k < FLIGHT_RECORDER_DEPTH; ++k) {
+        ASSERT_NE(flight_recorder_get(&r, k), nullptr);
+        EXPECT_EQ(flight_recorder_get(&r, k)->tick, 36u + k) << k;
+        EXPECT_EQ(D(flight_recorder_get(&r, k)->i_A[0]), D(M(0.001 * (36 + k)))) << k;
+    }
+    EXPECT_EQ(flight_recorder_get(&r, FLIGHT_RECORDER_DEPTH), nullptr);
+    EXPECT_EQ(r.events, 0u);
+    EXPECT_FALSE(r.frozen);
+
+    flight_recorder_fault(&r, DRIVE_FAULT_LOSS_OF_SYNC, 100);
+    EXPECT_TRUE(r.frozen);
+    EXPECT_EQ(r.fault, DRIVE_FAULT_LOSS_OF_SYNC);
+    EXPECT_EQ(r.fault_tick, 100u);
+    EXPECT_EQ(r.events, 1u);
+    // the drive goes on (a re-lock, a reported fault): nothing is written
+    for (uint32_t t = 100; t < 300; ++t) {
+        record(&r, t);
+        flight_recorder_commit(&r);  // a commit without a slot changes nothing either
+        if (t == 150) flight_recorder_fault(&r, DRIVE_FAULT_LOSS_OF_SYNC, t);
+        if (t == 200) flight_recorder_fault(&r, DRIVE_FAULT_OVERCURRENT, t);
+    }
+    EXPECT_EQ(flight_recorder_slot(&r), nullptr);
+    EXPECT_EQ(r.events, 3u);
+    EXPECT_EQ(r.fault, DRIVE_FAULT_LOSS_OF_SYNC) << "the first cause is kept";
+    EXPECT_EQ(r.fault_tick, 100u);
+    ASSERT_EQ(flight_recorder_count(&r), FLIGHT_RECORDER_DEPTH);
+    for (uint32_t k = 0; k < FLIGHT_RECORDER_DEPTH; ++k) {
+        EXPECT_EQ(flight_recorder_get(&r, k)->tick, 36u + k) << "snapshot changed at " << k;
+    }
+    // a fault before the ring is full: the snapshot is what there was
+    flight_recorder_init(&r);
+    EXPECT_FALSE(r.frozen);
+    EXPECT_EQ(r.events, 0u);
+    EXPECT_EQ(r.fault, DRIVE_FAULT_NONE);
+    EXPECT_EQ(flight_recorder_count(&r), 0u);
+    for (uint32_t t = 0; t < 5; ++t) record(&r, t);
+    flight_recorder_fault(&r, DRIVE_FAULT_I2T, 5);
+    for (uint32_t t = 5; t < 100; ++t) record(&r, t);
+    EXPECT_EQ(flight_recorder_count(&r), 5u);
+    EXPECT_EQ(flight_recorder_get(&r, 0)->tick, 0u);
+    EXPECT_EQ(flight_recorder_get(&r, 4)->tick, 4u);
+    EXPECT_EQ(flight_recorder_get(&r, 5), nullptr);
+    EXPECT_EQ(r.events, 1u);
+}
+
+// ---- K identification's decisions (startup/k_identification.h), issue 26 ----
+//
+// With w_scale = 16 rad/s (1/16 exact in Q14.17), |w_r| = 8 (x = 1/2) and
+// |e| = K_true |w_r|, every mean is exact in both builds, so the bounds can
+// be met exactly: K = K_model/2 and 2 K_model are accepted (the header's
+// [1/2, 2]), a K exactly at the deadband is kept (the model's K stays in
+// use), a speed exactly at w_min counts, a speed beyond w_scale counts with
+// x = 1, the result comes on the n_window-th counted sample, once.
+namespace {
+k_id_config_t k_exact_cfg(double K_model, int n_window)
+{
+    k_id_config_t c{};
+    c.enabled = true;
+    c.w_min_rad_s = M(8.0);
+    c.inv_w_scale_s = M(1.0 / 16.0);
+    c.n_window = n_window;
+    c.K_model_V_s = M(K_model);
+    c.deadband = M(0.25);
+    return c;
+}
+// n samples at speed w with |e| = e_V; returns the sample (1-based) on
+// which k_id_step returned true, 0 if none
+int k_feed(k_id_t* k, double w, double e_V, int n)
+{
+    int at = 0;
+    for (int i = 1; i <= n; ++i) {
+        if (k_id_step(k, M(e_V * e_V), M(w))) {
+            EXPECT_EQ(at, 0) << "a second result at sample " << i;
+            at = i;
+        }
+    }
+    return at;
+}
+}  // namespace
+
+TEST(KIdentification, ExactBoundsDeadbandAndOneResult)
+{
+    struct Case {
+        double K_true;
+        k_id_state_t want;
+    };
+    // K_model 0.25: [0.125, 0.5] accepted; deadband 0.25 x 0.25 = 0.0625
+    const Case cases[] = {{0.125, K_ID_DONE},  {0.5, K_ID_DONE},   {0.1171875, K_ID_REJECTED},
+                          {0.515625, K_ID_REJECTED}, {0.3125, K_ID_KEPT}, {0.1875, K_ID_KEPT},
+                          {0.3203125, K_ID_DONE}, {0.1796875, K_ID_DONE}, {0.25, K_ID_KEPT}};
+    for (const Case& cs : cases) {
+        k_id_t k;
+        const k_id_config_t c = k_exact_cfg(0.25, 40);
+        k_id_init(&k, &c);
+        // both signs of the speed; 8 rad/s is w_min itself, which counts
+        const int at = k_feed(&k, (cs.K_true > 0.3 ? -8.0 : 8.0), cs.K_true * 8.0, 100);
+        EXPECT_EQ(at, 40) << cs.K_true;
+        EXPECT_EQ(k.state, cs.want) << cs.K_true;
+        EXPECT_EQ(k.n, 40) << "counting stops with the result";
+        if (cs.want == K_ID_REJECTED) {
+            EXPECT_EQ(D(k.K_V_s), D(M(0.25))) << cs.K_true;
+        } else {
+            EXPECT_NEAR(D(k.K_V_s), cs.K_true, 1e-9 + (MC_FIXED ? 2.0 / 131072 : 0.0)) << cs.K_true;
+        }
+    }
+    // beyond w_scale x is 1, not 2: |e| = 2 V at 32 rad/s gives 2/16
+    k_id_t k;
+    k_id_config_t c = k_exact_cfg(0.125, 10);
+    k_id_init(&k, &c);
+    EXPECT_EQ(k_feed(&k, 32.0, 2.0, 10), 10);
+    EXPECT_EQ(k.state, K_ID_KEPT);
+    EXPECT_EQ(D(k.K_V_s), 0.125);
+    // just below w_min nothing counts; disabled: OFF, nothing counts, the model's K
+    k_id_init(&k, &c);
+    EXPECT_EQ(k_feed(&k, 8.0 - 1e-3, 1.0, 100), 0);
+    EXPECT_EQ(k.n, 0);
+    c.enabled = false;
+    k_id_init(&k, &c);
+    EXPECT_EQ(k.state, K_ID_OFF);
+    EXPECT_EQ(k_feed(&k, 10.0, 1.0, 100), 0);
+    EXPECT_EQ(k.n, 0);
+    EXPECT_EQ(D(k.K_V_s), 0.125);
+}
+
+// ---- alignment (startup/align.h): every sample against the stages, issue 26 ----
+//
+// The stages of the header evaluated in double: ramp up V (k+1)/ramp,
+// hold V, out to phi_turn and back at phi_turn/turn a sample (the vector
+// at n phi_turn/turn, n = k+1 out and 2 turn - (k+1) back), settle V,
+// ramp down V (ramp - (k+1))/ramp, then 0 V; true only after the last
+// sample, and from then on with 0 V. Disabled: true at once.
+TEST(Align, EverySampleOfTheStages)
+{
+    align_config_t c{};
+    c.enabled = true;
+    c.ramp_ticks = 8;
+    c.hold_ticks = 5;
+    c.turn_ticks = 6;
+    c.settle_ticks = 4;
+    c.off_ticks = 3;
+    c.phi_turn_rad = M(1.5707963267948966);
+    const double V = 6.02, phi = D(c.phi_turn_rad);
+    std::vector<std::pair<double, double>> want;
+    for (int k = 0; k < 8; ++k) want.push_back({V * (k + 1) / 8.0, 0.0});
+    for (int k = 0; k < 5; ++k) want.push_back({V, 0.0});
+    for (int k = 0; k < 12; ++k) {
+        const int n = k < 6 ? k + 1 : 12 - (k + 1);
+        want.push_back({V * std::cos(phi * n / 6.0), V * std::sin(phi * n / 6.0)});
+    }
+    for (int k = 0; k < 4; ++k) want.push_back({V, 0.0});
+    for (int k = 0; k < 8; ++k) want.push_back({V * (8 - (k + 1)) / 8.0, 0.0});
+    for (int k = 0; k < 3; ++k) want.push_back({0.0, 0.0});
+    ASSERT_EQ(static_cast<int>(want.size()), align_total_ticks(&c));
+    align_t a;
+    align_init(&a, &c);
+    mc_t vf, vg;
+    const double tol = MC_FIXED ? 2e-4 : 1e-6;
+    for (size_t k = 0; k < want.size(); ++k) {
+        ASSERT_FALSE(align_step(&a, M(V), &vf, &vg)) << k;
+        EXPECT_NEAR(D(vf), want[k].first, tol) << k;
+        EXPECT_NEAR(D(vg), want[k].second, tol) << k;
+    }
+    for (int k = 0; k < 3; ++k) {
+        vf = vg = M(1.0);
+        EXPECT_TRUE(align_step(&a, M(V), &vf, &vg));
+        EXPECT_EQ(D(vf), 0.0);
+        EXPECT_EQ(D(vg), 0.0);
+    }
+    c.enabled = false;
+    align_init(&a, &c);
+    vf = vg = M(1.0);
+    EXPECT_TRUE(align_step(&a, M(V), &vf, &vg));
+    EXPECT_EQ(D(vf), 0.0);
+    EXPECT_EQ(D(vg), 0.0);
 }

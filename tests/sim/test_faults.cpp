@@ -5,6 +5,7 @@
 // freezes a flight-recorder snapshot that shows the fault, and ends with
 // its currents within the limit and its state finite.
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,25 +38,35 @@ struct Period {
     double va, vb;      // commanded
     double ia, ib;      // true plant currents
     double theta;       // true rotor angle [rad]
+    int relocks;        // the drive's re-locks so far
+    std::uint32_t tick; // the drive's tick after the sample
 };
+
+// Alters a sample before the drive sees it (the drive as it is then, the
+// sample): a glitch or a status bit the injector has no key for.
+using Tamper = std::function<void(const drive_t&, hal_sample_t*)>;
 
 struct Ctx {
     drive_t* drive;
     const mcsim::PmPlant* plant;
     std::vector<Period> log;
+    Tamper tamper;
 };
 
 void control(void* p, const hal_sample_t* in, hal_command_t* out)
 {
     Ctx* c = static_cast<Ctx*>(p);
-    if (!drive_step(c->drive, in, out)) hal_safe_state();
+    hal_sample_t s = *in;
+    if (c->tamper) c->tamper(*c->drive, &s);
+    if (!drive_step(c->drive, &s, out)) hal_safe_state();
 }
 
 void monitor(void* p, const hal_sw_plant_period_t* q)
 {
     Ctx* c = static_cast<Ctx*>(p);
     c->log.push_back({q->t_s, static_cast<int>(c->drive->sup.state), static_cast<int>(c->drive->sup.fault),
-                      q->v_a_cmd_V, q->v_b_cmd_V, c->plant->i_a_A(), c->plant->i_b_A(), c->plant->theta_rad()});
+                      q->v_a_cmd_V, q->v_b_cmd_V, c->plant->i_a_A(), c->plant->i_b_A(), c->plant->theta_rad(),
+                      static_cast<int>(c->drive->relocks), c->drive->tick});
 }
 
 struct Result {
@@ -70,7 +81,7 @@ struct Result {
     }
 };
 
-Result run(mcsim::Scenario sc, fault_reaction_t los_reaction = FAULT_REACT_SAFE)
+Result run(mcsim::Scenario sc, fault_reaction_t los_reaction = FAULT_REACT_SAFE, Tamper tamper = nullptr)
 {
     Result r;
     mcsim::design_and_init_drive(sc, &r.drive);
@@ -81,7 +92,7 @@ Result run(mcsim::Scenario sc, fault_reaction_t los_reaction = FAULT_REACT_SAFE)
     hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
     mcsim::FaultInjector inj(sc.faults, sc.seed);
     hal_sw_plant_set_faults(&inj);
-    Ctx ctx{&r.drive, &rig.plant, {}};
+    Ctx ctx{&r.drive, &rig.plant, {}, std::move(tamper)};
     hal_sw_plant_set_monitor(monitor, &ctx);
     EXPECT_TRUE(hal_start(control, &ctx));
     hal_sw_plant_run(sc.n_ticks());
@@ -489,6 +500,144 @@ TEST(Faults, NoFalseAlarmOnTheNominalRuns)
     mcsim::Scenario sc = mcsim::load_scenario(std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_ideal.toml");
     const Result r = run(sc);
     EXPECT_EQ(drive_flight_recorder(&r.drive)->events, 0u);
+}
+
+// ---- issue 26: over-current in the R/L measurement, spaced overruns, re-lock counts ----
+
+// One sample of -4.6 A on phase b (beyond the 4.5 A trip) in the middle of
+// the standstill R/L measurement that follows the alignment (state
+// IDENTIFY, the plant's current about 2 A): OVERCURRENT on that very
+// sample, detected at its tick, 0 V from it on (the common checks), the
+// measurement never completed and the model's R kept; after the run the
+// drive stays in FAULT at 0 V on ordinary samples until cleared.
+TEST(Faults, OvercurrentSampleDuringTheRlMeasurement)
+{
+    mcsim::Scenario sc = experiment();
+    sc.duration_s = 0.2;
+    std::uint32_t at = 0;
+    int state_before = -1;
+    const Result r = run(sc, FAULT_REACT_SAFE, [&](const drive_t& d, hal_sample_t* s) {
+        if (at == 0 && d.sup.state == SUP_STATE_IDENTIFY && d.rl_id.k == d.cfg.rl_id.window_ticks / 2) {
+            at = d.tick;
+            state_before = d.sup.state;
+            s->i_A[1] = mc_from_double(-4.6);
+        }
+    });
+    ASSERT_GT(at, 0u) << "the measurement never reached its middle";
+    EXPECT_EQ(state_before, SUP_STATE_IDENTIFY);
+    const double t_at = r.sc.t_start_s() + at * sc.ts_s;
+    common_checks(r, DRIVE_FAULT_OVERCURRENT, 0.0, true, 0.0, -1.0, t_at);
+    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    EXPECT_EQ(fr->fault_tick, at);
+    EXPECT_EQ(fr->events, 1u);
+    EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_OVERCURRENT);
+    EXPECT_EQ(r.drive.rl_id.state, RL_ID_RUNNING);
+    EXPECT_EQ(r.drive.model.R_ohm, r.drive.cfg.model.R_ohm) << "a measured R replaced the model's";
+    // the plant's current up to the glitch was the step's, well below the trip
+    for (const Period& p : r.log) {
+        if (p.t < t_at + 0.5 * sc.ts_s) {
+            EXPECT_LT(std::hypot(p.ia, p.ib), 3.0) << "at t = " << p.t;
+        }
+    }
+    drive_t d = r.drive;
+    hal_sample_t in{};
+    in.n_phases = 2;
+    in.v_bus_V = mc_from_double(30.0);
+    hal_command_t out{};
+    for (int k = 0; k < 50; ++k) {
+        in.i_A[0] = mc_from_double(0.01 * std::sin(0.3 * k));
+        EXPECT_FALSE(drive_step(&d, &in, &out));
+        EXPECT_EQ(mcsim::to_double(out.v_V[0]), 0.0);
+        EXPECT_EQ(mcsim::to_double(out.v_V[1]), 0.0);
+    }
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_OVERCURRENT);
+}
+
+// Overruns flagged apart from each other on the drive (a status bit the
+// backend sets): one every 1001 samples from 1.5 s to the end is
+// tolerated (the level, 1000 each, has leaked back to 0 before the next):
+// no fault event, the move ends where the nominal run's does, every one
+// counted. One every 501 samples trips on the 5th, on its very sample
+// (1000 + 4 x 500 = 3000, the limit); one every 502 on the 6th.
+TEST(Faults, SpacedOverrunsToleratedAndTheStatedCountTrips)
+{
+    auto spaced = [](std::uint32_t every, std::vector<std::uint32_t>* ticks) {
+        return [every, ticks](const drive_t& d, hal_sample_t* s) {
+            (void)d;
+            if (s->tick >= ticks->front() && (s->tick - ticks->front()) % every == 0) {
+                s->status |= HAL_STATUS_OVERRUN;
+                if (s->tick != ticks->front()) ticks->push_back(s->tick);
+            }
+        };
+    };
+    mcsim::Scenario sc = experiment();
+    {
+        mcsim::Scenario probe = sc;
+        drive_t d;
+        mcsim::design_and_init_drive(probe, &d);
+        sc.pre_ticks = probe.pre_ticks;
+    }
+    const std::uint32_t first = static_cast<std::uint32_t>(std::lround((kInject - sc.t_start_s()) / sc.ts_s));
+    std::vector<std::uint32_t> ticks{first};
+    const Result ok = run(sc, FAULT_REACT_SAFE, spaced(1001, &ticks));
+    EXPECT_EQ(drive_flight_recorder(&ok.drive)->events, 0u) << drive_fault_name(drive_flight_recorder(&ok.drive)->fault);
+    EXPECT_NE(ok.drive.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(ok.drive.mon.overruns, ticks.size());
+    EXPECT_GT(ticks.size(), 25u);
+    EXPECT_NEAR(ok.log.back().theta, nominal_end_theta_rad(), 0.05);
+    for (const auto& [every, nth] : {std::pair<std::uint32_t, std::size_t>{501, 5}, {502, 6}}) {
+        ticks.assign(1, first);
+        sc.duration_s = kInject + 0.3;
+        const Result r = run(sc, FAULT_REACT_SAFE, spaced(every, &ticks));
+        SCOPED_TRACE("every " + std::to_string(every));
+        ASSERT_EQ(ticks.size(), nth) << "the overruns went on after the trip, or it came early";
+        const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+        ASSERT_TRUE(fr->frozen);
+        EXPECT_EQ(fr->fault, DRIVE_FAULT_OVERRUN);
+        EXPECT_EQ(fr->fault_tick, ticks.back());
+        EXPECT_EQ(r.drive.mon.overruns, nth);
+        common_checks(r, DRIVE_FAULT_OVERRUN, (nth - 1) * every * sc.ts_s, true);
+    }
+}
+
+// The re-lock reaction after the 1.2 A noise burst with the instantaneous
+// trip (see NoiseBurstReLocked): two re-locks, then an over-current trip
+// on a noisy sample. Every re-lock is a fault event and so is the final
+// trip: the recorder counts relocks + 1; its code and tick are the first
+// loss of synchronism's (the sample on which the first re-lock started)
+// while the supervisor's standing fault is the over-current, and its
+// snapshot ends on the sample before the first loss, however many
+// re-locks and samples followed.
+TEST(Faults, ReLocksAreEachCountedAndTheFirstSnapshotKept)
+{
+    mcsim::Scenario sc = experiment_with_burst(1.2);
+    sc.los_relock = 1;
+    sc.duration_s = kInject + 0.2;
+    const Result r = run(sc, FAULT_REACT_RELOCK);
+    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    ASSERT_EQ(r.drive.sup.state, SUP_STATE_FAULT);
+    EXPECT_GE(r.drive.relocks, 2);
+    EXPECT_LE(r.drive.relocks, r.drive.cfg.prot.relock_max);
+    EXPECT_EQ(fr->events, static_cast<std::uint32_t>(r.drive.relocks) + 1u);
+    EXPECT_EQ(fr->fault, DRIVE_FAULT_LOSS_OF_SYNC);
+    std::uint32_t first_relock = 0;
+    int relocks_seen = 0;
+    for (const Period& p : r.log) {
+        if (p.relocks > relocks_seen) {
+            EXPECT_EQ(p.relocks, relocks_seen + 1) << "two re-locks on one sample";
+            if (relocks_seen == 0) first_relock = p.tick - 1;  // the sample that started it
+            relocks_seen = p.relocks;
+        }
+    }
+    EXPECT_EQ(relocks_seen, r.drive.relocks);
+    EXPECT_EQ(fr->fault_tick, first_relock);
+    ASSERT_EQ(flight_recorder_count(fr), FLIGHT_RECORDER_DEPTH);
+    EXPECT_EQ(flight_recorder_get(fr, FLIGHT_RECORDER_DEPTH - 1)->tick + 1, first_relock);
+    // the standing fault is the last one, the recorder names the first
+    EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_OVERCURRENT);
+    drive_telemetry_t tl;
+    drive_get_telemetry(&r.drive, &tl);
+    EXPECT_EQ(tl.fault_events, fr->events);
 }
 
 // ---- the paper-001 speed drive: the same fault set ----
