@@ -221,8 +221,10 @@
 #define FAULT_TRIP_SAMPLES_MAX 8
 /* Two consecutive samples at the ADC rail: one can be a spike. */
 #define FAULT_RAIL_TICKS 2
-/* Overruns: each adds 1000 to a level that leaks 1 per sample; 3000 trips,
- * i.e. three overruns within about 0.1 s, or a steady one in ten samples. */
+/* Overruns: each adds 1000 to a level that leaks 1 per sample without one;
+ * 3000 trips: three in a row, four with up to 333 samples between them,
+ * five with up to 500 (0.05 s at 10 kHz), ... ; a steady one in ten samples
+ * on the fourth; overruns 1000 or more samples apart never. */
 #define FAULT_OVERRUN_WEIGHT 1000
 #define FAULT_OVERRUN_LIMIT 3000
 /* Loss of synchronism (paper000_drive.h): half a tooth pitch of tracking

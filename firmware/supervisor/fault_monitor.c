@@ -24,23 +24,22 @@ void fault_monitor_init(fault_monitor_t *m, const fault_monitor_config_t *cfg)
 drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, uint8_t n_phases)
 {
     const fault_monitor_config_t *c = &m->cfg;
-    if (in->status != 0u) {
-        /* the backend's own verdicts first: they are facts, not estimates */
-        if ((in->status & HAL_STATUS_PWM_TRIP) != 0u) {
-            return DRIVE_FAULT_HW_TRIP;
-        }
-        if ((in->status & HAL_STATUS_ADC_FAULT) != 0u) {
-            return DRIVE_FAULT_ADC;
-        }
-        /* overruns: a leaky level, so isolated ones are tolerated and a
-         * burst (overrun_limit / overrun_weight of them within about
-         * overrun_weight samples each) trips */
-        if ((in->status & HAL_STATUS_OVERRUN) != 0u) {
-            m->overruns += 1u;
-            m->overrun_level += c->overrun_weight;
-            if (m->overrun_level >= c->overrun_limit) {
-                return DRIVE_FAULT_OVERRUN;
-            }
+    /* the backend's own verdicts first: they are facts, not estimates */
+    if ((in->status & HAL_STATUS_PWM_TRIP) != 0u) {
+        return DRIVE_FAULT_HW_TRIP;
+    }
+    if ((in->status & HAL_STATUS_ADC_FAULT) != 0u) {
+        return DRIVE_FAULT_ADC;
+    }
+    /* overruns: a leaky level, so isolated ones are tolerated and a burst
+     * (overrun_limit / overrun_weight of them within about overrun_weight
+     * samples each) trips; every sample without one leaks 1, whatever
+     * other status it carries (HAL_STATUS_BUS_INVALID is no overrun) */
+    if ((in->status & HAL_STATUS_OVERRUN) != 0u) {
+        m->overruns += 1u;
+        m->overrun_level += c->overrun_weight;
+        if (m->overrun_level >= c->overrun_limit) {
+            return DRIVE_FAULT_OVERRUN;
         }
     } else if (m->overrun_level > 0) {
         m->overrun_level -= 1;

@@ -347,7 +347,7 @@ MUTANTS = [
     m("can_tx_drop_counted_sent", "comm/can_tx.c", "a frame dropped on a full queue is counted as sent",
       ("        t->dropped += 1u;\n        return;", "        t->sent += 1u;\n        return;")),
     m("can_node_heartbeat_counts_drops", "comm/can_node.c", "the heartbeat counter advances when its frame was dropped",
-      ("if (heartbeat_due && n->tx.sent != before) {", "if (heartbeat_due) {")),
+      ("if (heartbeat_due && n->tx.sent != before) {", "if (heartbeat_due && n->tx.sent >= before) {")),
     m("can_link_round_negative", "comm/can_link.c", "telemetry: negative values rounded towards +inf by 0.5 (float)",
       ("int64_t r = (int64_t)(y >= 0.0f ? y + 0.5f : y - 0.5f);", "int64_t r = (int64_t)(y + 0.5f);")),
     m("can_link_enable_reserved_bits", "comm/can_link.c", "CmdEnable: a set reserved bit 1 accepted",
