@@ -672,7 +672,10 @@ def main() -> int:
     golden = not a.no_golden
     print(f"mutants.py: building the unmutated copy in {src}", file=sys.stderr)
     # the copy has no venv of its own: the checkout's serves the python tests
-    venv_python = ROOT / ".venv" / "bin" / "python"
+    # (its folder resolved: a .venv that links elsewhere must be named by
+    # its real path for the VM tests, which see the host's root file
+    # system but not /tmp)
+    venv_python = (ROOT / ".venv").resolve() / "bin" / "python"
     configure = ["cmake", "--preset", a.preset]
     if venv_python.exists():
         configure.append(f"-DMC_PYTHON={venv_python}")
