@@ -256,7 +256,7 @@ MUTANTS = [
       ("const mc_t torque = mc_mul(mc_mul_i(mc_mac(c->psi_Wb, mc_sub(c->Ld_H, c->Lq_H), x[EKF_ID]), c->p),",
        "const mc_t torque = mc_mul(mc_mul_i(mc_mac(c->psi_Wb, mc_sub(c->Lq_H, c->Ld_H), x[EKF_ID]), c->p),")),
     m("ekf_euler_not_heun", "estimators/ekf_ipmsm.c", "prediction by Euler's method instead of Heun's",
-      ("e->x[i] = mc_mac(e->x[i], half_ts, mc_add(f1[i], f2[i]));", "e->x[i] = mc_mac(e->x[i], ts, f1[i]);")),
+      ("xe[i] = mc_mac(x[i], ts, f1[i]);", "xe[i] = x[i];")),
     m("ekf_cholesky_failure_unflagged", "estimators/ekf_ipmsm.c", "a failed factorisation in the correction leaves spd_ok set",
       ("            e->spd_ok = false;\n            return false;", "            return false;")),
     m("ekf_innovation_angle_unwrapped", "estimators/ekf_ipmsm.c", "(44): the angle's innovation not wrapped to (-pi, pi]",
