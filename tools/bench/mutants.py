@@ -464,9 +464,10 @@ GOLDEN_RE = r"^docs[.]tables_"
 # The unit tests (GoogleTest suites: firmware.Suite.Case, sim.Suite.Case,
 # hal.Suite.Case), run first: seconds, against minutes for the scenarios.
 UNIT_RE = r"^(firmware|sim|hal)[.][A-Z]"
-# tools.mutants_list checks that the mutants apply to the tree: under a
-# mutant they do not, by design, so it would "kill" every one
-NOT_A_VERDICT_RE = r"^tools[.]mutants_list$"
+# tools.mutants_list and tools.mutants_script check that the mutants apply
+# to the tree: under a mutant they do not, by design, so they would "kill"
+# every one
+NOT_A_VERDICT_RE = r"^tools[.]mutants_(list|script)$"
 
 
 def apply(text: str, mut: Mutant) -> str:
