@@ -136,7 +136,8 @@ double run(p002_controller_t ctrl, bool dc, bool noise)
 // and step 6 of paper002_drive_step evaluated here in double: (u_d, u_q)
 // turned by the electrical angle p (theta_hat + (1/2 + d) Ts w_hat), the
 // estimate advanced to the middle of the sample the voltage acts over.
-bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, double* err, double* v_err = nullptr)
+bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, double* err, double* v_err = nullptr,
+               double enc_offset_rad = 0.0)
 {
     std::normal_distribution<double> n01(0.0, 1.0);
     const double c = std::cos(kP * tr->th), s = std::sin(kP * tr->th);
@@ -148,7 +149,7 @@ bool loop_step(paper002_drive_t* d, Truth* tr, std::mt19937_64* rng, double t, d
     in.v_bus_V = M(48.0);
     in.has_angle = true;
     const double step = 2 * kPi / 65536.0;
-    double enc = std::floor(tr->th / step) * step + 1e-4 * n01(*rng);
+    double enc = std::floor(tr->th / step) * step + 1e-4 * n01(*rng) + enc_offset_rad;
     enc -= 2 * kPi * std::floor((enc + kPi) / (2 * kPi));
     in.angle_rad = M(enc);
     hal_command_t out{};
@@ -338,4 +339,47 @@ TEST(Paper002Drive, ReversesThroughZeroOnCommand)
     // (mutant p002_output_lead_forward_only: 0.45 V measured).
     std::printf("output angle in the hold at -50 rad/s: largest error %.3g V\n", v_err_neg);
     EXPECT_LT(v_err_neg, 1e-3);
+}
+
+// An encoder whose reading turns to garbage (a broken line: any angle,
+// uniform over a turn, each sample) while the rotor turns at +-50 rad/s:
+// the angle's innovation is then beyond los_theta (0.02 rad) on nearly
+// every sample, of either sign at random, and the drive trips with
+// LOSS_OF_SYNC (drives/paper002_drive.h) within a few los_ticks (5 ms).
+TEST(Paper002Drive, GarbageEncoderIsALossOfSyncEitherWay)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    for (const double w_set : {50.0, -50.0}) {
+        static paper002_drive_t d;
+        const paper002_config_t cfg = config(P002_SOSMC, true);
+        ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+        Truth tr;
+        std::mt19937_64 rng(5), garbage(9);
+        std::uniform_real_distribution<double> turn(-kPi, kPi);
+        double err = 0.0;
+        ASSERT_TRUE(loop_step(&d, &tr, &rng, 0.0, &err));
+        ASSERT_TRUE(paper002_drive_set_speed(&d, M(w_set), M(500.0)));
+        const int k_bad = 3000;
+        int trip = -1;
+        for (int k = 1; k < 6000 && trip < 0; ++k) {
+            if (!loop_step(&d, &tr, &rng, k * kTs, &err, nullptr, k >= k_bad ? turn(garbage) : 0.0)) trip = k;
+        }
+        std::printf("w %+g rad/s: tripped %d samples after the encoder failed, fault %d\n", w_set, trip - k_bad,
+                    static_cast<int>(d.fault));
+        // measured: 49 samples at +50 (the first los_ticks = 50 run), 97 at
+        // -50; bound 4 runs (20 ms). The drive then holds 0 V.
+        EXPECT_EQ(d.fault, DRIVE_FAULT_LOSS_OF_SYNC) << "w " << w_set;
+        EXPECT_GE(trip - k_bad, cfg.los_ticks - 1) << "w " << w_set;
+        EXPECT_LE(trip - k_bad, 4 * cfg.los_ticks) << "w " << w_set;
+        hal_sample_t in{};
+        in.n_phases = 3;
+        in.v_bus_V = M(48.0);
+        in.has_angle = true;
+        hal_command_t out{};
+        out.v_V[0] = out.v_V[1] = out.v_V[2] = M(1.0);
+        EXPECT_FALSE(paper002_drive_step(&d, &in, &out));
+        for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0);
+    }
 }
