@@ -5,6 +5,12 @@
  * acceleration and jerk at both ends; the issue's reference set: 0 until
  * 0.2 s, to 100 rad/s at 0.4 s). Returns w_d and dw_d/dt (SOSMC and HTSMC
  * take both). Times are sample ticks, exact in both builds.
+ * Fixed point (Q14.17, +-16384): dw_d/dt is formed as (w_1 - w_0) dpoly fs
+ * before the division by the ramp's length, so it saturates once
+ * |w_1 - w_0| 1.875 fs passes 16384 (0.87 rad/s at 10 kHz): in Q14.17 this
+ * block serves no real ramp. Paper 002's drive is float only (its EKF,
+ * docs/paper002.md), so no build uses it so; SpeedPoly's test is float
+ * only for that reason.
  */
 #ifndef TRAJECTORY_SPEED_POLY_H
 #define TRAJECTORY_SPEED_POLY_H
