@@ -217,6 +217,22 @@ TEST(Paper002Design, RefusesBadInputNamingTheKey)
     in.encoder_counts = 0;
     EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
     EXPECT_NE(std::string(err).find("encoder.counts_per_turn"), std::string::npos) << err;
+    // the trip at or above the current limit: equal accepted, below refused
+    p002_design_defaults(&in);
+    in.i_trip_A = in.i_max_A;
+    EXPECT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    in.i_trip_A = 0.9 * in.i_max_A;
+    EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("limits.i_trip_A"), std::string::npos) << err;
+    // the torque limit of both speed laws: K_t i_max with K_t = 3/2 p psi
+    // (10) at i_d = 0 (the reluctance torque's share left as margin), and
+    // HTSMC's nu_max = M_max / J
+    p002_design_defaults(&in);
+    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    const double m_max = 1.5 * in.p * in.psi_Wb * in.i_max_A;
+    EXPECT_NEAR(mc_to_double(c.sosmc.M_max_Nm), m_max, 1e-6 * m_max);
+    EXPECT_NEAR(mc_to_double(c.htsmc.M_max_Nm), m_max, 1e-6 * m_max);
+    EXPECT_NEAR(mc_to_double(c.htsmc.nu_max), m_max / in.J_kgm2, 1e-6 * m_max / in.J_kgm2);
     // the user's Q and R: not positive definite is refused with the entry named
     p002_design_defaults(&in);
     const double q[EKF_N] = {1e-6, 2e-6, 1e-12, 1e-3, 4e-3};
