@@ -381,6 +381,33 @@ hal_sample_t two(double a, double b)
 }
 }  // namespace
 
+// The ADC rail (i_rail_A = 4 A, below the 4.5 A trip; rail_ticks = 3):
+// the third sample in a row at either rail, on any phase, trips
+// SENSOR_RAIL; a sample off the rail restarts the count; an unknown rail
+// (0) never trips.
+TEST(FaultMonitor, RailOnEitherRailForRailTicks)
+{
+    fault_monitor_config_t c = rig_faults();
+    c.i_rail_A = M(4.0);
+    c.rail_ticks = 3;
+    const double rails[][2] = {{4.0, 0.5}, {0.5, -4.0}, {-4.0, 0.5}, {0.5, 4.2}};
+    for (const auto& r : rails) {
+        fault_monitor_t m;
+        fault_monitor_init(&m, &c);
+        const hal_sample_t at = two(r[0], r[1]), off = two(0.5, 0.5);
+        EXPECT_EQ(fault_monitor_sample(&m, &at, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(fault_monitor_sample(&m, &at, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(fault_monitor_sample(&m, &off, 2), DRIVE_FAULT_NONE);  // restarts the count
+        EXPECT_EQ(fault_monitor_sample(&m, &at, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(fault_monitor_sample(&m, &at, 2), DRIVE_FAULT_NONE);
+        EXPECT_EQ(fault_monitor_sample(&m, &at, 2), DRIVE_FAULT_SENSOR_RAIL) << r[0] << ", " << r[1];
+    }
+    c.i_rail_A = M(0.0);
+    fault_monitor_t m;
+    fault_monitor_init(&m, &c);
+    for (int k = 0; k < 10; ++k) EXPECT_EQ(fault_monitor_sample(&m, &(const hal_sample_t&)two(-4.4, 4.4), 2), DRIVE_FAULT_NONE);
+}
+
 // The over-current trip on consecutive samples (i_trip_samples): 1, and 0
 // (a zeroed configuration), trip on the first sample beyond i_trip; 2
 // ignores single samples beyond it, on either phase, and trips on the
