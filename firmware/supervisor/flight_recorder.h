@@ -38,7 +38,7 @@ typedef struct {
 
 typedef struct {
     flight_record_t ring[FLIGHT_RECORDER_DEPTH];
-    uint32_t n;                    /* records written (the newest is ring[(n - 1) % DEPTH]) */
+    uint32_t n;                    /* records written, past 2^32 from DEPTH again (the newest is ring[(n - 1) % DEPTH]) */
     bool frozen;                   /* a fault froze it */
     drive_fault_t fault;           /* the first fault */
     uint32_t fault_tick;           /* the drive tick it was detected at */
@@ -54,7 +54,18 @@ static inline flight_record_t *flight_recorder_slot(flight_recorder_t *r)
 {
     return r->frozen ? 0 : &r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)];
 }
-static inline void flight_recorder_commit(flight_recorder_t *r) { r->n += r->frozen ? 0u : 1u; }
+static inline void flight_recorder_commit(flight_recorder_t *r)
+{
+    if (!r->frozen) {
+        r->n += 1u;
+        /* n wraps after 2^32 samples (5 days at 10 kHz): it goes on at
+         * DEPTH, the same slot (DEPTH divides 2^32), so the ring still
+         * counts as full and a fault just after the wrap keeps all of it */
+        if (r->n == 0u) {
+            r->n = FLIGHT_RECORDER_DEPTH;
+        }
+    }
+}
 
 /* A fault at tick: counts it, and freezes the ring with the first one. */
 void flight_recorder_fault(flight_recorder_t *r, drive_fault_t f, uint32_t tick);

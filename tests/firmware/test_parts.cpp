@@ -787,6 +787,28 @@ void record(flight_recorder_t* r, uint32_t tick)
 }
 }  // namespace
 
+// Past 2^32 samples (5 days at 10 kHz) the record count wraps: the ring
+// stays full (64 records, oldest first, in order across the wrap), so a
+// fault just after it still freezes the whole 6.4 ms.
+TEST(FlightRecorder, FullAcrossTheCountersWrap)
+{
+    flight_recorder_t r;
+    flight_recorder_init(&r);
+    // as if 2^32 - 10 samples had been written (the ring's contents are
+    // those of the last 64, written here)
+    r.n = UINT32_MAX - 73u;
+    for (uint32_t k = 0; k < 64; ++k) record(&r, 1000u + k);
+    ASSERT_EQ(flight_recorder_count(&r), 64u);
+    for (uint32_t k = 0; k < 20; ++k) record(&r, 1064u + k);  // across the wrap
+    EXPECT_EQ(flight_recorder_count(&r), 64u);
+    flight_recorder_fault(&r, DRIVE_FAULT_OVERCURRENT, 1083u);
+    for (uint32_t k = 0; k < 64; ++k) {
+        const flight_record_t* s = flight_recorder_get(&r, k);
+        ASSERT_NE(s, nullptr) << k;
+        EXPECT_EQ(s->tick, 1020u + k) << k;
+    }
+}
+
 // The ring: the k-th oldest of the last min(n, 64) records, oldest first,
 // before and after it wraps (100 written: ticks 36..99 of 0..99), NULL
 // beyond; frozen by the first fault with its code and tick, after which

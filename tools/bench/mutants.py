@@ -427,7 +427,7 @@ MUTANTS = [
     m("recorder_slot_after_freeze", "supervisor/flight_recorder.h", "the ring keeps recording after the fault froze it",
       ("return r->frozen ? 0 : &r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)];",
        "return &r->ring[r->n & (FLIGHT_RECORDER_DEPTH - 1u)];"),
-      ("r->n += r->frozen ? 0u : 1u;", "r->n += 1u;")),
+      ("    if (!r->frozen) {\n        r->n += 1u;", "    {\n        r->n += 1u;")),
     m("p001_applied_mean_sign", "drives/paper001_drive.h", "computation delay: (1 + d) v - d v_prev on alpha",
       ("m.alpha = mc_mac(v.alpha, c->compute_delay, mc_sub(v_prev.alpha, v.alpha));",
        "m.alpha = mc_mac(v.alpha, c->compute_delay, mc_sub(v.alpha, v_prev.alpha));")),
