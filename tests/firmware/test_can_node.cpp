@@ -677,6 +677,23 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P002);
     EXPECT_TRUE(t.enabled);
     EXPECT_EQ(t.mode, 1u);
+    EXPECT_EQ(t.fault_events, 0u);
+    // CmdStop on the move: the reference ramps from where it is to 0 at the
+    // last ramp (1000 rad/s^2): 30 rad/s after 0.03 s of a reference at
+    // 30 rad/s takes 1.875 x 30 / 1000 = 56 ms
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(30.0, 1000.0), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    speed_poly_eval(&d.reference, d.tick + 600, &w, &dw);
+    ASSERT_NEAR(D(w), 30.0, 1e-3);
+    d.tick += 600;  // the reference's clock only: the drive is not stepped here
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &can_paper002_apply, &d),
+              CAN_REJECT_NONE);
+    speed_poly_eval(&d.reference, d.tick + 281, &w, &dw);
+    EXPECT_NEAR(D(w), 15.0, 0.1) << "half way down";
+    EXPECT_NEAR(D(dw), -1000.0, 5.0);
+    speed_poly_eval(&d.reference, d.tick + 563, &w, &dw);
+    EXPECT_NEAR(D(w), 0.0, 1e-3);
+    d.tick -= 600;
     // disable: 0 V; a second disable refused; enable restarts at tick 0
     ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x200, {0}), &can_paper002_apply, &d),
               CAN_REJECT_NONE);
@@ -694,6 +711,8 @@ TEST(CanNode, Paper002DriveCommands)
     can_paper002_telemetry(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.mode, 2u);
     EXPECT_EQ(t.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
+    EXPECT_EQ(t.first_fault, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
+    EXPECT_EQ(t.fault_events, 1u);
     EXPECT_FALSE(t.enabled);
     EXPECT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &can_paper002_apply, &d),
               CAN_REJECT_MODE);
