@@ -582,7 +582,8 @@ TEST(CanNode, SpeedDriveCommands)
     for (const auto& [f, why] : bad_frames()) {
         EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), why) << std::hex << f.id;
     }
-    for (const can_frame_t& f : {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(10.0, 600.0),
+    // (a speed beyond the back-EMF limit either way: K |w| on 0.9 of the phase voltage)
+    for (const can_frame_t& f : {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(-60.0, 10.0), cmd_speed(10.0, 600.0),
                                  frame(0x240, {0xB8, 0x0B}) /* SetOmegaLim: flux estimator */}) {
         EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
     }
