@@ -668,3 +668,57 @@ TEST(PmsmIdentification, OvercurrentInAnyPhaseRejectsAndLatches)
         EXPECT_STREQ(id.why, "over-current");
     }
 }
+
+// Paper 001's drive with a computation delay of d samples (issue 26: no
+// test ran it with one): the design's output advance n_p (1/2 + d), the
+// voltage the observers integrate (1 - d) v + d v_prev, and the output's
+// rotation: the estimate advanced by n_p w_hat (1/2 + d) Ts, each against
+// its formula in double (drives/paper001_drive.h); K_t = 3/2 n_p Phi for
+// three phases in IDA-PBC's 1/K_t and J/K_t.
+TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
+{
+    const double np = 3.0, phi = 0.17, J = 0.012, fs = 10000.0;
+    for (const double d : {0.0, 0.5, 1.0}) {
+        p001_design_input_t in;
+        p001_design_defaults(&in);
+        in.motor = {3, 0.225, 3.8e-3, phi, 3, J};
+        in.ts_s = 1.0 / fs;
+        in.i_max_A = 8.0;
+        in.i_trip_A = 12.0;
+        in.n_points = 2;
+        in.t_s[0] = 0.0;
+        in.omega_rad_s[0] = 0.0;
+        in.t_s[1] = 1.0;
+        in.omega_rad_s[1] = 5.0;
+        in.compute_delay_samples = d;
+        paper001_config_t cfg;
+        p001_design_report_t rep;
+        char err[160];
+        ASSERT_TRUE(p001_design(&in, &cfg, &rep, err, sizeof err)) << err;
+        const double tol = MC_FIXED ? 3e-5 : 1e-6;
+        EXPECT_NEAR(mc_to_double(cfg.advance_np), np * (0.5 + d), tol * np) << d;
+        EXPECT_NEAR(mc_to_double(cfg.compute_delay), d, tol) << d;
+        const double kt = 1.5 * np * phi;
+        EXPECT_NEAR(mc_to_double(cfg.ctrl.inv_Kt_A_Nm), 1.0 / kt, 1e-3 / kt) << d;
+        EXPECT_NEAR(mc_to_double(cfg.ctrl.J_over_Kt_A_s2), J / kt, 1e-3 * J / kt) << d;
+        // the applied mean, on a few vectors of both signs
+        const double vs[][4] = {{3.0, -2.0, 1.0, 4.0}, {-5.5, 0.25, 2.0, -3.0}, {0.0, 7.0, -7.0, 0.0}};
+        for (const auto& v : vs) {
+            const mc_ab_t now = {mc_from_double(v[0]), mc_from_double(v[1])}, prev = {mc_from_double(v[2]), mc_from_double(v[3])};
+            const mc_ab_t m = paper001_applied_mean(&cfg, now, prev);
+            EXPECT_NEAR(mc_to_double(m.alpha), (1.0 - d) * v[0] + d * v[2], 10 * tol) << d;
+            EXPECT_NEAR(mc_to_double(m.beta), (1.0 - d) * v[1] + d * v[3], 10 * tol) << d;
+        }
+        // the output rotation at +-12 rad/s from an angle near +-pi
+        for (const double w : {12.0, -12.0}) {
+            const double a = (w > 0 ? 3.1 : -3.1);
+            mc_rot_t rho;
+            rho.s = mc_from_double(std::sin(a));
+            rho.c = mc_from_double(std::cos(a));
+            const mc_rot_t out = paper001_output_rot(&cfg, rho, mc_from_double(w));
+            const double e = a + w * np * (0.5 + d) / fs;
+            EXPECT_NEAR(mc_to_double(out.s), std::sin(e), 20 * tol) << d << " " << w;
+            EXPECT_NEAR(mc_to_double(out.c), std::cos(e), 20 * tol) << d << " " << w;
+        }
+    }
+}
