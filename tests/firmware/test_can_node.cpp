@@ -582,8 +582,10 @@ TEST(CanNode, SpeedDriveCommands)
     for (const auto& [f, why] : bad_frames()) {
         EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), why) << std::hex << f.id;
     }
-    // (a speed beyond the back-EMF limit either way: K |w| on 0.9 of the phase voltage)
+    // (a speed beyond the back-EMF limit either way: K |w| on 0.9 of the
+    // phase voltage; CmdClearFaults while running: no restart under the rotor)
     for (const can_frame_t& f : {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(-60.0, 10.0), cmd_speed(10.0, 600.0),
+                                 frame(0x250, {0}),
                                  frame(0x240, {0xB8, 0x0B}) /* SetOmegaLim: flux estimator */}) {
         EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
     }
@@ -708,6 +710,11 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_TRUE(step_p002(&d, 11, &out));
     // a fault (a NaN sample), telemetry of it, then ClearFaults restarts
     EXPECT_FALSE(step_p002(&d, 12, &out, true));
+    EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
+    // latched: a good sample after it still gives 0 V and false
+    out.v_V[0] = out.v_V[1] = out.v_V[2] = M(1.0);
+    EXPECT_FALSE(step_p002(&d, 12, &out));
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(D(out.v_V[j]), 0.0);
     EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
     can_paper002_telemetry(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.mode, 2u);

@@ -722,3 +722,40 @@ TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
         }
     }
 }
+
+// The identification's voltage is limited to the bus with its direction
+// kept: through the alignment and into the spin with v_max a tenth of what
+// it asks, every output has |v| <= v_max and, where limited, the direction
+// the unlimited run has at the same sample (the run is the same: both
+// start from rest and the rig only integrates).
+TEST(PmsmIdentification, BusLimitKeepsTheDirection)
+{
+    const p001_design_input_t in = p001_input();
+    pmsm_id_config_t cfg;
+    double dur = 0.0;
+    char err[160];
+    ASSERT_TRUE(p001_identification_design(&in, &cfg, &dur, err, sizeof err)) << err;
+    const double v_max = 0.1 * D(cfg.v_align_V);
+    static pmsm_id_t id;
+    ASSERT_TRUE(pmsm_id_init(&id, &cfg));
+    PmsmRig rig;
+    int limited = 0;
+    for (int k = 0; k < 3000; ++k) {
+        // what it asks without a limit, from the same state
+        static pmsm_id_t probe;
+        probe = id;
+        mc_ab_t want, v;
+        (void)pmsm_id_step(&probe, rig.i, rig.ph, 3, M(1000.0), &want);
+        ASSERT_TRUE(pmsm_id_step(&id, rig.i, rig.ph, 3, M(v_max), &v)) << k << " " << id.why;
+        const double m = std::hypot(D(v.alpha), D(v.beta)), mw = std::hypot(D(want.alpha), D(want.beta));
+        ASSERT_LE(m, v_max * (1 + 1e-4) + 1e-4) << k;
+        if (mw > v_max) {
+            ++limited;
+            // the same direction: the cross product of the unit vectors ~ 0, the dot ~ 1
+            EXPECT_NEAR((D(v.alpha) * D(want.beta) - D(v.beta) * D(want.alpha)) / (m * mw), 0.0, 1e-3) << k;
+            EXPECT_NEAR((D(v.alpha) * D(want.alpha) + D(v.beta) * D(want.beta)) / (m * mw), 1.0, 1e-3) << k;
+        }
+        rig.apply(v);
+    }
+    EXPECT_GT(limited, 100);
+}
