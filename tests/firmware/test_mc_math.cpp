@@ -555,6 +555,13 @@ TEST(McMathFloat, WrapPi)
     for (int i = 0; i < 4000000; ++i) check(rand_float(rng, -30, 16));
     for (int k = -2000000; k <= 2000000; ++k) check((float)k * 0.001f);
     for (int i = 0; i < 100000; ++i) check(rand_float(rng, 17, 127));
+    // the ends of [-pi, pi) exactly, and their float neighbours: +pi
+    // itself is outside (random floats never hit it)
+    for (const float x : {MC_PI, -MC_PI, std::nextafter(MC_PI, 0.0f), std::nextafter(MC_PI, 4.0f),
+                          std::nextafter(-MC_PI, -4.0f), 3.0f * MC_PI, -3.0f * MC_PI}) {
+        check(x);
+    }
+    EXPECT_EQ(mc_wrap_pi(MC_PI), -MC_PI);
     e.report(4.0e-7);
 }
 
