@@ -679,17 +679,7 @@ TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
 {
     const double np = 3.0, phi = 0.17, J = 0.012, fs = 10000.0;
     for (const double d : {0.0, 0.5, 1.0}) {
-        p001_design_input_t in;
-        p001_design_defaults(&in);
-        in.motor = {3, 0.225, 3.8e-3, phi, 3, J};
-        in.ts_s = 1.0 / fs;
-        in.i_max_A = 8.0;
-        in.i_trip_A = 12.0;
-        in.n_points = 2;
-        in.t_s[0] = 0.0;
-        in.omega_rad_s[0] = 0.0;
-        in.t_s[1] = 1.0;
-        in.omega_rad_s[1] = 5.0;
+        p001_design_input_t in = p001_input();  // phi = 0.17 Wb, J = 0.012, n_p = 3, 10 kHz
         in.compute_delay_samples = d;
         paper001_config_t cfg;
         p001_design_report_t rep;
