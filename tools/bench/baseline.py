@@ -1,22 +1,34 @@
 #!/usr/bin/env python3
 """Metrics of the shipped scenarios: write the ratchet baseline, or compare with it.
 
-The ratchet (tests/sim/check_metrics.py --baseline) lets no shipped scenario
-get worse than the committed baseline by more than a stated margin. This
-script measures the entries (paper000_ideal, paper000_experiment and its
-seeds 1-10) with one motorsim binary, metrics-only runs, and
+The file holds two sections, both measured with one motorsim binary:
 
-  --write FILE     writes them with the margins (a new baseline), or
-  --compare FILE   prints every metric that differs from FILE at all and
-                   exits 1 if any does (the bit-exactness check of a
-                   refactoring: the printed digits must not move).
+  entries  the ratchet (tests/sim/check_metrics.py --baseline): paper
+           000's ideal and experiment runs (seeds 1-10), the metrics of
+           MARGINS only; no run may get worse than these by its margin.
+  exact    every drive's shipped scenarios (sim/scenarios/*.toml and
+           tests/sim/design_runs/*.toml), seeds 1-3 of each, the other
+           estimator, half a sample of computation delay and the emulated
+           board (EXACT_VARIANTS): every metric but the wall-clock ones,
+           plus the SHA-256 of the run's CSV log. Paper 002's drive is
+           float only (docs/paper002.md); a fixed-point binary skips it.
 
-usage: baseline.py --binary build/host/sim/motorsim (--write F | --compare F) [--jobs N]
+  --write FILE     measures both and writes them (a new baseline), or
+  --compare FILE   measures both and prints every value that differs from
+                   FILE at all, and exits 1 if any does (the bit-exactness
+                   check of a restructuring: the printed digits of all
+                   three drives must not move). --metrics-only leaves the
+                   CSV hashes out of the comparison (for a change of the
+                   log's columns that changes no number).
+
+usage: baseline.py --binary build/host/sim/motorsim (--write F | --compare F)
+                   [--jobs N] [--metrics-only]
 Standard library only.
 """
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import subprocess
 import sys
@@ -58,6 +70,61 @@ def entries() -> dict[str, list[str]]:
     return e
 
 
+# Metrics that measure the host, not the drive.
+NOT_EXACT = {"wall_time_s", "realtime_factor"}
+
+# Variants of every exact entry: (suffix, extra motorsim arguments, which
+# scenarios). "speed" = the scenarios of paper 001's drive (files named
+# paper001_* or with [speed]), "p002" = paper 002's, "pos" = paper 000's.
+EXACT_VARIANTS = [
+    ("", [], {"pos", "speed", "p002"}),
+    ("_seed1", ["--seed", "1"], {"pos", "speed", "p002"}),
+    ("_seed2", ["--seed", "2"], {"pos", "speed", "p002"}),
+    ("_seed3", ["--seed", "3"], {"pos", "speed", "p002"}),
+    ("_delay0.5", ["--compute-delay-samples", "0.5"], {"pos", "speed", "p002"}),
+    ("_back_emf", ["--estimator", "back_emf"], {"speed"}),
+    ("_flux", ["--estimator", "flux"], {"p002"}),
+    ("_board", ["--backend", "board-emulated"], {"pos"}),
+]
+
+
+def scenario_kind(path: Path) -> str:
+    text = path.read_text(encoding="utf-8")
+    if "[paper002]" in text:
+        return "p002"
+    if "[speed]" in text:
+        return "speed"
+    return "pos"
+
+
+def exact_entries(fixed: bool) -> dict[str, list[str]]:
+    """Entry name -> motorsim arguments, for every drive's shipped scenarios."""
+    files = sorted(SCENARIOS.glob("*.toml")) + sorted((ROOT / "tests/sim/design_runs").glob("*.toml"))
+    e = {}
+    for f in files:
+        kind = scenario_kind(f)
+        if fixed and kind == "p002":
+            continue
+        for suffix, extra, kinds in EXACT_VARIANTS:
+            if kind in kinds:
+                e[f"{f.stem}{suffix}"] = ["--scenario", str(f), "--no-expect", *extra]
+    return e
+
+
+def run_exact(binary: str, name: str, args: list[str], work: Path) -> tuple[str, dict]:
+    """Every metric of one run and the SHA-256 of its CSV log."""
+    out = work / name
+    p = subprocess.run([binary, *args, "--out", str(out), "--no-plot", "--quiet"], capture_output=True, text=True)
+    if p.returncode not in (0, 3, 4):
+        raise RuntimeError(f"{name}: motorsim exited {p.returncode}: {p.stderr.strip()}")
+    stem = Path(args[1]).stem
+    with open(out / f"{stem}_metrics.json", encoding="utf-8") as f:
+        m = {k: v for k, v in json.load(f).items() if k not in NOT_EXACT}
+    m["exit_status"] = p.returncode
+    m["csv_sha256"] = hashlib.sha256((out / f"{stem}.csv").read_bytes()).hexdigest()
+    return name, m
+
+
 def run(binary: str, name: str, args: list[str], work: Path) -> tuple[str, dict]:
     out = work / f"{name}.json"
     p = subprocess.run([binary, *args, "--metrics-out", str(out), "--quiet"], capture_output=True, text=True)
@@ -75,39 +142,56 @@ def main() -> int:
     g.add_argument("--write", metavar="FILE")
     g.add_argument("--compare", metavar="FILE")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--metrics-only", action="store_true", help="leave the CSV hashes out of --compare")
     a = ap.parse_args()
     if not Path(a.binary).is_file():
         print(f"baseline.py: --binary: no such file '{a.binary}'", file=sys.stderr)
         return 2
+    v = subprocess.run([a.binary, "--version"], capture_output=True, text=True)
+    if v.returncode != 0:
+        print(f"baseline.py: {a.binary} --version exited {v.returncode}", file=sys.stderr)
+        return 1
+    fixed = "fixed point" in v.stdout
     with tempfile.TemporaryDirectory() as tmp:
         with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
             try:
                 got = dict(ex.map(lambda kv: run(a.binary, kv[0], kv[1], Path(tmp)), entries().items()))
+                exact = dict(ex.map(lambda kv: run_exact(a.binary, kv[0], kv[1], Path(tmp)),
+                                    exact_entries(fixed).items()))
             except RuntimeError as e:
                 print(f"baseline.py: {e}", file=sys.stderr)
                 return 1
     if a.write:
-        doc = {"about": "ratchet of tests/sim/check_metrics.py; written by tools/bench/baseline.py",
-               "margins": MARGINS, "entries": dict(sorted(got.items()))}
+        doc = {"about": "ratchet of tests/sim/check_metrics.py (entries) and the bit-exactness "
+                        "reference of every drive (exact); written by tools/bench/baseline.py",
+               "margins": MARGINS, "entries": dict(sorted(got.items())), "exact": dict(sorted(exact.items()))}
         tmp_path = Path(a.write).with_suffix(".tmp")
         tmp_path.write_text(json.dumps(doc, indent=1, sort_keys=False) + "\n", encoding="utf-8")
         tmp_path.replace(a.write)
-        print(f"baseline.py: wrote {len(got)} entries to {a.write}")
+        print(f"baseline.py: wrote {len(got)} ratchet and {len(exact)} exact entries to {a.write}")
         return 0
     try:
         with open(a.compare, encoding="utf-8") as f:
-            ref = json.load(f)["entries"]
+            doc = json.load(f)
+        ref, ref_exact = doc["entries"], doc["exact"]
     except (OSError, json.JSONDecodeError, KeyError) as e:
         print(f"baseline.py: cannot read {a.compare}: {e}", file=sys.stderr)
         return 2
     diffs = 0
-    for name, m in sorted(got.items()):
-        for k, v in sorted(m.items()):
-            was = ref.get(name, {}).get(k)
-            if was != v:
+    for section, now, then in (("entries", got, ref), ("exact", exact, ref_exact)):
+        for name in sorted(set(now) | set(then)):
+            if name not in then or name not in now:
                 diffs += 1
-                print(f"DIFF {name} {k}: {was} -> {v}")
-    print(json.dumps({"entries": len(got), "differences": diffs}))
+                print(f"DIFF {section} {name}: {'new entry' if name not in then else 'entry gone'}")
+                continue
+            for k in sorted(set(now[name]) | set(then[name])):
+                if a.metrics_only and k == "csv_sha256":
+                    continue
+                was, v = then[name].get(k), now[name].get(k)
+                if was != v:
+                    diffs += 1
+                    print(f"DIFF {section} {name} {k}: {was} -> {v}")
+    print(json.dumps({"entries": len(got), "exact_entries": len(exact), "differences": diffs}))
     return 1 if diffs else 0
 
 
