@@ -67,3 +67,69 @@ void can_node_pop(can_node_t *n)
     can_frame_t unused;
     (void)can_tx_pop(&n->tx, &unused);
 }
+
+can_reject_t can_node_apply_drive(void *drive, const can_cmd_t *cmd)
+{
+    drive_t *d = (drive_t *)drive;
+    drive_cmd_t c;
+    switch (cmd->kind) {
+    case CAN_CMD_ENABLE: c.kind = DRIVE_CMD_ENABLE; break;
+    case CAN_CMD_MOVE: c.kind = DRIVE_CMD_MOVE; break;
+    case CAN_CMD_SPEED: c.kind = DRIVE_CMD_SPEED; break;
+    case CAN_CMD_STOP: c.kind = DRIVE_CMD_STOP; break;
+    case CAN_CMD_SET_OMEGA_LIM: c.kind = DRIVE_CMD_SET_OMEGA_LIM; break;
+    case CAN_CMD_CLEAR_FAULTS: c.kind = DRIVE_CMD_CLEAR_FAULTS; break;
+    default: return CAN_REJECT_MODE; /* CmdSetRate is the node's; none is not a command */
+    }
+    c.enable = cmd->enable;
+    c.theta_to_rad = cmd->theta_to_rad;
+    c.duration_s = cmd->duration_s;
+    c.omega_ref_rad_s = cmd->omega_ref_rad_s;
+    c.ramp_rad_s2 = cmd->ramp_rad_s2;
+    c.omega_lim_rad_s = cmd->omega_lim_rad_s;
+    return drive_command(d, &c) == DRIVE_REFUSE_NONE ? CAN_REJECT_NONE : CAN_REJECT_MODE;
+}
+
+void can_node_drive_telemetry(const drive_t *d, mc_t v_bus_V, mc_t step_time_us, can_telemetry_t *t)
+{
+    drive_status_t s;
+    drive_status(d, &s);
+    t->drive_kind = d->ops->can_kind;
+    t->mode = s.mode;
+    t->state = s.state;
+    t->enabled = s.enabled;
+    t->fault_code = s.fault_code;
+    t->fault_events = s.fault_events;
+    t->relocks = s.relocks;
+    t->first_fault = s.first_fault;
+    t->overruns = s.overruns;
+    t->saturated = s.saturated;
+    t->theta_ref_rad = s.theta_ref_rad;
+    t->theta_est_rad = s.theta_est_rad;
+    t->omega_ref_rad_s = s.omega_ref_rad_s;
+    t->omega_est_rad_s = s.omega_est_rad_s;
+    t->accel_est_rad_s2 = s.accel_est_rad_s2;
+    t->load_est_Nm = s.load_est_Nm;
+    t->i1_A = s.i1_A;
+    t->i2_A = s.i2_A;
+    t->i1_ref_A = s.i1_ref_A;
+    t->i2_ref_A = s.i2_ref_A;
+    t->i1_est_A = s.i1_est_A;
+    t->i2_est_A = s.i2_est_A;
+    t->emf1_V = s.emf1_V;
+    t->emf2_V = s.emf2_V;
+    t->v1_V = s.v1_V;
+    t->v2_V = s.v2_V;
+    t->v_bus_V = v_bus_V;
+    t->step_time_us = step_time_us;
+}
+
+void can_node_step_drive(can_node_t *n, const drive_t *d, uint32_t tick, mc_t v_bus_V, mc_t step_time_us)
+{
+    if (!can_node_due(n, tick)) {
+        return;
+    }
+    can_telemetry_t t;
+    can_node_drive_telemetry(d, v_bus_V, step_time_us, &t);
+    can_node_transmit(n, tick, &t);
+}

@@ -2,9 +2,10 @@
  * can_node.h - a drive's node on the CAN bus: the telemetry schedule and
  * queue (comm/can_tx.h), the command side (comm/can_link.h) and the
  * counters a host sees in the heartbeat. What the telemetry carries and
- * what a command does are the drive's (comm/can_paper000.h,
- * comm/can_paper001.h): the node calls the drive's apply function for
- * each valid command and counts its verdict. The backend moves the frames
+ * what a command does are the drive's, through the drive interface
+ * (drives/drive.h: status and command): the node calls an apply function
+ * for each valid command (can_node_apply_drive for any drive_t) and
+ * counts its verdict. The backend moves the frames
  * (hal_can_receive -> can_node_receive; can_node_peek/can_node_pop ->
  * hal_can_send), from the control callback or its own interrupt. A
  * refused frame changes nothing but the counters. Nothing allocates.
@@ -17,6 +18,7 @@
 
 #include "comm/can_link.h"
 #include "comm/can_tx.h"
+#include "drives/drive.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -61,6 +63,21 @@ void can_node_transmit(can_node_t *n, uint32_t tick, can_telemetry_t *t);
  * bus took it. */
 bool can_node_peek(const can_node_t *n, can_frame_t *f);
 void can_node_pop(can_node_t *n);
+
+/* Any drive on the node, through the drive interface (drives/drive.h). */
+
+/* can_apply_fn for a drive_t *drive: the command set to drive_command;
+ * any refusal is CAN_REJECT_MODE (nothing changed). */
+can_reject_t can_node_apply_drive(void *drive, const can_cmd_t *cmd);
+
+/* The telemetry of drive d's last step: drive_status plus the DriveKind of
+ * its operations, and what the backend measures (the bus, the step's
+ * time; the drive measures neither). */
+void can_node_drive_telemetry(const drive_t *d, mc_t v_bus_V, mc_t step_time_us, can_telemetry_t *t);
+
+/* Once per control sample after drive_step: queues the telemetry due at
+ * tick (the status is read only when one is due). */
+void can_node_step_drive(can_node_t *n, const drive_t *d, uint32_t tick, mc_t v_bus_V, mc_t step_time_us);
 
 #ifdef __cplusplus
 }

@@ -258,7 +258,7 @@
  * sliding time constant (SURFACE_POLE_PER_S). */
 #define RELOCK_CONFIRM_S 0.05
 
-/* Load-angle law (control/load_angle.h, drive_law_t LOAD_ANGLE).
+/* Load-angle law (control/load_angle.h, paper000_law_t LOAD_ANGLE).
  * I_s = LA_IS_OVER_IMAX I_max: the spring's stiffness n_p K I_s is then
  * nearly the largest the limits allow (39 N m/rad for the rig: a 0.4 N m
  * step moves the rotor by about 0.01 rad before any estimate has seen
@@ -350,7 +350,7 @@ void drive_design_defaults(drive_design_input_t *in)
     in->i_trip_samples = 1;  /* the instantaneous trip */
     in->los_relock = 0;      /* a loss of synchronism: the safe state */
     in->gain_design = DRIVE_GAIN_CONTINUOUS; /* see drive_gain_design_t and docs/paper000.md */
-    in->control_law = DRIVE_LAW_TWISTING;    /* the paper's */
+    in->control_law = P000_LAW_TWISTING;    /* the paper's */
 }
 
 static int32_t ticks_of(double t_s, double fs) { return (int32_t)ceil(t_s * fs - 1e-9); }
@@ -448,7 +448,7 @@ void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t 
     }
 }
 
-bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err, size_t err_len)
+bool drive_design(const drive_design_input_t *in, paper000_config_t *cfg, char *err, size_t err_len)
 {
     const drive_motor_si_t *m = &in->motor;
     if (!(m->L_H > 0.0)) return fail(err, err_len, "motor.L_H", "must be > 0", m->L_H);
@@ -465,7 +465,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     if (!(in->omega_lim_rad_s > 0.0)) return fail(err, err_len, "limits.omega_lim_rad_s", "must be > 0", in->omega_lim_rad_s);
     if (!fault_trip_samples_ok(in->i_trip_samples))
         return fail(err, err_len, "limits.i_trip_samples", "must be 1..8 (0: 1)", (double)in->i_trip_samples);
-    if (in->control_law != DRIVE_LAW_TWISTING && in->control_law != DRIVE_LAW_LOAD_ANGLE)
+    if (in->control_law != P000_LAW_TWISTING && in->control_law != P000_LAW_LOAD_ANGLE)
         return fail(err, err_len, "design.control_law", "must be twisting (0) or load_angle (1)", (double)in->control_law);
     if (in->gain_design != DRIVE_GAIN_CONTINUOUS && in->gain_design != DRIVE_GAIN_DISCRETE)
         return fail(err, err_len, "design.gain_design", "must be continuous (0) or discrete (1)", (double)in->gain_design);
@@ -531,7 +531,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     ed.omega_lim_rad_s = in->omega_lim_rad_s;
     ed.i_max_A = in->i_max_A;
     ed.override = *ov;
-    if (in->control_law == DRIVE_LAW_LOAD_ANGLE && !(ov->mech_l_per_s > 0.0)) {
+    if (in->control_law == P000_LAW_LOAD_ANGLE && !(ov->mech_l_per_s > 0.0)) {
         ed.override.mech_l_per_s = LA_MECH_L_PER_S;
     }
     const bool discrete = in->gain_design == DRIVE_GAIN_DISCRETE;
@@ -638,7 +638,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     cfg->open_loop.v_max_V = cfg->limits.v_max_V;
     /* faults: generic criteria (supervisor/fault_monitor.h) */
     fault_monitor_design(&cfg->faults, 2, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, Ts);
-    drive_protection_config_t *pc = &cfg->prot;
+    paper000_protection_config_t *pc = &cfg->prot;
     for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
         pc->reaction[f] = (uint8_t)FAULT_REACT_SAFE;
     }
@@ -655,12 +655,12 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
     pc->relock_hold_ticks = ticks_of(RELOCK_HOLD_S, fs);
     pc->relock_confirm_ticks = ticks_of(RELOCK_CONFIRM_S, fs);
     pc->los_track_rad = mc_from_double(3.14159265358979323846 / np);
-    pc->los_track_ticks = ticks_of(LOS_TRACK_S, fs / DRIVE_LOS_DECIMATION); /* in checks */
+    pc->los_track_ticks = ticks_of(LOS_TRACK_S, fs / P000_LOS_DECIMATION); /* in checks */
     pc->los_emf_tol = mc_from_double(LOS_EMF_TOL);
     pc->los_emf_floor_V = mc_from_double(LOS_EMF_FLOOR_OVER_EMF_AT_LIMIT * K * in->omega_lim_rad_s);
     pc->los_jump_rad = mc_from_double(LOS_JUMP_OVER_PITCH * 2.0 * 3.14159265358979323846 / np);
     pc->los_obs_err_A = mc_from_double(LOS_OBS_ERR_A);
-    pc->los_ticks = ticks_of(LOS_PERSIST_S, fs / DRIVE_LOS_DECIMATION); /* in checks */
+    pc->los_ticks = ticks_of(LOS_PERSIST_S, fs / P000_LOS_DECIMATION); /* in checks */
     cfg->k_id.enabled = in->identify_k != 0;
     cfg->k_id.w_min_rad_s = mc_from_double(K_ID_W_MIN_OVER_OMEGA_LIM * in->omega_lim_rad_s);
     cfg->k_id.inv_w_scale_s = mc_from_double(1.0 / w_max);
@@ -691,7 +691,7 @@ bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err
         ac->off_ticks = ticks_of(ALIGN_OFF_TAUS * tau, fs);
         ac->phi_turn_rad = mc_from_double(ALIGN_PHI_TURN_RAD);
     }
-    /* Computation delay (drive_delay_config_t): the output frame at
+    /* Computation delay (paper000_delay_config_t): the output frame at
      * t_k + (1/2 + d) Ts is the mid-sample one turned by 2d half samples of
      * the reference's rotation (d < 1/2), or the next sample's turned by
      * 2d - 1 (d >= 1/2): x stays in [0, 1], where the drive's sincos-free

@@ -12,7 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "drives/paper000_drive.h"
+#include "drives/paper000/paper000_drive.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -94,11 +94,11 @@ typedef struct {
     int los_relock;
     /* The board's computation delay d in [0, 1] samples (0, the default:
      * none, the paper's sampled model): the voltage computed from the
-     * currents of t_k acts from t_k + d Ts (drives/paper000_drive.h,
-     * drive_delay_config_t, says what the drive does with it). */
+     * currents of t_k acts from t_k + d Ts (drives/paper000/paper000_drive.h,
+     * paper000_delay_config_t, says what the drive does with it). */
     double compute_delay_samples;
     drive_gain_design_t gain_design;  /* see drive_gain_design_t; default CONTINUOUS */
-    drive_law_t control_law;          /* see drive_law_t (drives/paper000_drive.h); default TWISTING */
+    paper000_law_t control_law;          /* see paper000_law_t (drives/paper000/paper000_drive.h); default TWISTING */
     drive_segment_si_t segments[DRIVE_DESIGN_MAX_SEGMENTS];
     int n_segments;
     drive_gain_override_t override;
@@ -112,7 +112,7 @@ void drive_design_defaults(drive_design_input_t *in);
 
 /* Derives cfg from in. Returns false and writes a one-line reason naming
  * the offending field into err (if err_len > 0) when in is non-physical. */
-bool drive_design(const drive_design_input_t *in, drive_config_t *cfg, char *err, size_t err_len);
+bool drive_design(const drive_design_input_t *in, paper000_config_t *cfg, char *err, size_t err_len);
 
 /* The gains of paper 000's estimator (back-EMF observer (23)-(28), position
  * estimator (29)-(32), mechanical observer (33)-(37)) from the motor and

@@ -12,7 +12,7 @@
 #include <stddef.h>
 
 #include "design/drive_design.h"
-#include "drives/paper001_drive.h"
+#include "drives/paper001/paper001_drive.h"
 #include "startup/pmsm_identification.h"
 
 #ifdef __cplusplus

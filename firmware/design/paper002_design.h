@@ -1,7 +1,7 @@
 /*
  * paper002_design.h - paper 002's drive designed from the motor, the
  * sample time, the limits and the sensors' noise (host side, double
- * precision; drives/paper002_drive.h). Every gain is derived and named in
+ * precision; drives/paper002/paper002_drive.h). Every gain is derived and named in
  * paper002_design.c; the fixed-point build refuses the design (the EKF's
  * covariances do not fit Q14.17: the angle's measurement variance 1e-8
  * rad^2 is below its 7.6e-6 step).
@@ -12,7 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "drives/paper002_drive.h"
+#include "drives/paper002/paper002_drive.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -15,8 +15,8 @@
 #include <memory>
 #include <string>
 
-#include "drives/paper000_drive.h"
-#include "drives/paper001_drive.h"
+#include "drives/paper000/paper000_drive.h"
+#include "drives/paper001/paper001_drive.h"
 #include "hal_board.h"
 #include "motorsim/drive_glue.h"
 #include "scenario/design_input.h"
@@ -62,7 +62,7 @@ int main(int argc, char** argv)
         return 2;
     }
     mcsim::Scenario sc;
-    std::unique_ptr<drive_t> pos;
+    std::unique_ptr<paper000_drive_t> pos;
     std::unique_ptr<paper001_drive_t> spd;
     try {
         sc = mcsim::load_scenario(scenario);
@@ -71,7 +71,7 @@ int main(int argc, char** argv)
             p001_design_report_t rep{};
             mcsim::design_and_init_speed_drive(sc, spd.get(), &rep);
         } else {
-            pos = std::make_unique<drive_t>();
+            pos = std::make_unique<paper000_drive_t>();
             mcsim::design_and_init_drive(sc, pos.get());
         }
     } catch (const std::exception& e) {
@@ -110,8 +110,8 @@ int main(int argc, char** argv)
     const board_chain_t& ch = *hal_board_chain();
     int fault = 0;
     if (pos) {
-        drive_telemetry_t t;
-        drive_get_telemetry(pos.get(), &t);
+        paper000_telemetry_t t;
+        paper000_drive_get_telemetry(pos.get(), &t);
         fault = static_cast<int>(t.fault);
     } else {
         paper001_telemetry_t t;

@@ -2,9 +2,6 @@
 
 #include <chrono>
 
-#include "comm/can_paper000.h"
-#include "comm/can_paper001.h"
-#include "comm/can_paper002.h"
 #include "mc_convert.h"
 
 namespace mcsim {
@@ -38,22 +35,13 @@ void can_drive_control_callback(void* vctx, const hal_sample_t* in, hal_command_
 {
     auto* ctx = static_cast<CanDriveContext*>(vctx);
     const auto t0 = std::chrono::steady_clock::now();
-    if (ctx->position != nullptr) {
-        (void)drive_step(ctx->position, in, out);
-    } else if (ctx->p002 != nullptr) {
-        (void)paper002_drive_step(ctx->p002, in, out);
-    } else {
-        (void)paper001_drive_step(ctx->speed, in, out);
-    }
+    (void)drive_step(&ctx->drive, in, out);
     const double step_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
 
     // commands: validated by the node, carried out by the drive between steps
     hal_can_frame_t f;
     for (unsigned k = 0; k < CAN_NODE_RX_PER_STEP && hal_can_receive(&f); ++k) {
-        const can_reject_t r =
-            (ctx->position != nullptr) ? can_node_receive(&ctx->node, in->tick, &f, &can_paper000_apply, ctx->position)
-            : (ctx->p002 != nullptr)   ? can_node_receive(&ctx->node, in->tick, &f, &can_paper002_apply, ctx->p002)
-                                       : can_node_receive(&ctx->node, in->tick, &f, &can_paper001_apply, ctx->speed);
+        const can_reject_t r = can_node_receive(&ctx->node, in->tick, &f, &can_node_apply_drive, &ctx->drive);
         if (r == CAN_REJECT_NOT_OURS) {
             continue;
         }
@@ -70,13 +58,7 @@ void can_drive_control_callback(void* vctx, const hal_sample_t* in, hal_command_
     // telemetry of this step, then the queue onto the bus
     const mc_t v_bus = in->v_bus_V;
     const mc_t step_time = to_mc(step_us);
-    if (ctx->position != nullptr) {
-        can_paper000_step(&ctx->node, ctx->position, in->tick, v_bus, step_time);
-    } else if (ctx->p002 != nullptr) {
-        can_paper002_step(&ctx->node, ctx->p002, in->tick, v_bus, step_time);
-    } else {
-        can_paper001_step(&ctx->node, ctx->speed, in->tick, v_bus, step_time);
-    }
+    can_node_step_drive(&ctx->node, &ctx->drive, in->tick, v_bus, step_time);
     while (can_node_peek(&ctx->node, &f)) {
         if (!hal_can_send(&f)) {
             ++ctx->tx_waits;

@@ -16,17 +16,13 @@
 #include <cstdio>
 
 #include "comm/can_node.h"
-#include "drives/paper000_drive.h"
-#include "drives/paper001_drive.h"
-#include "drives/paper002_drive.h"
+#include "drives/drive.h"
 #include "hal/hal.h"
 
 namespace mcsim {
 
 struct CanDriveContext {
-    drive_t* position = nullptr;        // exactly one of the three
-    paper001_drive_t* speed = nullptr;
-    paper002_drive_t* p002 = nullptr;
+    drive_t drive{};                    // any registered drive (drives/registry.h)
     can_node_t node{};
     double ts_s = 1e-4;
     double t_start_s = 0.0;             // plant time of HAL tick 0 (for the log lines)

@@ -40,8 +40,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "drives/paper000_drive.h"
-#include "drives/paper001_drive.h"
+#include "drives/registry.h"
+#include "drives/paper000/paper000_drive.h"
+#include "drives/paper001/paper001_drive.h"
 #include "motorsim/commission.h"
 #include "motorsim/run_watch.h"
 #include "motorsim/speed_recorder.h"
@@ -468,9 +469,9 @@ int run(const Options& opt)
     // The position drive is designed first: its rotor alignment runs before
     // t = 0 (sc.pre_ticks), which the rig's start time and the run's length
     // take from it.
-    std::unique_ptr<drive_t> drive;
+    std::unique_ptr<paper000_drive_t> drive;
     if (!sc.speed_drive && !sc.paper002_drive) {
-        drive = std::make_unique<drive_t>();
+        drive = std::make_unique<paper000_drive_t>();
         mcsim::design_and_init_drive(sc, drive.get());  // sets sc.pre_ticks
         if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
             throw std::invalid_argument(sc.path + ": run.duration_s: with the rotor alignment, " +
@@ -549,9 +550,9 @@ int run(const Options& opt)
     bool started = false;
     if (can) {
         can_ctx = std::make_unique<mcsim::CanDriveContext>();
-        can_ctx->position = drive.get();
-        can_ctx->speed = speed_drive.get();
-        can_ctx->p002 = p002_drive.get();
+        can_ctx->drive = sc.paper002_drive ? drive_t{&paper002_drive_ops, p002_drive.get()}
+                         : sc.speed_drive  ? drive_t{&paper001_drive_ops, speed_drive.get()}
+                                           : drive_t{&paper000_drive_ops, drive.get()};
         can_ctx->ts_s = sc.ts_s;
         can_ctx->t_start_s = sc.t_start_s();
         can_ctx->log = opt.quiet ? nullptr : stderr;

@@ -30,7 +30,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "drives/paper002_drive.h"
+#include "drives/paper002/paper002_drive.h"
 #include "hal_sw_plant.h"
 #include "model/pm_plant.h"
 #include "motorsim/recorder.h"

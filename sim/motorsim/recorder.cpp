@@ -23,7 +23,7 @@ const char* const kColumnNames[kNumColumns] = {
     "v_g",       "delta_theta_est", "jump_count", "delta_theta", "i_f_ref",   "i_g_ref",   "fault",
 };
 
-Recorder::Recorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, const Reference& ref,
+Recorder::Recorder(const Scenario& sc, const PmPlant& plant, const paper000_drive_t& drive, const Reference& ref,
                    bool record_rows)
     : sc_(sc),
       plant_(plant),
@@ -47,8 +47,8 @@ void Recorder::monitor(void* ctx, const hal_sw_plant_period_t* p) { static_cast<
 
 void Recorder::on_period(const hal_sw_plant_period_t& p)
 {
-    drive_telemetry_t tl;
-    drive_get_telemetry(&drive_, &tl);
+    paper000_telemetry_t tl;
+    paper000_drive_get_telemetry(&drive_, &tl);
     const PmPlant::State& x = plant_.state();
     // Before t = 0 the drive aligns the rotor (sc.pre_ticks); from t = 0 on,
     // angles are relative to the equilibrium it found: the nearest multiple
@@ -232,8 +232,8 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("final_theta_err_rad", std::fabs(plant_.theta_rad() - offset_rad_ - theta_end));
     m.emplace_back("final_theta_rad", plant_.theta_rad() - offset_rad_);
     {
-        drive_telemetry_t tl;
-        drive_get_telemetry(&drive_, &tl);
+        paper000_telemetry_t tl;
+        paper000_drive_get_telemetry(&drive_, &tl);
         m.emplace_back("model_R_ohm", to_double(tl.R_model_ohm));
         m.emplace_back("model_L_H", to_double(tl.L_model_H));
         m.emplace_back("model_K_V_s", to_double(tl.K_model_V_s));
@@ -255,7 +255,7 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("fault", fault_);
     // the flight recorder's first fault (a recovered one included) and the
     // count of faults and re-locks (firmware/supervisor/flight_recorder.h)
-    const flight_recorder_t* fr = drive_flight_recorder(&drive_);
+    const flight_recorder_t* fr = paper000_drive_flight_recorder(&drive_);
     m.emplace_back("fault_first", static_cast<std::int64_t>(fr->fault));
     m.emplace_back("fault_first_t_s",
                    fr->frozen ? sc_.t_start_s() + static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);

@@ -15,7 +15,7 @@
 #include <variant>
 #include <vector>
 
-#include "drives/paper000_drive.h"
+#include "drives/paper000/paper000_drive.h"
 #include "hal_sw_plant.h"
 #include "model/reference.h"
 #include "model/pm_plant.h"
@@ -76,7 +76,7 @@ class Recorder {
 public:
     // record_rows = false: metrics only, no per-sample log (data() is empty);
     // the metrics are the same either way.
-    Recorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, const Reference& ref,
+    Recorder(const Scenario& sc, const PmPlant& plant, const paper000_drive_t& drive, const Reference& ref,
              bool record_rows = true);
 
     // hal_sw_plant_monitor_fn; ctx is the Recorder.
@@ -103,7 +103,7 @@ private:
 
     const Scenario& sc_;
     const PmPlant& plant_;
-    const drive_t& drive_;
+    const paper000_drive_t& drive_;
     const Reference& ref_;
     double n_p_;
     double K_over_L_;           // true plant, for d_f, d_g of eq. (23)

@@ -25,7 +25,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "drives/paper001_drive.h"
+#include "drives/paper001/paper001_drive.h"
 #include "hal_sw_plant.h"
 #include "model/pm_plant.h"
 #include "motorsim/run_watch.h"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "drives/paper000_drive.h"
+#include "drives/paper000/paper000_drive.h"
 #include "mc_convert.h"
 #include "scenario/design_input.h"
 #include "scenario/scenario.h"
@@ -76,7 +76,7 @@ int main(int argc, char** argv)
     }
     try {
         mcsim::Scenario sc = mcsim::load_scenario(argv[1]);
-        auto drive = std::make_unique<drive_t>();
+        auto drive = std::make_unique<paper000_drive_t>();
         mcsim::design_and_init_drive(sc, drive.get());
         const auto currents = read_currents(argv[2]);
         const std::string tmp = std::string(argv[3]) + ".tmp";
@@ -95,17 +95,17 @@ int main(int argc, char** argv)
             const Sample prev = k > 0 ? currents[k - 1] : Sample{};
             const double va_app = dly > 0.0 ? (1.0 - dly) * now.v_a + dly * prev.v_a : now.v_a;
             const double vb_app = dly > 0.0 ? (1.0 - dly) * now.v_b + dly * prev.v_b : now.v_b;
-            drive_set_applied_voltage(drive.get(), mcsim::to_mc(va_app), mcsim::to_mc(vb_app));
+            paper000_drive_set_applied_voltage(drive.get(), mcsim::to_mc(va_app), mcsim::to_mc(vb_app));
             hal_sample_t in{};
             in.n_phases = 2;
             in.i_A[0] = mcsim::to_mc(currents[k].i_a);
             in.i_A[1] = mcsim::to_mc(currents[k].i_b);
             in.tick = static_cast<std::uint32_t>(k);
             hal_command_t out{};
-            drive_step(drive.get(), &in, &out);
+            paper000_drive_step(drive.get(), &in, &out);
             const mc_t va = out.v_V[0], vb = out.v_V[1];
-            drive_telemetry_t t;
-            drive_get_telemetry(drive.get(), &t);
+            paper000_telemetry_t t;
+            paper000_drive_get_telemetry(drive.get(), &t);
             std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", sc.t_start_s() + static_cast<double>(k) * sc.ts_s, static_cast<int>(t.mode),
                          mcsim::to_double(t.theta_est_rad), mcsim::to_double(t.omega_est_rad_s),
                          mcsim::to_double(va), mcsim::to_double(vb));

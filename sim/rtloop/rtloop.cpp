@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "drives/paper000_drive.h"
+#include "drives/paper000/paper000_drive.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "model/board_emulation.h"
@@ -54,7 +54,7 @@ int main(int argc, char** argv)
     try {
         mcsim::Scenario sc = mcsim::load_scenario(scenario);
         if (sc.speed_drive) throw std::runtime_error(scenario + ": a paper-000 position scenario");
-        auto drive = std::make_unique<drive_t>();
+        auto drive = std::make_unique<paper000_drive_t>();
         mcsim::design_and_init_drive(sc, drive.get());
         mcsim::Rig rig(sc);
         hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);

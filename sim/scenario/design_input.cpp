@@ -136,7 +136,7 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
         in->gain_design = sc.gain_design == 1 ? DRIVE_GAIN_DISCRETE : DRIVE_GAIN_CONTINUOUS;
     }
     if (sc.control_law >= 0) {
-        in->control_law = sc.control_law == 1 ? DRIVE_LAW_LOAD_ANGLE : DRIVE_LAW_TWISTING;
+        in->control_law = sc.control_law == 1 ? P000_LAW_LOAD_ANGLE : P000_LAW_TWISTING;
     }
     in->n_segments = static_cast<int>(sc.segments.size());
     for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
@@ -160,7 +160,7 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     }
 }
 
-void design_and_init_drive(Scenario& sc, drive_t* drive)
+void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
 {
     if (sc.motor.type != MotorType::kStepper2) {
         throw ScenarioError(sc.path + ": motor.file: the paper-000 position drive ([trajectory]) runs two-phase "
@@ -168,14 +168,14 @@ void design_and_init_drive(Scenario& sc, drive_t* drive)
     }
     drive_design_input_t in;
     make_design_input(sc, &in);
-    drive_config_t cfg;
+    paper000_config_t cfg;
     std::memset(&cfg, 0, sizeof(cfg));
     char err[256] = {0};
     if (!drive_design(&in, &cfg, err, sizeof(err))) {
         throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "drive_design rejected the input"));
     }
-    if (!drive_init(drive, &cfg)) {
-        const char* why = drive_config_problem(&cfg);
+    if (!paper000_drive_init(drive, &cfg)) {
+        const char* why = paper000_config_problem(&cfg);
         throw ScenarioError(sc.path + ": design: the configuration derived from the motor file and the scenario is " +
                             "not usable: " +
                             (why != nullptr ? std::string(why) + " (a motor or limit value far outside what the "

@@ -23,11 +23,11 @@ const std::vector<std::string>& design_bound_keys();
 // segments and the scenario's overrides.
 void make_design_input(const Scenario& sc, drive_design_input_t* in);
 
-// make_design_input + drive_design + drive_init, and sc.pre_ticks = the
+// make_design_input + drive_design + paper000_drive_init, and sc.pre_ticks = the
 // drive's alignment (so a Rig built after it starts the plant at
 // sc.t_start_s()). Throws ScenarioError ("FILE: design: reason") if the
 // design or the drive rejects the input.
-void design_and_init_drive(Scenario& sc, drive_t* drive);
+void design_and_init_drive(Scenario& sc, paper000_drive_t* drive);
 
 // The same for the speed drive of paper 001 ([speed] scenarios).
 void make_speed_design_input(const Scenario& sc, p001_design_input_t* in);

@@ -111,7 +111,7 @@ struct Scenario {
     int identify_k = -1;  // [design] identify_k; -1: design default
 
     // Samples the drive runs before t = 0 (the position drive's rotor
-    // alignment, drive_t.align_ticks): set by whoever designs the drive,
+    // alignment, paper000_drive_t.align_ticks): set by whoever designs the drive,
     // before the Rig is built. The run starts at t = -pre_ticks * ts_s;
     // duration_s counts from t = 0.
     std::uint32_t pre_ticks = 0;

@@ -32,7 +32,7 @@
 #include "board_comedi.h"
 #include "hal_board.h"
 #include "motorsim/drive_glue.h"
-#include "drives/paper000_drive.h"
+#include "drives/paper000/paper000_drive.h"
 #include "mc_convert.h"
 #include "scenario/design_input.h"
 #include "scenario/rig.h"
@@ -101,7 +101,7 @@ int main(int argc, char** argv)
     }
     const char* dev = argc > 2 ? argv[2] : "/dev/comedi0";
     mcsim::Scenario sc;
-    auto drive = std::make_unique<drive_t>();
+    auto drive = std::make_unique<paper000_drive_t>();
     try {
         sc = mcsim::load_scenario(argv[1]);
         if (sc.speed_drive || sc.motor.n_phases() != 2) throw std::runtime_error("a paper-000 (stepper) scenario");
@@ -148,8 +148,8 @@ int main(int argc, char** argv)
     for (std::uint32_t t = 0; t < n; ++t) {
         if (t > 0 && !read_all(from_plant, &theta, sizeof theta)) die("the plant process stopped");
         if (!hal_board_period()) faulted = true;
-        drive_telemetry_t tl;
-        drive_get_telemetry(drive.get(), &tl);
+        paper000_telemetry_t tl;
+        paper000_drive_get_telemetry(drive.get(), &tl);
         faulted = faulted || tl.fault != DRIVE_FAULT_NONE;
         if (tl.mode == DRIVE_MODE_CLOSED_LOOP) {
             ++closed;

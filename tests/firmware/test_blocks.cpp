@@ -5,6 +5,7 @@
 #include <cstdio>
 
 extern "C" {
+#include "control/delay_comp.h"
 #include "control/load_angle.h"
 #include "control/super_twisting.h"
 #include "control/twisting.h"
@@ -51,6 +52,57 @@ motor_model_t rig_model(double R, double L, double K, double J, double fv, doubl
     return m;
 }
 }  // namespace
+
+// ---- computation-delay compensation (control/delay_comp.h) ----
+
+// The voltage applied over the sample: v[k-1] for d Ts, then v[k].
+TEST(DelayComp, AppliedMeanIsTheTimeAverageOfTheTwoCommands)
+{
+    const mc_ab_t v = {M(12.0), M(-4.0)};
+    const mc_ab_t v_prev = {M(-6.0), M(3.0)};
+    for (double d : {0.0, 0.25, 0.5, 1.0}) {
+        const mc_ab_t m = delay_applied_mean(M(d), v, v_prev);
+        EXPECT_NEAR(D(m.alpha), (1 - d) * 12.0 + d * -6.0, 5 * kTol) << "d = " << d;
+        EXPECT_NEAR(D(m.beta), (1 - d) * -4.0 + d * 3.0, 5 * kTol) << "d = " << d;
+    }
+}
+
+// R(x phi) from R(phi): exact at x = 0 and 1, within the stated bound
+// 0.064 phi^3 in angle in between.
+TEST(DelayComp, RotationFractionWithinItsBound)
+{
+    for (double phi : {0.01, 0.05, 0.2}) {
+        const mc_rot_t r = mc_rot_from_angle(M(phi));
+        for (double x : {0.0, 0.3, 0.5, 1.0}) {
+            const mc_rot_t f = delay_rot_fraction(r, M(x), M(x * x));
+            const double angle = std::atan2(D(f.s), D(f.c));
+            EXPECT_NEAR(angle, x * phi, 0.064 * phi * phi * phi + 5 * kTol) << "phi " << phi << " x " << x;
+            EXPECT_NEAR(std::hypot(D(f.s), D(f.c)), 1.0, std::pow(phi, 4) / 24 + 5 * kTol);
+        }
+    }
+}
+
+// Paper 000 eq. (23) over d Ts with a constant voltage v_prev + e: the
+// exact solution i(t) = u/R + (i0 - u/R) exp(-R t / L); one Euler step is
+// off by |i0 - u/R| (exp(-x) - 1 + x) <= |i0 - u/R| x^2 / 2, x = R d Ts / L.
+TEST(DelayComp, CurrentPredictionFollowsTheWindingEquation)
+{
+    const double R = 1.1, L = 4.6e-3, Ts = 1e-4;
+    const double i_f = 1.5, i_g = -0.8, v_f = 10.0, v_g = -7.0, e_f = -3.0, e_g = 2.5;
+    for (double d : {0.0, 0.5, 1.0}) {
+        mc_t p_f, p_g;
+        delay_predict_fg(M(d), M(Ts / L), M(R), M(i_f), M(i_g), M(v_f), M(v_g), M(e_f), M(e_g), &p_f, &p_g);
+        const double t = d * Ts, x = R * t / L;
+        const double u_f = v_f + e_f, u_g = v_g + e_g;
+        const double ex_f = u_f / R + (i_f - u_f / R) * std::exp(-x);
+        const double ex_g = u_g / R + (i_g - u_g / R) * std::exp(-x);
+        EXPECT_NEAR(D(p_f), ex_f, std::fabs(i_f - u_f / R) * x * x / 2 + 5 * kTol) << "d = " << d;
+        EXPECT_NEAR(D(p_g), ex_g, std::fabs(i_g - u_g / R) * x * x / 2 + 5 * kTol) << "d = " << d;
+        // and the step itself, evaluated independently in double
+        EXPECT_NEAR(D(p_f), i_f + d * Ts / L * (u_f - R * i_f), 5 * kTol);
+        EXPECT_NEAR(D(p_g), i_g + d * Ts / L * (u_g - R * i_g), 5 * kTol);
+    }
+}
 
 // ---- (f-g) transforms, eqs. (6)-(8) ----
 TEST(FrameFg, RoundTripAndHandValues)

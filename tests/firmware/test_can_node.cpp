@@ -1,6 +1,6 @@
-// The drives on CAN (firmware/comm/can_node.h, can_paper000.h,
-// can_paper001.h, can_paper002.h) and the commands they obey (drive_move, drive_stop,
-// drive_set_enabled, drive_set_omega_lim; paper001_drive_set_speed, ...):
+// The drives on CAN (firmware/comm/can_node.h, through each drive's
+// operations, drives/drive.h) and the commands they obey (paper000_drive_move, paper000_drive_stop,
+// paper000_drive_set_enabled, paper000_drive_set_omega_lim; paper001_drive_set_speed, ...):
 // valid commands change the drive as documented, and a frame of any wrong
 // kind, or a valid command the drive refuses, leaves every byte of the
 // drive as it was and is counted.
@@ -12,9 +12,8 @@
 #include <vector>
 
 #include "comm/can_node.h"
-#include "comm/can_paper000.h"
-#include "comm/can_paper001.h"
-#include "comm/can_paper002.h"
+#include "comm/can_node.h"
+#include "drives/registry.h"
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
 #include "design/paper002_design.h"
@@ -26,7 +25,7 @@ double D(mc_t x) { return mc_to_double(x); }
 constexpr int kFs = 10000;
 
 // the paper-000 rig with one short move: 0 -> 0.5 rad in 0.5 s from t = 0
-bool init_position(drive_t* d)
+bool init_position(paper000_drive_t* d)
 {
     drive_design_input_t in;
     drive_design_defaults(&in);
@@ -39,13 +38,13 @@ bool init_position(drive_t* d)
     in.n_segments = 1;
     in.segments[0] = {0.0, 0.5, 0.5};
     in.align_rotor = 0;
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
-    return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+    return drive_design(&in, &cfg, err, sizeof err) && paper000_drive_init(d, &cfg);
 }
 
 // one sample with small changing currents (so no sensor-stuck fault)
-bool step_position(drive_t* d, int k, hal_command_t* out)
+bool step_position(paper000_drive_t* d, int k, hal_command_t* out)
 {
     hal_sample_t in{};
     in.n_phases = 2;
@@ -53,7 +52,7 @@ bool step_position(drive_t* d, int k, hal_command_t* out)
     in.i_A[0] = M(1e-3 * std::sin(0.1 * k));
     in.i_A[1] = M(1e-3 * std::cos(0.1 * k));
     in.v_bus_V = M(30.0);
-    return drive_step(d, &in, out);
+    return paper000_drive_step(d, &in, out);
 }
 
 can_frame_t frame(uint32_t id, std::vector<uint8_t> data)
@@ -120,6 +119,28 @@ std::vector<uint8_t> bytes_of(const T& x)
     return std::vector<uint8_t>(p, p + sizeof x);
 }
 
+// Each drive as the programs hold it (drives/drive.h): its operations over
+// its state, commands through can_node_apply_drive, telemetry through the
+// status operation.
+template <const drive_ops_t* Ops>
+can_reject_t apply_via(void* d, const can_cmd_t* c)
+{
+    drive_t h{Ops, d};
+    return can_node_apply_drive(&h, c);
+}
+template <const drive_ops_t* Ops, class D>
+void telemetry_via(const D* d, mc_t v_bus, mc_t step_us, can_telemetry_t* t)
+{
+    const drive_t h{Ops, const_cast<D*>(d)};
+    can_node_drive_telemetry(&h, v_bus, step_us, t);
+}
+template <const drive_ops_t* Ops, class D>
+void step_via(can_node_t* n, const D* d, uint32_t tick, mc_t v_bus, mc_t step_us)
+{
+    const drive_t h{Ops, const_cast<D*>(d)};
+    can_node_step_drive(n, &h, tick, v_bus, step_us);
+}
+
 can_node_t make_node(uint8_t node = 0)
 {
     can_tx_config_t c;
@@ -134,7 +155,7 @@ can_node_t make_node(uint8_t node = 0)
 // counted as rejected with its reason (or ignored when not ours).
 TEST(CanNode, BadFramesNeverChangeThePositionDrive)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_position(&d));
     hal_command_t out;
     for (int k = 0; k < 100; ++k) ASSERT_TRUE(step_position(&d, k, &out));
@@ -142,7 +163,7 @@ TEST(CanNode, BadFramesNeverChangeThePositionDrive)
     const auto before = bytes_of(d);
     uint32_t rejected = 0, ignored = 0;
     for (const auto& [f, why] : bad_frames()) {
-        EXPECT_EQ(can_node_receive(&n, 100, &f, &can_paper000_apply, &d), why) << std::hex << f.id << " dlc " << int(f.dlc);
+        EXPECT_EQ(can_node_receive(&n, 100, &f, &apply_via<&paper000_drive_ops>, &d), why) << std::hex << f.id << " dlc " << int(f.dlc);
         (why == CAN_REJECT_NOT_OURS ? ignored : rejected) += 1;
     }
     // valid commands the position drive refuses: CmdSpeed (the speed
@@ -151,7 +172,7 @@ TEST(CanNode, BadFramesNeverChangeThePositionDrive)
     const can_frame_t refused[] = {cmd_speed(5.0, 10.0), cmd_move(1.0, 1.0), frame(0x250, {0}),
                                    frame(0x240, {0xD0, 0x07})};
     for (const can_frame_t& f : refused) {
-        EXPECT_EQ(can_node_receive(&n, 100, &f, &can_paper000_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 100, &f, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_MODE) << std::hex << f.id;
         ++rejected;
     }
     EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed the drive";
@@ -171,7 +192,7 @@ TEST(CanNode, BadFramesNeverChangeThePositionDrive)
 // queued move; CmdSetOmegaLim within [designed, w_max] is taken.
 TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_position(&d));
     can_node_t n = make_node();
     hal_command_t out;
@@ -179,11 +200,11 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
     for (; k < 6000; ++k) ASSERT_TRUE(step_position(&d, k, &out)) << k;
     ASSERT_NEAR(D(d.ref.theta_rad), 0.5, 1e-4);
     // beyond the design's w_max (2.1875 * 0.5 / 0.5 = 2.19 -> omega_lim 3): 100 rad in 1 s
-    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)cmd_move(100.0, 1.0), &can_paper000_apply, &d),
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)cmd_move(100.0, 1.0), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_MODE);
     const can_frame_t mv = cmd_move(0.2, 0.5);
-    ASSERT_EQ(can_node_receive(&n, k, &mv, &can_paper000_apply, &d), CAN_REJECT_NONE);
-    EXPECT_EQ(can_node_receive(&n, k, &mv, &can_paper000_apply, &d), CAN_REJECT_MODE) << "a move during a move";
+    ASSERT_EQ(can_node_receive(&n, k, &mv, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_NONE);
+    EXPECT_EQ(can_node_receive(&n, k, &mv, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_MODE) << "a move during a move";
     double prev = D(d.ref.theta_rad), max_step = 0.0;
     for (int j = 0; j < 6000; ++j, ++k) {
         ASSERT_TRUE(step_position(&d, k, &out));
@@ -195,18 +216,18 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
     EXPECT_LT(max_step, 1.4e-4);
     // ThetaRef of the position telemetry is the new one
     can_telemetry_t t{};
-    can_paper000_telemetry(&d, M(30.0), M(5.0), &t);
+    telemetry_via<&paper000_drive_ops>(&d, M(30.0), M(5.0), &t);
     EXPECT_NEAR(D(t.theta_ref_rad), 0.2, 1e-4);
     EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_POSITION_P000);
     EXPECT_TRUE(t.enabled);
     // SetOmegaLim: 2.9 refused (below the design), 3.0 taken
-    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &can_paper000_apply, &d),
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_MODE);
-    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0xB8, 0x0B}), &can_paper000_apply, &d),
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0xB8, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_NEAR(D(d.omega_lim_rad_s), 3.0, 1e-3);
     // Stop with nothing queued: accepted, the reference stays
-    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x230, {0}), &can_paper000_apply, &d),
+    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x230, {0}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_EQ(n.accepted, 3u);
     EXPECT_EQ(n.rejected, 3u);
@@ -215,7 +236,7 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
 // CmdStop drops the moves not started; the one in progress ends.
 TEST(CanNode, PositionDriveStopKeepsTheMoveInProgress)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     drive_design_input_t in;
     drive_design_defaults(&in);
     in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
@@ -228,13 +249,13 @@ TEST(CanNode, PositionDriveStopKeepsTheMoveInProgress)
     in.segments[0] = {0.0, 0.5, 0.5};
     in.segments[1] = {0.5, 0.5, 0.0};
     in.align_rotor = 0;
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
-    ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err) && drive_init(&d, &cfg));
+    ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err) && paper000_drive_init(&d, &cfg));
     hal_command_t out;
     int k = 0;
     for (; k < 2000; ++k) ASSERT_TRUE(step_position(&d, k, &out));
-    ASSERT_TRUE(drive_stop(&d));
+    ASSERT_TRUE(paper000_drive_stop(&d));
     EXPECT_EQ(d.traj.cfg.n_segments, 1);
     for (; k < 12000; ++k) ASSERT_TRUE(step_position(&d, k, &out));
     EXPECT_NEAR(D(d.ref.theta_rad), 0.5, 1e-4) << "the second move ran after the stop";
@@ -243,12 +264,12 @@ TEST(CanNode, PositionDriveStopKeepsTheMoveInProgress)
 // Disable: 0 V and no fault; enable again: a fresh start (tick 0).
 TEST(CanNode, DisableHoldsZeroVoltsEnableRestarts)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_position(&d));
     can_node_t n = make_node();
     hal_command_t out;
     for (int k = 0; k < 1000; ++k) ASSERT_TRUE(step_position(&d, k, &out));
-    ASSERT_EQ(can_node_receive(&n, 1000, &(const can_frame_t&)frame(0x200, {0}), &can_paper000_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 1000, &(const can_frame_t&)frame(0x200, {0}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_NONE);
     for (int k = 1000; k < 1100; ++k) {
         ASSERT_TRUE(step_position(&d, k, &out));
@@ -256,10 +277,10 @@ TEST(CanNode, DisableHoldsZeroVoltsEnableRestarts)
         EXPECT_EQ(D(out.v_V[1]), 0.0);
     }
     can_telemetry_t t{};
-    can_paper000_telemetry(&d, M(30.0), M(5.0), &t);
+    telemetry_via<&paper000_drive_ops>(&d, M(30.0), M(5.0), &t);
     EXPECT_FALSE(t.enabled);
     EXPECT_NE(d.sup.state, SUP_STATE_FAULT);
-    ASSERT_EQ(can_node_receive(&n, 1100, &(const can_frame_t&)frame(0x200, {1}), &can_paper000_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 1100, &(const can_frame_t&)frame(0x200, {1}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_EQ(d.tick, 0u);
     EXPECT_FALSE(d.disabled);
@@ -268,18 +289,18 @@ TEST(CanNode, DisableHoldsZeroVoltsEnableRestarts)
 // The heartbeat counter counts heartbeats; SetRate is the node's own.
 TEST(CanNode, SetRateAndHeartbeatCounter)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_position(&d));
     can_node_t n = make_node(3);
     // Position every 1 ms on node 3
-    ASSERT_EQ(can_node_receive(&n, 0, &(const can_frame_t&)frame(0x263, {1, 1, 0}), &can_paper000_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 0, &(const can_frame_t&)frame(0x263, {1, 1, 0}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_NONE);
     int position = 0, heartbeats = 0;
     uint16_t last_counter = 0;
     for (uint32_t k = 0; k < 10000; ++k) {
         if (can_node_due(&n, k)) {
             can_telemetry_t t{};
-            can_paper000_telemetry(&d, M(30.0), M(1.0), &t);
+            telemetry_via<&paper000_drive_ops>(&d, M(30.0), M(1.0), &t);
             can_node_transmit(&n, k, &t);
         }
         can_frame_t f;
@@ -455,7 +476,7 @@ TEST(CanNode, QueueIsFifoAcrossTheRingAndAFullQueue)
                                           [](const can_frame_t& f) { return f.id == 0x109; })));
 }
 
-// The position drive's telemetry (can_paper000_step) through a 50 ms bus
+// The position drive's telemetry (can_node_step_drive) through a 50 ms bus
 // outage from 100 ms: its heartbeat, the 6 messages of 100.1-100.6 ms and
 // those of 110.1-110.6 and 120.1-120.3 ms fill the queue; the 15 due later
 // in the outage are dropped (Position of 130.1 and 140.1 ms among them);
@@ -466,7 +487,7 @@ TEST(CanNode, QueueIsFifoAcrossTheRingAndAFullQueue)
 // affected.
 TEST(CanNode, PositionDriveTelemetryThroughABusOutage)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_position(&d));
     can_node_t n = make_node(0);
     hal_command_t out;
@@ -476,7 +497,7 @@ TEST(CanNode, PositionDriveTelemetryThroughABusOutage)
     for (int k = 0; k < 3000; ++k) {
         ASSERT_TRUE(step_position(&d, k, &out)) << k;
         theta_at.push_back(D(d.ref.theta_rad));
-        can_paper000_step(&n, &d, static_cast<uint32_t>(k), M(30.0), M(12.0));
+        step_via<&paper000_drive_ops>(&n, &d, static_cast<uint32_t>(k), M(30.0), M(12.0));
         const bool bus_down = k >= 1000 && k < 1500;
         can_frame_t f;
         while (!bus_down && can_node_peek(&n, &f)) {
@@ -580,30 +601,30 @@ TEST(CanNode, SpeedDriveCommands)
     can_node_t n = make_node();
     const auto before = bytes_of(d);
     for (const auto& [f, why] : bad_frames()) {
-        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), why) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper001_drive_ops>, &d), why) << std::hex << f.id;
     }
     // (a speed beyond the back-EMF limit either way: K |w| on 0.9 of the
     // phase voltage; CmdClearFaults while running: no restart under the rotor)
     for (const can_frame_t& f : {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(-60.0, 10.0), cmd_speed(10.0, 600.0),
                                  frame(0x250, {0}),
                                  frame(0x240, {0xB8, 0x0B}) /* SetOmegaLim: flux estimator */}) {
-        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper001_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper001_drive_ops>, &d), CAN_REJECT_MODE) << std::hex << f.id;
     }
     EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed the speed drive";
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(-3.0, 10.0), &can_paper001_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(-3.0, 10.0), &apply_via<&paper001_drive_ops>, &d),
               CAN_REJECT_NONE);
     speed_point_t p;
     speed_profile_t look = d.profile;  // evaluated ahead on a copy: the drive's goes forward only
     speed_profile_eval(&look, 10 + 3100, &p);
     EXPECT_NEAR(D(p.omega_rad_s), -3.0, 1e-3);
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &can_paper001_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &apply_via<&paper001_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_NEAR(D(d.stop_ramp_rad_s2), 10.0, 1e-3);
     look = d.profile;
     speed_profile_eval(&look, 10 + 10, &p);
     EXPECT_NEAR(D(p.accel_rad_s2), 0.0, 1e-3) << "stop from rest: no ramp";
     can_telemetry_t t{};
-    can_paper001_telemetry(&d, M(48.0), M(3.0), &t);
+    telemetry_via<&paper001_drive_ops>(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P001);
 }
 
@@ -651,17 +672,17 @@ TEST(CanNode, Paper002DriveCommands)
     can_node_t n = make_node();
     const auto before = bytes_of(d);
     for (const auto& [f, why] : bad_frames()) {
-        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper002_apply, &d), why) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper002_drive_ops>, &d), why) << std::hex << f.id;
     }
     // the position drive's, SetOmegaLim, a speed whose back-EMF p psi |w|
     // passes 0.9 x 48/sqrt(3) V (156 rad/s), a ramp beyond K_t i_max / J
     // (4800 rad/s^2), CmdClearFaults without a fault, CmdEnable 1 enabled
     for (const can_frame_t& f : {cmd_move(1.0, 1.0), frame(0x240, {0xB8, 0x0B}), cmd_speed(200.0, 100.0),
                                  cmd_speed(10.0, 6000.0), frame(0x250, {0}), frame(0x200, {1})}) {
-        EXPECT_EQ(can_node_receive(&n, 10, &f, &can_paper002_apply, &d), CAN_REJECT_MODE) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper002_drive_ops>, &d), CAN_REJECT_MODE) << std::hex << f.id;
     }
     EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed paper 002's drive";
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(50.0, 1000.0), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(50.0, 1000.0), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     // 1.875 x 50 / 1000 = 93.75 ms: the peak slope 1000 rad/s^2 at the middle
     mc_t w, dw;
@@ -670,13 +691,13 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_NEAR(D(dw), 1000.0, 5.0);
     speed_poly_eval(&d.reference, d.tick + 938, &w, &dw);
     EXPECT_NEAR(D(w), 50.0, 1e-3);
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_NEAR(D(d.stop_ramp_rad_s2), 1000.0, 1e-3);
     speed_poly_eval(&d.reference, d.tick + 2, &w, &dw);
     EXPECT_NEAR(D(w), 0.0, 1e-3) << "stop from rest: nothing to ramp";
     can_telemetry_t t{};
-    can_paper002_telemetry(&d, M(48.0), M(3.0), &t);
+    telemetry_via<&paper002_drive_ops>(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P002);
     EXPECT_TRUE(t.enabled);
     EXPECT_EQ(t.mode, 1u);
@@ -684,12 +705,12 @@ TEST(CanNode, Paper002DriveCommands)
     // CmdStop on the move: the reference ramps from where it is to 0 at the
     // last ramp (1000 rad/s^2): 30 rad/s after 0.03 s of a reference at
     // 30 rad/s takes 1.875 x 30 / 1000 = 56 ms
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(30.0, 1000.0), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(30.0, 1000.0), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     speed_poly_eval(&d.reference, d.tick + 600, &w, &dw);
     ASSERT_NEAR(D(w), 30.0, 1e-3);
     d.tick += 600;  // the reference's clock only: the drive is not stepped here
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x230, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     speed_poly_eval(&d.reference, d.tick + 281, &w, &dw);
     EXPECT_NEAR(D(w), 15.0, 0.1) << "half way down";
@@ -698,13 +719,13 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_NEAR(D(w), 0.0, 1e-3);
     d.tick -= 600;
     // disable: 0 V; a second disable refused; enable restarts at tick 0
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x200, {0}), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x200, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_FALSE(step_p002(&d, 10, &out));
     EXPECT_EQ(D(out.v_V[0]), 0.0);
-    EXPECT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {0}), &can_paper002_apply, &d),
+    EXPECT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_MODE);
-    ASSERT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {1}), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {1}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_EQ(d.tick, 0u);
     EXPECT_TRUE(step_p002(&d, 11, &out));
@@ -716,17 +737,145 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_FALSE(step_p002(&d, 12, &out));
     for (int j = 0; j < 3; ++j) EXPECT_EQ(D(out.v_V[j]), 0.0);
     EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
-    can_paper002_telemetry(&d, M(48.0), M(3.0), &t);
+    telemetry_via<&paper002_drive_ops>(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.mode, 2u);
     EXPECT_EQ(t.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
     EXPECT_EQ(t.first_fault, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
     EXPECT_EQ(t.fault_events, 1u);
     EXPECT_FALSE(t.enabled);
-    EXPECT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &can_paper002_apply, &d),
+    EXPECT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_MODE);
-    ASSERT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)frame(0x250, {0}), &can_paper002_apply, &d),
+    ASSERT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)frame(0x250, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_EQ(d.fault, DRIVE_FAULT_NONE);
     EXPECT_TRUE(step_p002(&d, 14, &out));
 #endif
+}
+
+// ---- the drive interface (drives/drive.h) and the registry (drives/registry.h) ----
+
+// The registry: each drive once, found by its exact name only, its state
+// within the storage every image reserves, a DriveKind of its own.
+TEST(DriveInterface, RegistryFindsEachDriveByItsExactName)
+{
+    ASSERT_GE(drive_registry_count, 3u);
+    for (size_t k = 0; k < drive_registry_count; ++k) {
+        const drive_ops_t* a = drive_registry[k];
+        ASSERT_NE(a, nullptr);
+        ASSERT_NE(a->name, nullptr);
+        EXPECT_EQ(drive_find(a->name), a) << a->name;
+        EXPECT_LE(a->state_bytes, sizeof(drive_storage_t)) << a->name;
+        EXPECT_LE(a->config_bytes, sizeof(drive_config_storage_t)) << a->name;
+        EXPECT_TRUE(a->init && a->step && a->command && a->status && a->estimate && a->recorder) << a->name;
+        for (size_t j = k + 1; j < drive_registry_count; ++j) {
+            EXPECT_STRNE(a->name, drive_registry[j]->name);
+            EXPECT_NE(a->can_kind, drive_registry[j]->can_kind) << a->name;
+        }
+    }
+    // the DBC's DriveKind of each (comm/can_link.h mirrors tools/can/drive.dbc)
+    EXPECT_EQ(drive_find("paper000")->can_kind, CAN_DRIVE_KIND_POSITION_P000);
+    EXPECT_EQ(drive_find("paper001")->can_kind, CAN_DRIVE_KIND_SPEED_P001);
+    EXPECT_EQ(drive_find("paper002")->can_kind, CAN_DRIVE_KIND_SPEED_P002);
+    EXPECT_EQ(drive_find("paper0"), nullptr);     // a prefix is not a name
+    EXPECT_EQ(drive_find("paper0000"), nullptr);  // nor a longer one
+    EXPECT_EQ(drive_find(""), nullptr);
+    EXPECT_EQ(drive_find(nullptr), nullptr);
+    drive_t h{};
+    static drive_storage_t s;
+    EXPECT_FALSE(drive_bind(&h, nullptr, &s));
+    EXPECT_EQ(h.ops, nullptr);
+    for (drive_refusal_t r : {DRIVE_REFUSE_NONE, DRIVE_REFUSE_UNSUPPORTED, DRIVE_REFUSE_STATE, DRIVE_REFUSE_NO_FAULT}) {
+        EXPECT_STRNE(drive_refusal_name(r), "unknown");
+    }
+}
+
+namespace {
+// one sample of small changing currents for any drive (no sensor-stuck
+// fault), and a slowly turning encoder angle for the drives that read one
+hal_sample_t any_sample(uint8_t n_phases, int k)
+{
+    hal_sample_t in{};
+    in.n_phases = n_phases;
+    in.tick = static_cast<uint32_t>(k);
+    in.i_A[0] = M(1e-3 * std::sin(0.1 * k));
+    in.i_A[1] = M(1e-3 * std::sin(0.1 * k + 2.1));
+    in.i_A[2] = mc_neg(mc_add(in.i_A[0], in.i_A[1]));
+    in.v_bus_V = M(48.0);
+    in.has_angle = true;
+    in.angle_rad = M(1e-4 * k);
+    return in;
+}
+}  // namespace
+
+// Every drive through the same operations, as the programs run them:
+// stepped, commanded (the other kind's command unsupported, clear-faults
+// without a fault refused as such, disable to 0 V and back), reported.
+TEST(DriveInterface, EveryDriveRunsThroughTheSameOperations)
+{
+    struct Case {
+        const char* name;
+        uint8_t n_phases;
+        bool (*init)(void*);
+    };
+    std::vector<Case> cases = {
+        {"paper000", 2, [](void* s) { return init_position(static_cast<paper000_drive_t*>(s)); }},
+        {"paper001", 3, [](void* s) { return init_speed(static_cast<paper001_drive_t*>(s)); }},
+    };
+#if !MC_FIXED
+    cases.push_back({"paper002", 3, [](void* s) { return init_p002(static_cast<paper002_drive_t*>(s)); }});
+#endif
+    static drive_storage_t storage;
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        drive_t d{};
+        ASSERT_TRUE(drive_bind(&d, drive_find(c.name), &storage));
+        ASSERT_TRUE(c.init(d.self));
+        hal_command_t out{};
+        int k = 0;
+        for (; k < 50; ++k) {
+            hal_sample_t in = any_sample(c.n_phases, k);
+            const bool ok = drive_step(&d, &in, &out);
+            drive_status_t f{};
+            drive_status(&d, &f);
+            ASSERT_TRUE(ok) << "sample " << k << " fault " << int(f.fault_code);
+        }
+        drive_status_t s{};
+        drive_status(&d, &s);
+        EXPECT_EQ(s.fault_code, 0u);
+        EXPECT_TRUE(s.enabled);
+        EXPECT_EQ(s.first_fault, 0u);
+
+        drive_cmd_t cmd{};
+        cmd.kind = d.ops->kind == DRIVE_KIND_POSITION ? DRIVE_CMD_SPEED : DRIVE_CMD_MOVE;
+        cmd.omega_ref_rad_s = M(1.0);
+        cmd.ramp_rad_s2 = M(1.0);
+        cmd.theta_to_rad = M(0.1);
+        cmd.duration_s = M(1.0);
+        EXPECT_EQ(drive_command(&d, &cmd), DRIVE_REFUSE_UNSUPPORTED);
+        cmd = drive_cmd_t{};
+        cmd.kind = DRIVE_CMD_CLEAR_FAULTS;
+        EXPECT_EQ(drive_command(&d, &cmd), DRIVE_REFUSE_NO_FAULT);
+
+        cmd = drive_cmd_t{};
+        cmd.kind = DRIVE_CMD_ENABLE;
+        cmd.enable = false;
+        ASSERT_EQ(drive_command(&d, &cmd), DRIVE_REFUSE_NONE);
+        hal_sample_t in = any_sample(c.n_phases, k++);
+        (void)drive_step(&d, &in, &out);
+        for (int j = 0; j < c.n_phases; ++j) EXPECT_EQ(D(out.v_V[j]), 0.0) << "phase " << j;
+        drive_status(&d, &s);
+        EXPECT_FALSE(s.enabled);
+        cmd.enable = true;
+        EXPECT_EQ(drive_command(&d, &cmd), DRIVE_REFUSE_NONE);
+        drive_status(&d, &s);
+        EXPECT_TRUE(s.enabled);
+
+        mc_estimate_t e{};
+        drive_estimate(&d, &e);
+        EXPECT_TRUE(std::isfinite(D(e.theta_rad)) && std::isfinite(D(e.omega_rad_s)));
+        const flight_recorder_t* r = drive_recorder(&d);
+        if (r != nullptr) {
+            EXPECT_EQ(r->fault, DRIVE_FAULT_NONE);
+        }
+    }
 }

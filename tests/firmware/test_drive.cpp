@@ -38,16 +38,16 @@ drive_design_input_t paper_input()
 }
 double D(mc_t x) { return mc_to_double(x); }
 // the paper-000 rig and trajectory, designed and initialised
-bool init_paper_drive(drive_t *d)
+bool init_paper_drive(paper000_drive_t *d)
 {
     drive_design_input_t in = paper_input();
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
-    return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+    return drive_design(&in, &cfg, err, sizeof err) && paper000_drive_init(d, &cfg);
 }
 
 // one sample of a two-phase stepper through the HAL data types
-bool step2(drive_t *d, mc_t ia, mc_t ib, mc_t *va, mc_t *vb)
+bool step2(paper000_drive_t *d, mc_t ia, mc_t ib, mc_t *va, mc_t *vb)
 {
     hal_sample_t in{};
     in.n_phases = 2;
@@ -56,17 +56,17 @@ bool step2(drive_t *d, mc_t ia, mc_t ib, mc_t *va, mc_t *vb)
     hal_command_t out{};
     out.v_V[0] = mc_from_double(99.0);  // must be overwritten, fault or not
     out.v_V[1] = mc_from_double(99.0);
-    const bool ok = drive_step(d, &in, &out);
+    const bool ok = paper000_drive_step(d, &in, &out);
     EXPECT_EQ(out.n_phases, 2);
     *va = out.v_V[0];
     *vb = out.v_V[1];
     return ok;
 }
 
-drive_telemetry_t tlm_of(const drive_t &d)
+paper000_telemetry_t tlm_of(const paper000_drive_t &d)
 {
-    drive_telemetry_t t;
-    drive_get_telemetry(&d, &t);
+    paper000_telemetry_t t;
+    paper000_drive_get_telemetry(&d, &t);
     return t;
 }
 mc_t M(double x) { return mc_from_double(x); }
@@ -75,7 +75,7 @@ mc_t M(double x) { return mc_from_double(x); }
 TEST(DriveDesign, RejectsNonPhysicalInputNamingTheField)
 {
     char err[160];
-    drive_config_t cfg;
+    paper000_config_t cfg;
     drive_design_input_t in = paper_input();
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err)) << err;
     in.motor.L_H = -1.0;
@@ -114,7 +114,7 @@ static void trajectory_peaks(double delta, double T, double *w_max, double *a_ma
 TEST(DriveDesign, GainsMeetTheSlidingModeConditions)
 {
     drive_design_input_t in = paper_input();
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err)) << err;
     const double L = 9e-3, R = 3.01, K = 0.27, J = 3.18e-4, fv = 2.37e-3, Ts = 1e-4;
@@ -176,7 +176,7 @@ TEST(DriveDesign, GainsMeetTheSlidingModeConditions)
 TEST(DriveDesign, TwistingGainsBeatTheWorstPerturbation)
 {
     drive_design_input_t in = paper_input();
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err)) << err;
     const double L = 9e-3, K = 0.27, J = 3.18e-4, fv = 2.37e-3;
@@ -213,7 +213,7 @@ TEST(DriveDesign, DiscreteDesignKeepsTheGainsWithinTheSampledBounds)
     char err[160];
     drive_design_input_t in = paper_input();
     EXPECT_EQ(in.gain_design, DRIVE_GAIN_CONTINUOUS);
-    drive_config_t cont, disc;
+    paper000_config_t cont, disc;
     ASSERT_TRUE(drive_design(&in, &cont, err, sizeof err)) << err;
     EXPECT_EQ(D(cont.est.emf.alpha_V_per_rad_s), 0.0);
     EXPECT_EQ(D(cont.ctrl.load_ff_L_over_KTs), 0.0);
@@ -256,7 +256,7 @@ TEST(DriveDesign, DiscreteDesignKeepsTheGainsWithinTheSampledBounds)
 // is the commanded one.
 TEST(Drive, OpenLoopVoltageAtTheMidSampleAngle)
 {
-    drive_t d;
+    paper000_drive_t d;
     ASSERT_TRUE(init_paper_drive(&d));
     // no plant here: the currents stay 0 while the drive applies volts, an
     // open circuit to the observer-error criterion; report, do not react
@@ -292,16 +292,16 @@ TEST(Drive, OpenLoopVoltageAtTheMidSampleAngle)
 TEST(Drive, BadConfigGoesToSafeState)
 {
     drive_design_input_t in = paper_input();
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
     ASSERT_TRUE(drive_design(&in, &cfg, err, sizeof err));
-    EXPECT_EQ(drive_config_problem(&cfg), nullptr);
+    EXPECT_EQ(paper000_config_problem(&cfg), nullptr);
     cfg.limits.i_trip_A = M(1.0);  // below i_max: inconsistent
     // the problem names the field
-    ASSERT_NE(drive_config_problem(&cfg), nullptr);
-    EXPECT_EQ(std::string(drive_config_problem(&cfg)).rfind("limits.i_trip_A:", 0), 0u) << drive_config_problem(&cfg);
-    drive_t d;
-    EXPECT_FALSE(drive_init(&d, &cfg));
+    ASSERT_NE(paper000_config_problem(&cfg), nullptr);
+    EXPECT_EQ(std::string(paper000_config_problem(&cfg)).rfind("limits.i_trip_A:", 0), 0u) << paper000_config_problem(&cfg);
+    paper000_drive_t d;
+    EXPECT_FALSE(paper000_drive_init(&d, &cfg));
     mc_t va = M(5), vb = M(5);
     EXPECT_FALSE(step2(&d, M(0), M(0), &va, &vb));
     EXPECT_EQ(D(va), 0.0);
@@ -312,13 +312,13 @@ TEST(Drive, BadConfigGoesToSafeState)
 
 TEST(Drive, SampleOfAnotherPhaseCountIsABadInputFault)
 {
-    drive_t d;
+    paper000_drive_t d;
     ASSERT_TRUE(init_paper_drive(&d));
     hal_sample_t in{};
     in.n_phases = 3;
     hal_command_t out{};
     out.v_V[0] = M(5);
-    EXPECT_FALSE(drive_step(&d, &in, &out));
+    EXPECT_FALSE(paper000_drive_step(&d, &in, &out));
     EXPECT_EQ(D(out.v_V[0]), 0.0);
     EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_BAD_INPUT);
     EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_FAULT);
@@ -326,7 +326,7 @@ TEST(Drive, SampleOfAnotherPhaseCountIsABadInputFault)
 
 TEST(Drive, OvercurrentTripsAndStaysSafe)
 {
-    drive_t d;
+    paper000_drive_t d;
     ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
     EXPECT_TRUE(step2(&d, M(0.1), M(0.0), &va, &vb));
@@ -334,7 +334,7 @@ TEST(Drive, OvercurrentTripsAndStaysSafe)
     EXPECT_FALSE(step2(&d, M(7.0), M(0.0), &va, &vb));
     EXPECT_EQ(D(va), 0.0);
     EXPECT_EQ(tlm_of(d).fault, DRIVE_FAULT_OVERCURRENT);
-    for (int k = 0; k < 10; ++k) {  // latched until drive_init
+    for (int k = 0; k < 10; ++k) {  // latched until paper000_drive_init
         EXPECT_FALSE(step2(&d, M(0.0), M(0.0), &va, &vb));
         EXPECT_EQ(D(va), 0.0);
         EXPECT_EQ(D(vb), 0.0);
@@ -343,7 +343,7 @@ TEST(Drive, OvercurrentTripsAndStaysSafe)
 
 TEST(Drive, OpenLoopAtStandstillFollowsEq68AndPhaseVoltagesStayWithinVmax)
 {
-    drive_t d;
+    paper000_drive_t d;
     ASSERT_TRUE(init_paper_drive(&d));
     mc_t va, vb;
     ASSERT_TRUE(step2(&d, M(0), M(0), &va, &vb));
@@ -392,24 +392,24 @@ struct RlRig {
     }
 };
 // one sample of the drive on the rig, the sample possibly altered first
-bool rig_step(drive_t *d, RlRig *rig, hal_command_t *out, double ia_A = NAN, double ib_A = NAN, uint32_t status = 0u)
+bool rig_step(paper000_drive_t *d, RlRig *rig, hal_command_t *out, double ia_A = NAN, double ib_A = NAN, uint32_t status = 0u)
 {
     hal_sample_t s = rig->sample(status);
     if (!std::isnan(ia_A)) s.i_A[0] = M(ia_A);
     if (!std::isnan(ib_A)) s.i_A[1] = M(ib_A);
     out->v_V[0] = M(99.0);  // must be overwritten, fault or not
     out->v_V[1] = M(99.0);
-    const bool ok = drive_step(d, &s, out);
+    const bool ok = paper000_drive_step(d, &s, out);
     rig->apply(*out);
     return ok;
 }
-bool init_drive(drive_t *d, bool align)
+bool init_drive(paper000_drive_t *d, bool align)
 {
     drive_design_input_t in = paper_input();
     in.align_rotor = align ? 1 : 0;
-    drive_config_t cfg;
+    paper000_config_t cfg;
     char err[160];
-    return drive_design(&in, &cfg, err, sizeof err) && drive_init(d, &cfg);
+    return drive_design(&in, &cfg, err, sizeof err) && paper000_drive_init(d, &cfg);
 }
 }  // namespace
 
@@ -422,7 +422,7 @@ bool init_drive(drive_t *d, bool align)
 // ordinary currents give 0 V, no new event, nothing measured.
 TEST(Drive, OvercurrentDuringTheRlMeasurementTripsAndLatches)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_drive(&d, false));
     const double R_model = D(d.model.R_ohm);
     RlRig rig;
@@ -442,7 +442,7 @@ TEST(Drive, OvercurrentDuringTheRlMeasurementTripsAndLatches)
     EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
     EXPECT_EQ(d.sup.fault, DRIVE_FAULT_OVERCURRENT);
     EXPECT_EQ(tlm_of(d).mode, DRIVE_MODE_FAULT);
-    const flight_recorder_t *fr = drive_flight_recorder(&d);
+    const flight_recorder_t *fr = paper000_drive_flight_recorder(&d);
     EXPECT_TRUE(fr->frozen);
     EXPECT_EQ(fr->fault, DRIVE_FAULT_OVERCURRENT);
     EXPECT_EQ(fr->fault_tick, t_trip);
@@ -469,7 +469,7 @@ TEST(Drive, OvercurrentDuringTheRlMeasurementTripsAndLatches)
 // starts the R/L measurement (IDENTIFY) with R I along phase a.
 TEST(Drive, AlignmentStagesThenTheMeasurement)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_drive(&d, true));
     const align_config_t &c = d.cfg.align;
     const int n = align_total_ticks(&c);
@@ -510,7 +510,7 @@ TEST(Drive, AlignmentStagesThenTheMeasurement)
 // estimate to re-lock on): FAULT at once, no re-lock counted, 0 V.
 TEST(Drive, OvercurrentDuringTheAlignmentIsNeverReLocked)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_drive(&d, true));
     d.cfg.prot.reaction[DRIVE_FAULT_OVERCURRENT] = static_cast<uint8_t>(FAULT_REACT_RELOCK);
     RlRig rig;
@@ -523,7 +523,7 @@ TEST(Drive, OvercurrentDuringTheAlignmentIsNeverReLocked)
     EXPECT_EQ(d.relocks, 0);
     EXPECT_EQ(D(out.v_V[0]), 0.0);
     EXPECT_EQ(D(out.v_V[1]), 0.0);
-    EXPECT_EQ(drive_flight_recorder(&d)->events, 1u);
+    EXPECT_EQ(paper000_drive_flight_recorder(&d)->events, 1u);
 }
 
 // Faults with the REPORT reaction (commissioning): the drive goes on, and
@@ -535,13 +535,13 @@ TEST(Drive, OvercurrentDuringTheAlignmentIsNeverReLocked)
 // sample before it).
 TEST(Drive, ReportedFaultsAreEachCountedAndTheFirstIsKept)
 {
-    static drive_t d;
+    static paper000_drive_t d;
     ASSERT_TRUE(init_drive(&d, false));
     d.cfg.prot.reaction[DRIVE_FAULT_OVERCURRENT] = static_cast<uint8_t>(FAULT_REACT_REPORT);
     d.cfg.prot.reaction[DRIVE_FAULT_HW_TRIP] = static_cast<uint8_t>(FAULT_REACT_REPORT);
     RlRig rig;
     hal_command_t out;
-    const flight_recorder_t *fr = drive_flight_recorder(&d);
+    const flight_recorder_t *fr = paper000_drive_flight_recorder(&d);
     for (int k = 0; k < 450; ++k) {
         const bool oc = k == 100 || k == 200 || k == 300;
         const uint32_t status = k == 400 ? HAL_STATUS_PWM_TRIP : 0u;
@@ -673,7 +673,7 @@ TEST(PmsmIdentification, OvercurrentInAnyPhaseRejectsAndLatches)
 // test ran it with one): the design's output advance n_p (1/2 + d), the
 // voltage the observers integrate (1 - d) v + d v_prev, and the output's
 // rotation: the estimate advanced by n_p w_hat (1/2 + d) Ts, each against
-// its formula in double (drives/paper001_drive.h); K_t = 3/2 n_p Phi for
+// its formula in double (drives/paper001/paper001_drive.h); K_t = 3/2 n_p Phi for
 // three phases in IDA-PBC's 1/K_t and J/K_t.
 TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
 {

@@ -1,4 +1,4 @@
-// Paper 002's drive (firmware/drives/paper002_drive.h) in closed loop with
+// Paper 002's drive (firmware/drives/paper002/paper002_drive.h) in closed loop with
 // a d-q model of the reference IPMSM written here (RK4, 10
 // sub-steps; LuGre friction with its bristle advanced exactly; the load
 // pulses of 0.5 N m with raised-cosine edges; phase currents with 5 mA of
@@ -15,7 +15,7 @@
 #include <string>
 
 #include "design/paper002_design.h"
-#include "drives/paper002_drive.h"
+#include "drives/paper002/paper002_drive.h"
 #include "math/mc_convert.h"
 
 namespace {
@@ -266,7 +266,7 @@ TEST(Paper002Design, RefusesBadInputNamingTheKey)
 }
 
 // In reverse and through zero, by the command path of the CAN node
-// (comm/can_paper002.c: CmdSpeed -> paper002_drive_set_speed, CmdStop ->
+// (drives/paper002/paper002_ops.c: CmdSpeed -> paper002_drive_set_speed, CmdStop ->
 // paper002_drive_stop), on the loop above with the 0.5 N m pulses (which
 // oppose positive speed, so at w < 0 they drive the rotor and the drive
 // brakes on each). After the first sample (the bus measured): a speed
@@ -361,7 +361,7 @@ TEST(Paper002Drive, ReversesThroughZeroOnCommand)
 // uniform over a turn, each sample) while the rotor turns at +-50 rad/s:
 // the angle's innovation is then beyond los_theta (0.02 rad) on nearly
 // every sample, of either sign at random, and the drive trips with
-// LOSS_OF_SYNC (drives/paper002_drive.h) within a few los_ticks (5 ms).
+// LOSS_OF_SYNC (drives/paper002/paper002_drive.h) within a few los_ticks (5 ms).
 TEST(Paper002Drive, GarbageEncoderIsALossOfSyncEitherWay)
 {
 #if MC_FIXED

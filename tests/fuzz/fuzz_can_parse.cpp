@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "comm/can_link.h"
-#include "comm/can_paper000.h"
-#include "comm/can_paper001.h"
+#include "comm/can_node.h"
+#include "drives/registry.h"
 #include "comm/generated/drive_can.h"
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
@@ -49,7 +49,7 @@ hal_sample_t sample(int n_phases, uint32_t k)
 // The two drives, designed once and stepped into their runs (position:
 // 0.2 s into a 0 -> 18 rad move over 2 s; speed: 0.1 s into its start).
 struct Drives {
-    drive_t pos{};
+    paper000_drive_t pos{};
     paper001_drive_t speed{};
     Drives()
     {
@@ -64,9 +64,9 @@ struct Drives {
         in.n_segments = 1;
         in.segments[0] = {0.0, 2.0, 18.0};
         in.align_rotor = 0;
-        drive_config_t cfg;
+        paper000_config_t cfg;
         char err[160];
-        check(drive_design(&in, &cfg, err, sizeof err) && drive_init(&pos, &cfg));
+        check(drive_design(&in, &cfg, err, sizeof err) && paper000_drive_init(&pos, &cfg));
         p001_design_input_t sp;
         p001_design_defaults(&sp);
         sp.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
@@ -84,7 +84,7 @@ struct Drives {
         hal_command_t out;
         for (uint32_t k = 0; k < 2000; ++k) {
             hal_sample_t a = sample(2, k);
-            (void)drive_step(&pos, &a, &out);
+            (void)paper000_drive_step(&pos, &a, &out);
         }
         for (uint32_t k = 0; k < 1000; ++k) {
             hal_sample_t b = sample(3, k);
@@ -93,14 +93,13 @@ struct Drives {
     }
 };
 
-template <class D>
-void through_node(can_node_t* n, D* d, can_apply_fn apply, const can_frame_t& f, uint32_t tick, int n_phases,
-                  double v_lim)
+void through_node(can_node_t* n, drive_t* d, const can_frame_t& f, uint32_t tick, int n_phases, double v_lim)
 {
-    std::vector<uint8_t> before(sizeof *d);
-    std::memcpy(before.data(), d, sizeof *d);
+    const size_t bytes = d->ops->state_bytes;
+    std::vector<uint8_t> before(bytes);
+    std::memcpy(before.data(), d->self, bytes);
     const uint32_t rej0 = n->rejected, ign0 = n->ignored, acc0 = n->accepted;
-    const can_reject_t r = can_node_receive(n, tick, &f, apply, d);
+    const can_reject_t r = can_node_receive(n, tick, &f, &can_node_apply_drive, d);
     if (r == CAN_REJECT_NOT_OURS) {
         check(n->ignored == ign0 + 1u && n->rejected == rej0 && n->accepted == acc0);
     } else if (r != CAN_REJECT_NONE) {
@@ -109,15 +108,11 @@ void through_node(can_node_t* n, D* d, can_apply_fn apply, const can_frame_t& f,
         check(n->accepted == acc0 + 1u && n->rejected == rej0);
     }
     if (r != CAN_REJECT_NONE) {
-        check(std::memcmp(before.data(), d, sizeof *d) == 0);
+        check(std::memcmp(before.data(), d->self, bytes) == 0);
     }
     hal_sample_t in = sample(n_phases, tick);
     hal_command_t out;
-    if constexpr (sizeof(D) == sizeof(drive_t)) {
-        (void)drive_step(reinterpret_cast<drive_t*>(d), &in, &out);
-    } else {
-        (void)paper001_drive_step(reinterpret_cast<paper001_drive_t*>(d), &in, &out);
-    }
+    (void)drive_step(d, &in, &out);
     for (int k = 0; k < n_phases; ++k) {
         const double v = mc_to_double(out.v_V[k]);
         check(std::isfinite(v) && std::fabs(v) <= v_lim);
@@ -150,8 +145,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         const can_reject_t r1 = can_link_parse(node, &f, &c1);
         const can_reject_t r2 = can_link_parse(node, &f, &c2);
         check(r1 == r2 && c1.kind == c2.kind);
-        through_node(&n_pos, &work.pos, &can_paper000_apply, f, tick, 2, 30.0);
-        through_node(&n_speed, &work.speed, &can_paper001_apply, f, tick, 3, 24.0);
+        drive_t pos = {&paper000_drive_ops, &work.pos}, speed = {&paper001_drive_ops, &work.speed};
+        through_node(&n_pos, &pos, f, tick, 2, 30.0);
+        through_node(&n_speed, &speed, f, tick, 3, 24.0);
         ++tick;
         if (r1 != CAN_REJECT_NONE) {
             check(c1.kind == CAN_CMD_NONE);

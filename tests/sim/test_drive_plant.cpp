@@ -17,7 +17,7 @@ namespace {
 
 // One period as the drive saw it.
 struct Period {
-    bool ok;            // drive_step's return value
+    bool ok;            // paper000_drive_step's return value
     drive_mode_t mode;
     double v_a_V, v_b_V;
     bool saturated;
@@ -25,7 +25,7 @@ struct Period {
 };
 
 struct Ctx {
-    drive_t* drive;
+    paper000_drive_t* drive;
     std::uint32_t offset_from, offset_to;  // ticks with a fake current offset
     double offset_A;
     std::vector<Period> log;
@@ -41,10 +41,10 @@ void control(void* p, const hal_sample_t* in, hal_command_t* out)
     hal_sample_t faked = *in;
     faked.i_A[0] = mc_add(in->i_A[0], off);
     faked.i_A[1] = mc_add(in->i_A[1], off);
-    q.ok = drive_step(c->drive, &faked, out);
+    q.ok = paper000_drive_step(c->drive, &faked, out);
     q.u1_after_V = mcsim::to_double(c->drive->ctrl.cur.u1);
-    drive_telemetry_t t;
-    drive_get_telemetry(c->drive, &t);
+    paper000_telemetry_t t;
+    paper000_drive_get_telemetry(c->drive, &t);
     q.mode = t.mode;
     q.v_a_V = mcsim::to_double(out->v_V[0]);
     q.v_b_V = mcsim::to_double(out->v_V[1]);
@@ -70,7 +70,7 @@ TEST(DriveOnPlant, ClosedLoopSaturationLimitsAndHoldsTheIntegral)
     mcsim::Scenario sc = mcsim::load_scenario(std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_ideal.toml");
     sc.v_max_V = 12.0;
     sc.align_rotor = 0;  // the ticks below count from the start of the move
-    drive_t drive;
+    paper000_drive_t drive;
     mcsim::design_and_init_drive(sc, &drive);
     mcsim::Rig rig(sc);
     hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
@@ -123,7 +123,7 @@ void control_underflow(void* p, const hal_sample_t* in, hal_command_t* out)
     UnderflowCtx* c = static_cast<UnderflowCtx*>(p);
     std::feclearexcept(FE_UNDERFLOW);
     const bool ok = c->speed ? paper001_drive_step(static_cast<paper001_drive_t*>(c->drive), in, out)
-                             : drive_step(static_cast<drive_t*>(c->drive), in, out);
+                             : paper000_drive_step(static_cast<paper000_drive_t*>(c->drive), in, out);
     if (std::fetestexcept(FE_UNDERFLOW)) {
         if (c->count == 0) {
             c->first_tick = in->tick;
@@ -140,7 +140,7 @@ TEST(DriveOnPlant, LongHoldGivesNoSubnormalsInThePositionDrive)
     if (MC_FIXED) GTEST_SKIP() << "no floating point in the fixed-point firmware";
     mcsim::Scenario sc = mcsim::load_scenario(std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_experiment.toml");
     sc.duration_s = 64.25;
-    drive_t drive;
+    paper000_drive_t drive;
     mcsim::design_and_init_drive(sc, &drive);
     mcsim::Rig rig(sc);
     hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);

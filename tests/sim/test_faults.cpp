@@ -44,10 +44,10 @@ struct Period {
 
 // Alters a sample before the drive sees it (the drive as it is then, the
 // sample): a glitch or a status bit the injector has no key for.
-using Tamper = std::function<void(const drive_t&, hal_sample_t*)>;
+using Tamper = std::function<void(const paper000_drive_t&, hal_sample_t*)>;
 
 struct Ctx {
-    drive_t* drive;
+    paper000_drive_t* drive;
     const mcsim::PmPlant* plant;
     std::vector<Period> log;
     Tamper tamper;
@@ -58,7 +58,7 @@ void control(void* p, const hal_sample_t* in, hal_command_t* out)
     Ctx* c = static_cast<Ctx*>(p);
     hal_sample_t s = *in;
     if (c->tamper) c->tamper(*c->drive, &s);
-    if (!drive_step(c->drive, &s, out)) hal_safe_state();
+    if (!paper000_drive_step(c->drive, &s, out)) hal_safe_state();
 }
 
 void monitor(void* p, const hal_sw_plant_period_t* q)
@@ -71,12 +71,12 @@ void monitor(void* p, const hal_sw_plant_period_t* q)
 
 struct Result {
     std::vector<Period> log;
-    drive_t drive;
+    paper000_drive_t drive;
     mcsim::Scenario sc;
     double ts;
     double t_first() const
     {
-        const flight_recorder_t* r = drive_flight_recorder(&drive);
+        const flight_recorder_t* r = paper000_drive_flight_recorder(&drive);
         return r->frozen ? sc.t_start_s() + r->fault_tick * ts : -1.0;
     }
 };
@@ -136,7 +136,7 @@ double nominal_end_theta_rad()
 void common_checks(const Result& r, drive_fault_t want, double within_s, bool safe_at_end, double noisy_from_s = 0.0,
                    double noisy_to_s = -1.0, double inject_s = kInject)
 {
-    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    const flight_recorder_t* fr = paper000_drive_flight_recorder(&r.drive);
     ASSERT_TRUE(fr->frozen) << "no fault recorded";
     EXPECT_EQ(fr->fault, want) << drive_fault_name(fr->fault);
     const double t = r.t_first();
@@ -195,7 +195,7 @@ TEST(Faults, StuckSampleIn5ms)
     sc.faults.stuck_phase = 0;
     const Result r = run(sc);
     common_checks(r, DRIVE_FAULT_SENSOR_STUCK, 5.1e-3, true);
-    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    const flight_recorder_t* fr = paper000_drive_flight_recorder(&r.drive);
     const flight_record_t* last = flight_recorder_get(fr, FLIGHT_RECORDER_DEPTH - 1);
     for (unsigned k = FLIGHT_RECORDER_DEPTH - 40; k < FLIGHT_RECORDER_DEPTH; ++k) {
         EXPECT_EQ(mcsim::to_double(flight_recorder_get(fr, k)->i_A[0]), mcsim::to_double(last->i_A[0])) << k;
@@ -235,7 +235,7 @@ TEST(Faults, LockedRotor)
     const Result safe = run(sc);
     common_checks(safe, DRIVE_FAULT_LOSS_OF_SYNC, 10e-3, true);
     EXPECT_EQ(safe.drive.relocks, 0);
-    EXPECT_EQ(drive_flight_recorder(&safe.drive)->events, 1u);
+    EXPECT_EQ(paper000_drive_flight_recorder(&safe.drive)->events, 1u);
     const Result r = run(sc, FAULT_REACT_RELOCK);
     common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 10e-3, true);
     // it tried to re-lock (bounded), and the loss stood
@@ -307,7 +307,7 @@ TEST(Faults, SupplySag)
     sc.faults.sag_duration_s = 0.3;
     sc.faults.sag_v_max_V = 8.0;
     Result r = run(sc);
-    EXPECT_FALSE(drive_flight_recorder(&r.drive)->frozen);
+    EXPECT_FALSE(paper000_drive_flight_recorder(&r.drive)->frozen);
     EXPECT_NE(r.drive.sup.state, SUP_STATE_FAULT);
     sc.faults.sag_v_max_V = 1.0;
     r = run(sc);
@@ -315,7 +315,7 @@ TEST(Faults, SupplySag)
 }
 
 // Cleared only by command: after a fault the drive stays in FAULT at 0 V
-// whatever comes in; drive_clear_fault() starts it again from the
+// whatever comes in; paper000_drive_clear_fault() starts it again from the
 // alignment with no fault and an empty recorder.
 TEST(Faults, ClearedOnlyByCommand)
 {
@@ -328,15 +328,15 @@ TEST(Faults, ClearedOnlyByCommand)
     in.n_phases = 2;
     hal_command_t out{};
     for (int k = 0; k < 100; ++k) {
-        EXPECT_FALSE(drive_step(&r.drive, &in, &out));
+        EXPECT_FALSE(paper000_drive_step(&r.drive, &in, &out));
         EXPECT_EQ(mcsim::to_double(out.v_V[0]), 0.0);
     }
     EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_SENSOR_STUCK);
-    ASSERT_TRUE(drive_clear_fault(&r.drive));
+    ASSERT_TRUE(paper000_drive_clear_fault(&r.drive));
     EXPECT_EQ(r.drive.sup.state, SUP_STATE_ALIGN);
     EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_NONE);
-    EXPECT_FALSE(drive_flight_recorder(&r.drive)->frozen);
-    EXPECT_TRUE(drive_step(&r.drive, &in, &out));
+    EXPECT_FALSE(paper000_drive_flight_recorder(&r.drive)->frozen);
+    EXPECT_TRUE(paper000_drive_step(&r.drive, &in, &out));
 }
 
 // A burst of sensor noise, 20 ms at 1.5 s (injection's own random stream;
@@ -350,7 +350,7 @@ TEST(Faults, ClearedOnlyByCommand)
 TEST(Faults, NoiseBurst)
 {
     const Result ridden = run(experiment_with_burst(0.8));
-    EXPECT_EQ(drive_flight_recorder(&ridden.drive)->events, 0u);
+    EXPECT_EQ(paper000_drive_flight_recorder(&ridden.drive)->events, 0u);
     EXPECT_NEAR(ridden.log.back().theta, nominal_end_theta_rad(), 0.05);
     const Result lost = run(experiment_with_burst(1.2));
     common_checks(lost, DRIVE_FAULT_LOSS_OF_SYNC, 11e-3, true, kInject, kInject + kBurst_s);
@@ -372,13 +372,13 @@ TEST(Faults, NoiseBurstReLocked)
     sc.i_trip_samples = 2;
     // the scenario keys reach the design
     {
-        drive_t d;
+        paper000_drive_t d;
         mcsim::design_and_init_drive(sc, &d);
         EXPECT_EQ(d.cfg.prot.reaction[DRIVE_FAULT_LOSS_OF_SYNC], static_cast<std::uint8_t>(FAULT_REACT_RELOCK));
         EXPECT_EQ(d.cfg.faults.i_trip_samples, 2);
     }
     const Result r = run(sc, FAULT_REACT_RELOCK);
-    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    const flight_recorder_t* fr = paper000_drive_flight_recorder(&r.drive);
     EXPECT_GE(r.drive.relocks, 1);
     EXPECT_NE(r.drive.sup.state, SUP_STATE_FAULT) << drive_fault_name(r.drive.sup.fault);
     EXPECT_EQ(fr->fault, DRIVE_FAULT_LOSS_OF_SYNC);  // recorded, not standing
@@ -410,9 +410,9 @@ TEST(Faults, NoiseBurstReLockedLoadAngle)
     sc.i_trip_samples = 3;
     sc.control_law = 1;
     {
-        drive_t d;
+        paper000_drive_t d;
         mcsim::design_and_init_drive(sc, &d);
-        EXPECT_EQ(d.cfg.law, DRIVE_LAW_LOAD_ANGLE);
+        EXPECT_EQ(d.cfg.law, P000_LAW_LOAD_ANGLE);
     }
     const Result r = run(sc, FAULT_REACT_RELOCK);
     common_checks(r, DRIVE_FAULT_LOSS_OF_SYNC, 11e-3, false, kInject, kInject + kBurst_s);
@@ -439,7 +439,7 @@ TEST(Faults, SensorGain)
     sc.faults.gain_t_s = kInject;
     sc.faults.gain[0] = 0.9;
     const Result ridden = run(sc);
-    EXPECT_EQ(drive_flight_recorder(&ridden.drive)->events, 0u);
+    EXPECT_EQ(paper000_drive_flight_recorder(&ridden.drive)->events, 0u);
     EXPECT_NEAR(ridden.log.back().theta, nominal_end_theta_rad(), 0.05);
     sc.faults.gain[0] = 0.8;
     const Result r = run(sc);
@@ -470,7 +470,7 @@ TEST(Faults, ParameterMismatch)
         const Result r = run(sc);
         SCOPED_TRACE("drive model value " + std::to_string(c.value));
         if (c.ridden) {
-            EXPECT_EQ(drive_flight_recorder(&r.drive)->events, 0u);
+            EXPECT_EQ(paper000_drive_flight_recorder(&r.drive)->events, 0u);
             EXPECT_NEAR(r.log.back().theta, nominal_end_theta_rad(), 0.05);
             continue;
         }
@@ -494,12 +494,12 @@ TEST(Faults, NoFalseAlarmOnTheNominalRuns)
         mcsim::Scenario sc = experiment();
         sc.seed = seed;
         const Result r = run(sc);
-        EXPECT_EQ(drive_flight_recorder(&r.drive)->events, 0u) << "seed " << seed << ": "
-                                                               << drive_fault_name(drive_flight_recorder(&r.drive)->fault);
+        EXPECT_EQ(paper000_drive_flight_recorder(&r.drive)->events, 0u) << "seed " << seed << ": "
+                                                               << drive_fault_name(paper000_drive_flight_recorder(&r.drive)->fault);
     }
     mcsim::Scenario sc = mcsim::load_scenario(std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_ideal.toml");
     const Result r = run(sc);
-    EXPECT_EQ(drive_flight_recorder(&r.drive)->events, 0u);
+    EXPECT_EQ(paper000_drive_flight_recorder(&r.drive)->events, 0u);
 }
 
 // ---- issue 26: over-current in the R/L measurement, spaced overruns, re-lock counts ----
@@ -516,7 +516,7 @@ TEST(Faults, OvercurrentSampleDuringTheRlMeasurement)
     sc.duration_s = 0.2;
     std::uint32_t at = 0;
     int state_before = -1;
-    const Result r = run(sc, FAULT_REACT_SAFE, [&](const drive_t& d, hal_sample_t* s) {
+    const Result r = run(sc, FAULT_REACT_SAFE, [&](const paper000_drive_t& d, hal_sample_t* s) {
         if (at == 0 && d.sup.state == SUP_STATE_IDENTIFY && d.rl_id.k == d.cfg.rl_id.window_ticks / 2) {
             at = d.tick;
             state_before = d.sup.state;
@@ -527,7 +527,7 @@ TEST(Faults, OvercurrentSampleDuringTheRlMeasurement)
     EXPECT_EQ(state_before, SUP_STATE_IDENTIFY);
     const double t_at = r.sc.t_start_s() + at * sc.ts_s;
     common_checks(r, DRIVE_FAULT_OVERCURRENT, 0.0, true, 0.0, -1.0, t_at);
-    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    const flight_recorder_t* fr = paper000_drive_flight_recorder(&r.drive);
     EXPECT_EQ(fr->fault_tick, at);
     EXPECT_EQ(fr->events, 1u);
     EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_OVERCURRENT);
@@ -539,14 +539,14 @@ TEST(Faults, OvercurrentSampleDuringTheRlMeasurement)
             EXPECT_LT(std::hypot(p.ia, p.ib), 3.0) << "at t = " << p.t;
         }
     }
-    drive_t d = r.drive;
+    paper000_drive_t d = r.drive;
     hal_sample_t in{};
     in.n_phases = 2;
     in.v_bus_V = mc_from_double(30.0);
     hal_command_t out{};
     for (int k = 0; k < 50; ++k) {
         in.i_A[0] = mc_from_double(0.01 * std::sin(0.3 * k));
-        EXPECT_FALSE(drive_step(&d, &in, &out));
+        EXPECT_FALSE(paper000_drive_step(&d, &in, &out));
         EXPECT_EQ(mcsim::to_double(out.v_V[0]), 0.0);
         EXPECT_EQ(mcsim::to_double(out.v_V[1]), 0.0);
     }
@@ -562,7 +562,7 @@ TEST(Faults, OvercurrentSampleDuringTheRlMeasurement)
 TEST(Faults, SpacedOverrunsToleratedAndTheStatedCountTrips)
 {
     auto spaced = [](std::uint32_t every, std::vector<std::uint32_t>* ticks) {
-        return [every, ticks](const drive_t& d, hal_sample_t* s) {
+        return [every, ticks](const paper000_drive_t& d, hal_sample_t* s) {
             (void)d;
             if (s->tick >= ticks->front() && (s->tick - ticks->front()) % every == 0) {
                 s->status |= HAL_STATUS_OVERRUN;
@@ -573,14 +573,14 @@ TEST(Faults, SpacedOverrunsToleratedAndTheStatedCountTrips)
     mcsim::Scenario sc = experiment();
     {
         mcsim::Scenario probe = sc;
-        drive_t d;
+        paper000_drive_t d;
         mcsim::design_and_init_drive(probe, &d);
         sc.pre_ticks = probe.pre_ticks;
     }
     const std::uint32_t first = static_cast<std::uint32_t>(std::lround((kInject - sc.t_start_s()) / sc.ts_s));
     std::vector<std::uint32_t> ticks{first};
     const Result ok = run(sc, FAULT_REACT_SAFE, spaced(1001, &ticks));
-    EXPECT_EQ(drive_flight_recorder(&ok.drive)->events, 0u) << drive_fault_name(drive_flight_recorder(&ok.drive)->fault);
+    EXPECT_EQ(paper000_drive_flight_recorder(&ok.drive)->events, 0u) << drive_fault_name(paper000_drive_flight_recorder(&ok.drive)->fault);
     EXPECT_NE(ok.drive.sup.state, SUP_STATE_FAULT);
     EXPECT_EQ(ok.drive.mon.overruns, ticks.size());
     EXPECT_GT(ticks.size(), 25u);
@@ -591,7 +591,7 @@ TEST(Faults, SpacedOverrunsToleratedAndTheStatedCountTrips)
         const Result r = run(sc, FAULT_REACT_SAFE, spaced(every, &ticks));
         SCOPED_TRACE("every " + std::to_string(every));
         ASSERT_EQ(ticks.size(), nth) << "the overruns went on after the trip, or it came early";
-        const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+        const flight_recorder_t* fr = paper000_drive_flight_recorder(&r.drive);
         ASSERT_TRUE(fr->frozen);
         EXPECT_EQ(fr->fault, DRIVE_FAULT_OVERRUN);
         EXPECT_EQ(fr->fault_tick, ticks.back());
@@ -614,7 +614,7 @@ TEST(Faults, ReLocksAreEachCountedAndTheFirstSnapshotKept)
     sc.los_relock = 1;
     sc.duration_s = kInject + 0.2;
     const Result r = run(sc, FAULT_REACT_RELOCK);
-    const flight_recorder_t* fr = drive_flight_recorder(&r.drive);
+    const flight_recorder_t* fr = paper000_drive_flight_recorder(&r.drive);
     ASSERT_EQ(r.drive.sup.state, SUP_STATE_FAULT);
     EXPECT_GE(r.drive.relocks, 2);
     EXPECT_LE(r.drive.relocks, r.drive.cfg.prot.relock_max);
@@ -635,8 +635,8 @@ TEST(Faults, ReLocksAreEachCountedAndTheFirstSnapshotKept)
     EXPECT_EQ(flight_recorder_get(fr, FLIGHT_RECORDER_DEPTH - 1)->tick + 1, first_relock);
     // the standing fault is the last one, the recorder names the first
     EXPECT_EQ(r.drive.sup.fault, DRIVE_FAULT_OVERCURRENT);
-    drive_telemetry_t tl;
-    drive_get_telemetry(&r.drive, &tl);
+    paper000_telemetry_t tl;
+    paper000_drive_get_telemetry(&r.drive, &tl);
     EXPECT_EQ(tl.fault_events, fr->events);
 }
 

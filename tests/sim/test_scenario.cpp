@@ -103,7 +103,7 @@ TEST(Scenario, ShippedScenariosDesignADrive)
 {
     for (const char* name : {"paper000_ideal.toml", "paper000_experiment.toml"}) {
         mcsim::Scenario sc = mcsim::load_scenario(scenario_path(name));
-        drive_t drive;
+        paper000_drive_t drive;
         EXPECT_NO_THROW(mcsim::design_and_init_drive(sc, &drive)) << name;
     }
 }
@@ -149,7 +149,7 @@ bound_load_Nm = 0.2
     EXPECT_EQ(in.override.k_surface_per_s, 80.0);
     EXPECT_EQ(in.bound_load_Nm, 0.2);
     EXPECT_EQ(in.i_trip_A, 4.5);
-    EXPECT_EQ(in.control_law, DRIVE_LAW_TWISTING);  // the paper's unless asked
+    EXPECT_EQ(in.control_law, P000_LAW_TWISTING);  // the paper's unless asked
 }
 
 TEST(Scenario, ControlLawMapsToTheDesign)
@@ -158,7 +158,7 @@ TEST(Scenario, ControlLawMapsToTheDesign)
     const mcsim::Scenario sc = mcsim::load_scenario(t.path());
     drive_design_input_t in;
     mcsim::make_design_input(sc, &in);
-    EXPECT_EQ(in.control_law, DRIVE_LAW_LOAD_ANGLE);
+    EXPECT_EQ(in.control_law, P000_LAW_LOAD_ANGLE);
 }
 
 struct BadCase {

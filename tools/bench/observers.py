@@ -2,7 +2,7 @@
 """The estimator comparison of docs/observers.md, from fresh motorsim runs.
 
 The paper-001 speed drive takes its estimator by configuration ([speed]
-estimator = "flux" | "back_emf"; firmware/drives/paper001_drive.h): paper
+estimator = "flux" | "back_emf"; firmware/drives/paper001/paper001_drive.h): paper
 001's gradient flux observer (12)-(14) with the I&I speed and load observer
 (15)-(16), or paper 000's back-EMF chain (super-twisting observer (23)-(28),
 arctan and jump counter (29)-(32), (71), mechanical observer (33)-(37)).

@@ -10,11 +10,11 @@ on Cortex-M3 / mps2-an385):
   2. the cross preset (cortex-m4f / cortex-m3-fixed) builds the firmware
      library and the bare-metal image mc_pil (hal/backends/mcu/pil_main.c)
      with those vectors;
-  3. qemu-system-arm runs the image with -icount: every drive_step() is timed
+  3. qemu-system-arm runs the image with -icount: every paper000_drive_step() is timed
      with SysTick and its outputs are compared BIT FOR BIT with the host's.
 
 --drive paper001 (or --drive paper000,paper001) does the same for the
-paper-001 speed drive (paper001_drive_step, drives/paper001_drive.h) on a
+paper-001 speed drive (paper001_drive_step, drives/paper001/paper001_drive.h) on a
 [speed] scenario (default sim/scenarios/paper001_benchmark.toml, the 3-phase
 PMSM benchmark), once per estimator of --estimators (default
 flux,back_emf; mc_pil_gen --estimator sets paper001_config_t.estimator
@@ -96,7 +96,7 @@ def host_generator(typ, given):
     return exe
 
 
-def parse_ci_stack(build_dir, root_fn="drive_step"):
+def parse_ci_stack(build_dir, root_fn="paper000_drive_step"):
     """Worst stack depth from root_fn over the call graph GCC wrote with
     -fcallgraph-info=su (static frame sizes; calls into libgcc/newlib
     helpers that have no .ci entry count as 0 and are listed)."""
@@ -386,8 +386,8 @@ def markdown_table(path):
     row("firmware library flash, static RAM", lambda p: "%s, %d" % (kb(r[p + "_lib_flash_bytes"]),
                                                                     r[p + "_lib_ram_static_bytes"]))
     row("PIL image flash without the recorded vectors", lambda p: kb(r[p + "_pil_image_flash_bytes_without_vectors"]))
-    row("`drive_t` (all state)", lambda p: "%s B" % n(r[p + "_drive_state_ram_bytes"]))
-    row("stack of `drive_step`, static / measured",
+    row("`paper000_drive_t` (all state)", lambda p: "%s B" % n(r[p + "_drive_state_ram_bytes"]))
+    row("stack of `paper000_drive_step`, static / measured",
         lambda p: "%d / %d B" % (r[p + "_step_stack_bytes_static"], r[p + "_step_stack_measured_bytes"]))
     row("periods, bit-exact with the host build",
         lambda p: "%s, %s" % (n(r[p + "_periods"]), "yes" if r.get(p + "_bit_exact_vs_host") else "NO"))
@@ -402,7 +402,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--types", default="float,fixed", help="comma list of float,fixed")
     ap.add_argument("--drive", default="paper000",
-                    help="comma list of paper000 (drive_step, default), paper001 (paper001_drive_step)")
+                    help="comma list of paper000 (paper000_drive_step, default), paper001 (paper001_drive_step)")
     ap.add_argument("--estimators", "--estimator", default="flux,back_emf",
                     help="paper001 only: comma list of flux, back_emf (default both)")
     ap.add_argument("--scenario", default=None,

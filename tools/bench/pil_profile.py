@@ -10,7 +10,7 @@ line) and by operation. Use it to see which lines of firmware/ cost what:
   tools/bench/pil_profile.py --type fixed --samples 1000
   tools/bench/pil_profile.py --type float --by op
 
-Instructions outside drive_step (the harness) are left out. The log is
+Instructions outside paper000_drive_step (the harness) are left out. The log is
 about 60 bytes per executed instruction: keep --samples to a few thousand.
 """
 import argparse
@@ -77,7 +77,7 @@ def main():
         i += 2
     harness = {"main", "paint_stack", "stack_used", "mcu_put_u32", "mcu_put_i32", "mcu_puts", "mcu_put_kv", "mcu_put_hex32",
                "semihost", "mcu_systick_now", "mcu_systick_elapsed", "from_bits", "to_bits", "Reset_Handler",
-               "drive_init", "memcpy", "memset"}
+               "paper000_drive_init", "memcpy", "memset"}
     agg = collections.Counter()
     total = 0
     for pc, c in cnt.items():
@@ -96,7 +96,7 @@ def main():
             key = (op, fw[0][1] if fw else "?")
         agg[key] += c
     n = max(1, args.samples)
-    print("%d periods, %.1f instructions per period in drive_step and below (%s, %s)"
+    print("%d periods, %.1f instructions per period in paper000_drive_step and below (%s, %s)"
           % (n, total / n, args.type, machine))
     for key, c in agg.most_common(args.top):
         print("%8.1f  %s" % (c / n, "  ".join(key)))

@@ -107,7 +107,7 @@ def main():
            "crystal_missing_gives_fault_1": hse_ok,
            "pass": ok}
     res.update(stats(isr, "isr"))
-    res.update(stats(step, "drive_step"))
+    res.update(stats(step, "paper000_drive_step"))
     if "isr_instr_mean" in res and "drive_step_instr_mean" in res:
         res["hal_around_step_instr_mean"] = round(res["isr_instr_mean"] - res["drive_step_instr_mean"], 1)
     sz = cb.size_of([os.path.join(bdir, "stm32_qemu.elf")])

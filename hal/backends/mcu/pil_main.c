@@ -7,23 +7,25 @@
  * the call is timed with SysTick, and the two voltages are compared bit for bit
  * with those the host build of the same numeric type returned. Output
  * (semihosting), parsed by tools/bench/pil.py:
- *   PIL source=<...> n=<N> cfg_bytes=<..> state_bytes=<sizeof(drive_t)>
+ *   PIL source=<...> n=<N> cfg_bytes=<..> state_bytes=<sizeof(paper000_drive_t)>
  *   T <ticks> <ticks> ...         per-period SysTick ticks, 32 per line
  *   PIL calib=<ticks of an empty timed region> mismatches=<m> first=<i>
  *       stack_used=<bytes below the stack top touched by the whole run>
- *       stack_main=<depth of main's frame at the drive_step call, about>
+ *       stack_main=<depth of main's frame at the paper000_drive_step call, about>
  *   PIL PASS | PIL FAIL
  */
 #include <string.h>
 
-#include "comm/can_paper000.h"
-#include "drives/paper000_drive.h"
+#include "comm/can_node.h"
+#include "drives/registry.h"
+#include "drives/paper000/paper000_drive.h"
 #include "hal/hal.h"
 #include "mcu_rt.h"
 #include "pil_common.h"
 #include "pil_vectors.h"
 
-static drive_t drive;
+static paper000_drive_t drive;
+static drive_t handle = {&paper000_drive_ops, &drive}; /* the CAN node's view of it */
 static can_node_t can_node;
 
 /* The control callback of hal.h (hal_control_fn), as an MCU backend calls
@@ -31,7 +33,7 @@ static can_node_t can_node;
  * state on a fault (here: nothing to switch off). */
 static void drive_callback(void *ctx, const hal_sample_t *in, hal_command_t *out)
 {
-    (void)drive_step((drive_t *)ctx, in, out);
+    (void)paper000_drive_step((paper000_drive_t *)ctx, in, out);
 }
 static hal_control_fn const control = drive_callback;
 
@@ -39,16 +41,16 @@ static hal_control_fn const control = drive_callback;
 int main(void)
 {
     paint_stack();
-    drive_config_t cfg;
+    paper000_config_t cfg;
     memcpy(&cfg, pil_cfg_words, sizeof cfg);
     mcu_puts("PIL source=");
     mcu_puts(pil_source);
     mcu_put_kv("n", pil_n);
-    mcu_put_kv("cfg_bytes", (uint32_t)sizeof(drive_config_t));
-    mcu_put_kv("state_bytes", (uint32_t)sizeof(drive_t));
+    mcu_put_kv("cfg_bytes", (uint32_t)sizeof(paper000_config_t));
+    mcu_put_kv("state_bytes", (uint32_t)sizeof(paper000_drive_t));
     mcu_puts("\n");
-    if (!drive_init(&drive, &cfg)) {
-        mcu_puts("PIL drive_init rejected the recorded config\nPIL FAIL\n");
+    if (!paper000_drive_init(&drive, &cfg)) {
+        mcu_puts("PIL paper000_drive_init rejected the recorded config\nPIL FAIL\n");
         return 1;
     }
 
@@ -102,7 +104,7 @@ int main(void)
         }
         __asm__ volatile("" ::: "memory");
         const uint32_t c0 = mcu_systick_now();
-        can_paper000_step(&can_node, &drive, i, MC_ZERO, MC_ZERO);
+        can_node_step_drive(&can_node, &handle, i, MC_ZERO, MC_ZERO);
         can_frame_t frame;
         while (can_node_peek(&can_node, &frame)) {
             can_node_pop(&can_node);

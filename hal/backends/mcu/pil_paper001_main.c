@@ -1,8 +1,8 @@
 /*
  * pil_paper001_main.c - processor-in-the-loop image of the paper-001 speed
- * drive (drives/paper001_drive.h): paper001_drive_step on the emulated core
+ * drive (drives/paper001/paper001_drive.h): paper001_drive_step on the emulated core
  * over a recorded input sequence (tools/bench/pil_gen.cpp --drive paper001),
- * like pil_main.c does for paper 000's drive_step.
+ * like pil_main.c does for paper 000's paper000_drive_step.
  *
  * For every period: the recorded phase currents and bus voltage go, as a
  * hal_sample_t, into the drive's control callback (the hal_control_fn a
@@ -48,7 +48,7 @@
 #include <string.h>
 
 #include "control/ida_pbc.h"
-#include "drives/paper001_drive.h"
+#include "drives/paper001/paper001_drive.h"
 #include "estimators/flux_observer.h"
 #include "estimators/speed_load_observer.h"
 #include "hal/hal.h"

@@ -16,7 +16,7 @@ extern const uint32_t pil_n;
 extern const uint32_t pil_n_phases;
 extern const uint32_t pil_io[][PIL_P001_IO_WORDS];
 #else
-extern const uint32_t pil_io[][4]; /* drive_t (pil_main.c): i_a, i_b, v_a, v_b as raw mc_t bits */
+extern const uint32_t pil_io[][4]; /* paper000_drive_t (pil_main.c): i_a, i_b, v_a, v_b as raw mc_t bits */
 #endif
 
 #endif

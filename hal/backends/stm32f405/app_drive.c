@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-#include "comm/can_paper001.h"
+#include "drives/registry.h"
 #include "stm32f405_regs.h"
 
 bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint8_t node, bool can)
@@ -33,11 +33,12 @@ void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
     }
     /* on CAN a latched fault keeps the node alive (0 V from the drive):
      * the heartbeat reports it and CmdClearFaults can clear it */
+    drive_t d = {&paper001_drive_ops, &a->drive};
     hal_can_frame_t f;
     for (uint32_t k = 0; k < CAN_NODE_RX_PER_STEP && hal_can_receive(&f); ++k) {
-        (void)can_node_receive(&a->node, in->tick, &f, &can_paper001_apply, &a->drive);
+        (void)can_node_receive(&a->node, in->tick, &f, &can_node_apply_drive, &d);
     }
-    can_paper001_step(&a->node, &a->drive, in->tick, in->v_bus_V, MC_ZERO);
+    can_node_step_drive(&a->node, &d, in->tick, in->v_bus_V, MC_ZERO);
     while (can_node_peek(&a->node, &f) && hal_can_send(&f)) {
         can_node_pop(&a->node);
     }

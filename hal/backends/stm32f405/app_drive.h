@@ -1,6 +1,6 @@
 /*
  * app_drive.h - the application of the STM32F405 image: paper 001's speed
- * drive and its CAN node (comm/can_paper001.h) behind hal.h's control
+ * drive and its CAN node (comm/can_node.h, through the drive interface) behind hal.h's control
  * callback, as the simulator's can_glue does it: the drive's step, up to
  * CAN_NODE_RX_PER_STEP received commands, the telemetry due, the queue
  * onto the bus while it takes frames.
@@ -12,7 +12,7 @@
 #include <stdint.h>
 
 #include "comm/can_node.h"
-#include "drives/paper001_drive.h"
+#include "drives/paper001/paper001_drive.h"
 #include "hal/hal.h"
 
 typedef struct {

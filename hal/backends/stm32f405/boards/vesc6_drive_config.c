@@ -2,7 +2,7 @@
  * (ctest mcu.board_config_current regenerates it and compares). */
 #include <stdint.h>
 #include "boards/board.h"
-#include "drives/paper001_drive.h"
+#include "drives/paper001/paper001_drive.h"
 
 _Static_assert(sizeof(paper001_config_t) == 756, "paper001_config_t layout differs from the host's");
 _Static_assert(MC_FIXED == 0, "made for the other numeric type");

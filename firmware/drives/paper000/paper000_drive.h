@@ -47,7 +47,7 @@ extern "C" {
 #endif
 
 /* A two-phase stepper: windings a and b in quadrature. */
-#define DRIVE_N_PHASES 2u
+#define P000_N_PHASES 2u
 
 /* Loss of synchronism and the reactions to faults (docs/faults.md). The
  * criteria, checked in closed loop (the estimate is only used there):
@@ -70,10 +70,10 @@ extern "C" {
  * omega_lim before that, the loss stands (safe state).
  * Derived in design/drive_design.c. */
 /* The loss-of-synchronism criteria (all but the unobservable back-EMF)
- * run on every DRIVE_LOS_DECIMATION-th sample: they persist for 5 ms and
+ * run on every P000_LOS_DECIMATION-th sample: they persist for 5 ms and
  * 0.2 s, so a quarter of the samples decides as well at a quarter of the
  * cost (their tick counts below count checks). A power of two. */
-#define DRIVE_LOS_DECIMATION 4u
+#define P000_LOS_DECIMATION 4u
 
 typedef struct {
     uint8_t reaction[DRIVE_FAULT_COUNT]; /* fault_reaction_t per fault code */
@@ -87,7 +87,7 @@ typedef struct {
     mc_t los_jump_rad;
     mc_t los_obs_err_A;
     int32_t los_ticks;
-} drive_protection_config_t;
+} paper000_protection_config_t;
 
 /* Computation delay (not in the paper: its dSpace card writes the DACs as
  * soon as the computation ends, d ~ 0; an MCU's PWM takes the new duty a
@@ -111,7 +111,7 @@ typedef struct {
     mc_t x;            /* turn of the output frame past its base, in half-sample rotations, [0, 1] */
     mc_t x2;           /* x^2 */
     bool from_next;    /* base of the output frame: the next sample's (d >= 1/2) or the mid-sample one */
-} drive_delay_config_t;
+} paper000_delay_config_t;
 
 /* The position law. TWISTING: paper 000's super-twisting current loop
  * (46)-(51) and twisting position loop (52)-(57) on the estimates, in
@@ -122,9 +122,9 @@ typedef struct {
  * the reference carries the torque the move and the observed load need,
  * damped on the observed speed; a load step is held by the magnetic
  * spring of that current before any estimate has seen it. */
-typedef enum { DRIVE_LAW_TWISTING = 0, DRIVE_LAW_LOAD_ANGLE = 1 } drive_law_t;
+typedef enum { P000_LAW_TWISTING = 0, P000_LAW_LOAD_ANGLE = 1 } paper000_law_t;
 
-/* Everything drive_init needs, in the firmware numeric type. Per-sample
+/* Everything paper000_drive_init needs, in the firmware numeric type. Per-sample
  * coefficients already contain Ts (see firmware/design/drive_design.c).
  * Pointer-free, so it can be stored, copied and sent as bytes. */
 typedef struct {
@@ -132,24 +132,24 @@ typedef struct {
     drive_limits_t limits;
     fg_estimator_config_t est;
     fg_tracking_config_t ctrl;
-    drive_law_t law;
+    paper000_law_t law;
     load_angle_config_t load_angle; /* with law LOAD_ANGLE */
     supervisor_config_t sup;
     fault_monitor_config_t faults;
-    drive_protection_config_t prot;
+    paper000_protection_config_t prot;
     open_loop_config_t open_loop;
     align_config_t align;         /* rotor alignment before the start (disabled: none) */
     rl_id_config_t rl_id;         /* standstill R, L measurement at the start (window 0: off) */
     k_id_config_t k_id;           /* K measured in closed loop (disabled: off) */
     trajectory_config_t traj;
-    drive_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
+    paper000_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
     uint32_t close_dwell_ticks;   /* the back-EMF observable this many samples in a row before the loop closes */
-    /* moves by command (drive_move): the peak speed and acceleration of
+    /* moves by command (paper000_drive_move): the peak speed and acceleration of
      * eq. (70) must stay within what the gains were designed for (the
      * design's w_max and a_max); 0: moves by command refused */
     mc_t move_speed_max_rad_s;
     mc_t move_accel_max_rad_s2;
-} drive_config_t;
+} paper000_config_t;
 
 /* What one step computed, for telemetry, logs and tests. */
 typedef struct {
@@ -180,10 +180,10 @@ typedef struct {
     uint32_t fault_events;         /* faults seen since init, recovered ones included */
     int32_t relocks;               /* RELOCK reactions taken */
     uint32_t overruns;             /* HAL-reported overruns */
-} drive_telemetry_t;
+} paper000_telemetry_t;
 
 typedef struct {
-    drive_config_t cfg;          /* as designed; constant after drive_init */
+    paper000_config_t cfg;          /* as designed; constant after paper000_drive_init */
     motor_model_t model;         /* in use: cfg.model, with R and L once measured */
     supervisor_t sup;
     fault_monitor_t mon;
@@ -208,9 +208,9 @@ typedef struct {
     uint32_t tick;
     uint32_t align_ticks;        /* the alignment's length: the trajectory's sample 0 follows it */
     uint32_t observable_run;     /* samples in a row the back-EMF has been observable (saturates) */
-    bool disabled;               /* drive_set_enabled(false): 0 V until enabled again */
-    mc_t omega_lim_rad_s;        /* in use: cfg.limits' or drive_set_omega_lim's */
-    bool v_ext_set;              /* drive_set_applied_voltage() for the next step */
+    bool disabled;               /* paper000_drive_set_enabled(false): 0 V until enabled again */
+    mc_t omega_lim_rad_s;        /* in use: cfg.limits' or paper000_drive_set_omega_lim's */
+    bool v_ext_set;              /* paper000_drive_set_applied_voltage() for the next step */
     mc_ab_t v_ext_V;
     trajectory_point_t ref;      /* reference of this sample */
     trajectory_point_t ref_next; /* reference of the next sample */
@@ -221,48 +221,48 @@ typedef struct {
         uint32_t tick;
         mc_t i_f_A, i_g_A, v_a_V, v_b_V;
     } last;
-} drive_t;
+} paper000_drive_t;
 
 /* Validates cfg, copies it and resets every state. Returns false (drive in
- * FAULT, outputs 0 V) if cfg is inconsistent; drive_config_problem says why. */
-bool drive_init(drive_t *d, const drive_config_t *cfg);
+ * FAULT, outputs 0 V) if cfg is inconsistent; paper000_config_problem says why. */
+bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg);
 
 /* NULL when cfg is consistent, else its first inconsistency, naming the
  * field (a string literal: nothing to free, nothing kept). The trajectory
  * is checked by trajectory_init (trajectory/trajectory.h). */
-const char *drive_config_problem(const drive_config_t *cfg);
+const char *paper000_config_problem(const paper000_config_t *cfg);
 
-/* One sample: the HAL sample in (DRIVE_N_PHASES phase currents [A]), the
+/* One sample: the HAL sample in (P000_N_PHASES phase currents [A]), the
  * phase voltages [V] out. With the alignment enabled, the first
  * align_ticks samples align the rotor (the reference holds at its start)
  * and the trajectory's time 0 is the sample after them. Always fills *out (0 V in FAULT). Returns false
  * when in FAULT; a sample of another phase count is a BAD_INPUT fault. */
-bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out);
+bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_command_t *out);
 
 /* The phase voltages that will really be applied over the coming sample,
- * when they differ from what drive_step commands: the observer of that
+ * when they differ from what paper000_drive_step commands: the observer of that
  * step then uses them. For replays of recorded runs (sim/replay), or a
  * power stage whose output is known better than the command. With a
  * computation delay it is the mean over the sample (the drive then does not
- * form it from its commands). One-shot: applies to the next drive_step only. */
-void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V);
+ * form it from its commands). One-shot: applies to the next paper000_drive_step only. */
+void paper000_drive_set_applied_voltage(paper000_drive_t *d, mc_t v_a_V, mc_t v_b_V);
 
 /* Clears a latched fault by command: the drive starts again from its
- * initial state (alignment first). Returns what drive_init returns. The
+ * initial state (alignment first). Returns what paper000_drive_init returns. The
  * flight recorder's snapshot is discarded with it. */
-bool drive_clear_fault(drive_t *d);
+bool paper000_drive_clear_fault(paper000_drive_t *d);
 
-/* Commands (from a host link such as comm/can_paper000.h). Each returns
+/* Commands (through the drive interface: paper000_ops.c). Each returns
  * false and changes nothing when it is refused in the drive's present
  * state; none is refused for an argument the DBC's ranges allow unless
  * said so.
  *
- * drive_set_enabled: false puts the drive in its safe state (0 V on every
+ * paper000_drive_set_enabled: false puts the drive in its safe state (0 V on every
  * phase) until enabled again; true after a disable starts the drive again
  * as at power-up (alignment, identification, the configured moves): the
  * rotor may have been moved meanwhile. Refused in FAULT (clear it first);
  * enabling an enabled drive is accepted and changes nothing. */
-bool drive_set_enabled(drive_t *d, bool on);
+bool paper000_drive_set_enabled(paper000_drive_t *d, bool on);
 
 /* Move to theta_to_rad over duration_s from where the reference rests,
  * with the rest-to-rest polynomial of eq. (70), starting two samples on.
@@ -270,27 +270,27 @@ bool drive_set_enabled(drive_t *d, bool on);
  * identification, FAULT), while a move is in progress or queued, and when
  * its peak speed 2.1875 |d|/T or acceleration 7.5132 |d|/T^2 exceeds
  * cfg.move_speed_max_rad_s / move_accel_max_rad_s2. */
-bool drive_move(drive_t *d, mc_t theta_to_rad, mc_t duration_s);
+bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s);
 
 /* Stop: the moves not yet started are dropped; the one in progress ends
  * at its end point (eq. (70) is rest-to-rest: stopping sooner would need
  * a jerk the gains were not designed for; disable is the emergency stop).
  * Refused in FAULT. */
-bool drive_stop(drive_t *d);
+bool paper000_drive_stop(paper000_drive_t *d);
 
 /* The speed from which the loop closes (paper 000 section 5.1). Refused
  * in closed loop, below cfg.limits.omega_lim_rad_s (the observer's gains
  * and the observability threshold hold from there up) and above
- * cfg.move_speed_max_rad_s. drive_init restores the configured one. */
-bool drive_set_omega_lim(drive_t *d, mc_t omega_lim_rad_s);
+ * cfg.move_speed_max_rad_s. paper000_drive_init restores the configured one. */
+bool paper000_drive_set_omega_lim(paper000_drive_t *d, mc_t omega_lim_rad_s);
 
 /* The flight recorder: the first fault's code, tick and the samples before
- * it (flight_recorder_get). Valid until drive_clear_fault. */
-static inline const flight_recorder_t *drive_flight_recorder(const drive_t *d) { return &d->rec; }
+ * it (flight_recorder_get). Valid until paper000_drive_clear_fault. */
+static inline const flight_recorder_t *paper000_drive_flight_recorder(const paper000_drive_t *d) { return &d->rec; }
 
 /* Telemetry of the last step, assembled from the state on request (the
  * step itself stores only what no block keeps). */
-void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t);
+void paper000_drive_get_telemetry(const paper000_drive_t *d, paper000_telemetry_t *t);
 
 #ifdef __cplusplus
 }

@@ -54,6 +54,7 @@
 #include <stdint.h>
 
 #include "adapter/phase_adapter.h"
+#include "control/delay_comp.h"
 #include "control/ida_pbc.h"
 #include "estimators/estimate.h"
 #include "estimators/fg_estimator.h"
@@ -136,10 +137,7 @@ static inline mc_ab_t paper001_applied_mean(const paper001_config_t *c, mc_ab_t 
     if (mc_eq(c->compute_delay, MC_ZERO)) {
         return v;
     }
-    mc_ab_t m;
-    m.alpha = mc_mac(v.alpha, c->compute_delay, mc_sub(v_prev.alpha, v.alpha));
-    m.beta = mc_mac(v.beta, c->compute_delay, mc_sub(v_prev.beta, v.beta));
-    return m;
+    return delay_applied_mean(c->compute_delay, v, v_prev);
 }
 
 /* Below this lead the output angle is not advanced: 1e-6 rad is far below
@@ -238,7 +236,7 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
  * initial state (the probe first). Returns what paper001_drive_init returns. */
 bool paper001_drive_clear_fault(paper001_drive_t *d);
 
-/* Commands (from a host link such as comm/can_paper001.h). Each returns
+/* Commands (through the drive interface: paper001_ops.c). Each returns
  * false and changes nothing when refused.
  *
  * paper001_drive_set_enabled: false puts the drive in its safe state (0 V)

@@ -15,15 +15,16 @@
  *   5. voltage back to the phases at the mid-sample angle, limited;
  *   6. estimator prediction to k+1 with the voltage actually applied, and
  *      the standstill R/L measurement while identifying.
- * With a computation delay d (drive_delay_config_t) the voltage acts over
+ * With a computation delay d (paper000_delay_config_t) the voltage acts over
  * [t_k + d Ts, t_k+1 + d Ts): the law of 4 acts on the currents predicted to
  * t_k + d Ts, 5 turns the output at the middle of that interval, 6 uses the
  * mean of the last and this command; d = 0 skips these paths.
  */
-#include "drives/paper000_drive.h"
+#include "drives/paper000/paper000_drive.h"
 
 #include <stddef.h>
 
+#include "control/delay_comp.h"
 #include "mc_version.h"
 
 /* Samples between exact recomputations of the (f-g) frame rotation: in
@@ -32,32 +33,18 @@
  * at most about one LSB (7.6e-6 in Q14.17), so 32 of them drift by at most
  * 2.4e-4 rad electrical, 5e-6 rad of rotor angle at n_p = 50, before the
  * exact angle resets it; a power of two makes the test a mask. */
-#define DRIVE_FRAME_RESYNC 32u
+#define P000_FRAME_RESYNC 32u
 
-/* Computation delay (drive_delay_config_t): functions called only for
+/* Computation delay (paper000_delay_config_t): functions called only for
  * d != 0, and kept out of line, so that the step without a delay stays as
  * it was (its instruction budget on a Cortex-M3 is nearly spent, and
  * inlined they cost it 17 instructions a sample in registers, measured
  * with tools/bench/pil.py). */
 #if defined(__GNUC__)
-#define DRIVE_OUT_OF_LINE __attribute__((noinline))
+#define P000_OUT_OF_LINE __attribute__((noinline))
 #else
-#define DRIVE_OUT_OF_LINE
+#define P000_OUT_OF_LINE
 #endif
-
-/* R(x phi) for x in [0, 1] from r = R(phi), phi half a sample of the
- * reference's rotation, without a sincos: sin(x phi) ~ x sin(phi),
- * cos(x phi) ~ 1 - x^2 (1 - cos(phi)). Exact at x = 0 and x = 1; in between
- * the angle is off by at most x (1 - x^2) phi^3 / 6 <= 0.064 phi^3 and the
- * norm by x^2 (1 - x^2) phi^4 / 24: 8e-6 rad electrical (one Q14.17 LSB) at
- * phi = 0.05 rad, the paper's 20 rad/s at n_p = 50 and 10 kHz. */
-static mc_rot_t drive_rot_fraction(mc_rot_t r, mc_t x, mc_t x2)
-{
-    mc_rot_t f;
-    f.s = mc_mul(x, r.s);
-    f.c = mc_sub(MC_ONE, mc_mul(x2, mc_sub(MC_ONE, r.c)));
-    return f;
-}
 
 /* The measured (f-g) currents i_f, i_g of this sample predicted to
  * t_k + d Ts, where its command starts to act, in the (f-g) frame of that
@@ -68,16 +55,16 @@ static mc_rot_t drive_rot_fraction(mc_rot_t r, mc_t x, mc_t x2)
  * the interval's: second order) and the observed back-EMF e = L d-hat
  * (28a)-(28b); the frame's own turn over d Ts, the A_fg term of (23), as a
  * rotation by 2d half samples of the reference's rotation. */
-static DRIVE_OUT_OF_LINE void drive_delay_currents(drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
+static P000_OUT_OF_LINE void drive_delay_currents(paper000_drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
 {
-    const drive_delay_config_t *c = &d->cfg.delay;
-    const mc_rot_t turn_x = drive_rot_fraction(rot_half, c->x, c->x2);
+    const paper000_delay_config_t *c = &d->cfg.delay;
+    const mc_rot_t turn_x = delay_rot_fraction(rot_half, c->x, c->x2);
     const mc_rot_t turn = c->from_next ? mc_rot_compose(rot_half, turn_x) : turn_x;
-    const mc_t a = mc_mul(c->d, d->model.ts_over_L_A_per_V);
-    const mc_t uf = mc_cross2(MC_ONE, mc_add(d->sup.v_prev_V[0], d->est.emf.e_f_hat_V), d->model.R_ohm, i_f);
-    const mc_t ug = mc_cross2(MC_ONE, mc_add(d->sup.v_prev_V[1], d->est.emf.e_g_hat_V), d->model.R_ohm, i_g);
+    mc_t i_f_pred, i_g_pred;
+    delay_predict_fg(c->d, d->model.ts_over_L_A_per_V, d->model.R_ohm, i_f, i_g, d->sup.v_prev_V[0],
+                     d->sup.v_prev_V[1], d->est.emf.e_f_hat_V, d->est.emf.e_g_hat_V, &i_f_pred, &i_g_pred);
     mc_t p_f, p_g;
-    mc_rot_fwd(turn, mc_mac(i_f, a, uf), mc_mac(i_g, a, ug), &p_f, &p_g);
+    mc_rot_fwd(turn, i_f_pred, i_g_pred, &p_f, &p_g);
     mc_rot_fwd(d->est.u_est, p_f, p_g, &d->est.i_d_A, &d->est.i_q_A); /* (44) */
 }
 
@@ -86,26 +73,26 @@ static DRIVE_OUT_OF_LINE void drive_delay_currents(drive_t *d, mc_rot_t rot_half
  * acts (eq. (7) inverse: the mid-sample frame for d < 1/2, the next
  * sample's for d >= 1/2, turned by x half samples), limited; and, unless
  * the caller gave it, the voltage really applied over this sample for the
- * observer (25), v[k-1] for d Ts then v[k], as drive_set_applied_voltage()
+ * observer (25), v[k-1] for d Ts then v[k], as paper000_drive_set_applied_voltage()
  * would. Returns the phase (alpha-beta) command. */
-static DRIVE_OUT_OF_LINE mc_ab_t drive_delay_output(drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
+static P000_OUT_OF_LINE mc_ab_t drive_delay_output(paper000_drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
 {
-    const drive_delay_config_t *c = &d->cfg.delay;
-    const mc_rot_t out = mc_rot_compose(c->from_next ? d->rot_next : rot_mid, drive_rot_fraction(rot_half, c->x, c->x2));
+    const paper000_delay_config_t *c = &d->cfg.delay;
+    const mc_rot_t out = mc_rot_compose(c->from_next ? d->rot_next : rot_mid, delay_rot_fraction(rot_half, c->x, c->x2));
     mc_ab_t v_ab;
     mc_rot_inv(out, v_f, v_g, &v_ab.alpha, &v_ab.beta);
-    (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, d->cfg.limits.v_max_V, &v_ab, &v_f, &v_g);
+    (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, d->cfg.limits.v_max_V, &v_ab, &v_f, &v_g);
     if (!d->v_ext_set) {
-        d->v_ext_V.alpha = mc_mac(v_ab.alpha, c->d, mc_sub(d->last.v_a_V, v_ab.alpha));
-        d->v_ext_V.beta = mc_mac(v_ab.beta, c->d, mc_sub(d->last.v_b_V, v_ab.beta));
+        const mc_ab_t v_last = {d->last.v_a_V, d->last.v_b_V};
+        d->v_ext_V = delay_applied_mean(c->d, v_ab, v_last);
         d->v_ext_set = true;
     }
     return v_ab;
 }
 
-static void drive_zero_output(drive_t *d, hal_command_t *out)
+static void drive_zero_output(paper000_drive_t *d, hal_command_t *out)
 {
-    out->n_phases = (uint8_t)DRIVE_N_PHASES;
+    out->n_phases = (uint8_t)P000_N_PHASES;
     for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
         out->v_V[k] = MC_ZERO;
     }
@@ -114,12 +101,12 @@ static void drive_zero_output(drive_t *d, hal_command_t *out)
 }
 
 /* A fault was detected this sample: record it, then react as configured
- * (drive_protection_config_t). Returns true when the drive is now in FAULT
+ * (paper000_protection_config_t). Returns true when the drive is now in FAULT
  * (the caller outputs 0 V), false when it goes on (RELOCK, REPORT). */
-static bool drive_react(drive_t *d, drive_fault_t f)
+static bool drive_react(paper000_drive_t *d, drive_fault_t f)
 {
     flight_recorder_fault(&d->rec, f, d->tick);
-    const drive_protection_config_t *p = &d->cfg.prot;
+    const paper000_protection_config_t *p = &d->cfg.prot;
     const uint8_t react = p->reaction[(uint32_t)f < DRIVE_FAULT_COUNT ? (uint32_t)f : 0u];
     if (react == (uint8_t)FAULT_REACT_REPORT) {
         return false;
@@ -138,7 +125,7 @@ static bool drive_react(drive_t *d, drive_fault_t f)
 }
 
 /* A fault that no reaction but the safe state can answer. */
-static bool drive_react_final(drive_t *d, drive_fault_t f)
+static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
 {
     flight_recorder_fault(&d->rec, f, d->tick);
     supervisor_fault(&d->sup, f);
@@ -148,9 +135,9 @@ static bool drive_react_final(drive_t *d, drive_fault_t f)
 /* The end of every sample that outputs a voltage: to the phases, the
  * command's checks, the flight recorder. Returns false if the command's
  * checks put the drive in FAULT (out is then 0 V). */
-static bool drive_output(drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
+static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
 {
-    phase_adapter_voltages((uint8_t)DRIVE_N_PHASES, v_ab, out);
+    phase_adapter_voltages((uint8_t)P000_N_PHASES, v_ab, out);
     d->last.i_f_A = i_f;
     d->last.i_g_A = i_g;
     d->last.v_a_V = v_ab.alpha;
@@ -183,19 +170,19 @@ static bool drive_output(drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t 
     return true;
 }
 
-/* Loss of synchronism (drive_protection_config_t), in closed loop. */
-static bool drive_lost_sync(drive_t *d, bool observable)
+/* Loss of synchronism (paper000_protection_config_t), in closed loop. */
+static bool drive_lost_sync(paper000_drive_t *d, bool observable)
 {
-    const drive_protection_config_t *p = &d->cfg.prot;
+    const paper000_protection_config_t *p = &d->cfg.prot;
     if (!observable) {
         /* the back-EMF vanished while the reference is fast: the twisting
          * law has lost its estimate. The load-angle law holds the rotor
          * without one: it goes on in its open-loop form (the loop opens,
-         * want_closed in drive_step) and closes again once observable */
-        return d->cfg.law != DRIVE_LAW_LOAD_ANGLE;
+         * want_closed in paper000_drive_step) and closes again once observable */
+        return d->cfg.law != P000_LAW_LOAD_ANGLE;
     }
-    if ((d->tick & (DRIVE_LOS_DECIMATION - 1u)) != 0u) {
-        return false; /* the criteria below run on every DRIVE_LOS_DECIMATION-th sample */
+    if ((d->tick & (P000_LOS_DECIMATION - 1u)) != 0u) {
+        return false; /* the criteria below run on every P000_LOS_DECIMATION-th sample */
     }
     const fg_estimator_t *e = &d->est;
     const mc_t theta_est = e->pos.theta_est_rad;
@@ -224,9 +211,9 @@ static bool drive_lost_sync(drive_t *d, bool observable)
  * feed-forwards that carry J L/K or 1/K (design/drive_design.c), the load
  * clamp 2 K I_max. r = K_old/K_new. The blocks keep their own copies of
  * their configuration, so those are what change. */
-_Static_assert(K_ID_DECIMATION == DRIVE_LOS_DECIMATION, "the K measurement runs on the loss-of-sync checks' samples");
+_Static_assert(K_ID_DECIMATION == P000_LOS_DECIMATION, "the K measurement runs on the loss-of-sync checks' samples");
 
-static void drive_apply_K(drive_t *d, mc_t K_V_s)
+static void drive_apply_K(paper000_drive_t *d, mc_t K_V_s)
 {
     const mc_t r = mc_div(d->model.K_V_s, K_V_s);
     const mc_t inv_r = mc_div(K_V_s, d->model.K_V_s);
@@ -246,7 +233,7 @@ static void drive_apply_K(drive_t *d, mc_t K_V_s)
 
 /* The trajectory's sample for drive sample n: the alignment's samples all
  * map to 0 (the reference holds at its start). */
-static uint32_t drive_traj_tick(const drive_t *d, uint32_t n)
+static uint32_t drive_traj_tick(const paper000_drive_t *d, uint32_t n)
 {
     return n > d->align_ticks ? n - d->align_ticks : 0u;
 }
@@ -255,7 +242,7 @@ static uint32_t drive_traj_tick(const drive_t *d, uint32_t n)
  * NULL when c is consistent. The design (design/drive_design.c) derives
  * every field; a motor or limit far outside what it was written for can
  * still give a gain that rounds to zero or overflows, and this says which. */
-const char *drive_config_problem(const drive_config_t *c)
+const char *paper000_config_problem(const paper000_config_t *c)
 {
     const motor_model_t *m = &c->model;
     const drive_limits_t *l = &c->limits;
@@ -287,7 +274,7 @@ const char *drive_config_problem(const drive_config_t *c)
     return NULL; /* the trajectory: trajectory_init's own check */
 }
 
-bool drive_init(drive_t *d, const drive_config_t *cfg)
+bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
 {
     d->cfg = *cfg;
     d->model = cfg->model;
@@ -325,7 +312,7 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     d->last.i_g_A = MC_ZERO;
     hal_command_t unused;
     drive_zero_output(d, &unused);
-    if (drive_config_problem(cfg) != NULL || !traj_ok) {
+    if (paper000_config_problem(cfg) != NULL || !traj_ok) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
         return false;
     }
@@ -336,9 +323,9 @@ bool drive_init(drive_t *d, const drive_config_t *cfg)
     return true;
 }
 
-bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
+bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
-    const drive_config_t *c = &d->cfg;
+    const paper000_config_t *c = &d->cfg;
     d->last.tick = d->tick;
     /* 0. supervisor */
     if (d->sup.state == SUP_STATE_FAULT) {
@@ -349,13 +336,13 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         drive_zero_output(d, out);
         return true;
     }
-    if (!phase_adapter_accepts(in, (uint8_t)DRIVE_N_PHASES)) {
+    if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {
         supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
         drive_zero_output(d, out);
         return false;
     }
     {
-        const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)DRIVE_N_PHASES);
+        const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)P000_N_PHASES);
         if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
             drive_zero_output(d, out);
             return false;
@@ -371,9 +358,9 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         d->ref = d->ref_next;
         trajectory_eval(&d->traj, drive_traj_tick(d, d->tick + 1), &d->ref_next);
         /* the frame turns by the rotation applied last sample; every
-         * DRIVE_FRAME_RESYNC samples it is recomputed from theta_r, so the
+         * P000_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
-        if ((d->tick % DRIVE_FRAME_RESYNC) == 0u) {
+        if ((d->tick % P000_FRAME_RESYNC) == 0u) {
             d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, d->model.n_p));
             /* the observer's gain at the reference speed (discrete-time
              * design; a no-op otherwise): the speed moves by at most
@@ -400,7 +387,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
             /* the reference holds, so the frame does not turn: rot_mid = rot_k */
             mc_ab_t v_ab;
             mc_rot_inv(rot_k, v_f, v_g, &v_ab.alpha, &v_ab.beta);
-            (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
+            (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
             return drive_output(d, in, v_ab, i_f, i_g, out);
         }
         /* aligned, current decayed: the start begins from rest as without
@@ -433,8 +420,8 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         fg_estimator_track(&d->est, d->ref.theta_rad, d->ref.omega_rad_s);
     }
     {
-        const drive_protection_config_t *p = &c->prot;
-        const bool check = (d->tick & (DRIVE_LOS_DECIMATION - 1u)) == 0u;
+        const paper000_protection_config_t *p = &c->prot;
+        const bool check = (d->tick & (P000_LOS_DECIMATION - 1u)) == 0u;
         const bool obs_bad =
             check && fault_persist_step(&d->obs_persist,
                                         mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)),
@@ -453,7 +440,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
             d->theta_est_prev_rad = d->est.pos.theta_est_rad;
             d->theta_ref_prev_rad = d->ref.theta_rad;
             /* K in closed loop, on the same decimated samples (its
-             * K_ID_DECIMATION is DRIVE_LOS_DECIMATION), not while a loss
+             * K_ID_DECIMATION is P000_LOS_DECIMATION), not while a loss
              * is recovered from */
             if (d->sup.state == SUP_STATE_CLOSED_LOOP && d->recovering == 0 &&
                 k_id_step(&d->k_id, d->est.pos.e2_V2, d->ref.omega_rad_s) && d->k_id.state == K_ID_DONE) {
@@ -516,7 +503,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
              * starts to act (they replace the measured ones of (44)) */
             drive_delay_currents(d, rot_half, i_f, i_g);
         }
-        if (c->law == DRIVE_LAW_LOAD_ANGLE) {
+        if (c->law == P000_LAW_LOAD_ANGLE) {
             /* the law's currents in the reference's frame: the measured
              * ones, or their prediction turned back from the estimated frame */
             mc_t i_f_law = i_f, i_g_law = i_g;
@@ -533,7 +520,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
             fg_tracking_step(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, &est, d->est.u_est,
                              d->est.i_d_A, d->est.i_q_A, d->sup.sat_prev, &v_f, &v_g);
         }
-    } else if (c->law == DRIVE_LAW_LOAD_ANGLE && d->sup.state == SUP_STATE_OPEN_LOOP) {
+    } else if (c->law == P000_LAW_LOAD_ANGLE && d->sup.state == SUP_STATE_OPEN_LOOP) {
         if (d->la_from_other) {
             /* from (68): the amplitude starts at the current's */
             load_angle_start(&d->la, mc_hypot(i_f, i_g));
@@ -559,7 +546,7 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
         mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
         /* the supervisor keeps the saturation (sat_prev) for the next step's
          * anti-windup and for the telemetry */
-        (void)supervisor_limit(&d->sup, (uint8_t)DRIVE_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
+        (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
     } else {
         v_ab = drive_delay_output(d, rot_mid, rot_half, v_f, v_g);
         v_f = d->sup.v_prev_V[0]; /* the command as limited */
@@ -588,13 +575,13 @@ bool drive_step(drive_t *d, const hal_sample_t *in, hal_command_t *out)
     return drive_output(d, in, v_ab, i_f, i_g, out);
 }
 
-bool drive_clear_fault(drive_t *d)
+bool paper000_drive_clear_fault(paper000_drive_t *d)
 {
     /* an exact self-copy (d->cfg = *cfg with cfg == &d->cfg) is allowed (C11 6.5.16.1) */
-    return drive_init(d, &d->cfg);
+    return paper000_drive_init(d, &d->cfg);
 }
 
-bool drive_set_enabled(drive_t *d, bool on)
+bool paper000_drive_set_enabled(paper000_drive_t *d, bool on)
 {
     if (d->sup.state == SUP_STATE_FAULT) {
         return false;
@@ -606,7 +593,7 @@ bool drive_set_enabled(drive_t *d, bool on)
     if (!d->disabled) {
         return true;
     }
-    return drive_init(d, &d->cfg);
+    return paper000_drive_init(d, &d->cfg);
 }
 
 /* Samples of a duration of s seconds at fs_hz, rounded, in integer
@@ -620,7 +607,7 @@ static uint32_t drive_ticks_of(mc_t s, int32_t fs_hz)
 }
 
 /* The end of the last configured move, in trajectory samples. */
-static uint32_t drive_traj_end(const drive_t *d)
+static uint32_t drive_traj_end(const paper000_drive_t *d)
 {
     const trajectory_config_t *tc = &d->traj.cfg;
     if (tc->n_segments <= 0) {
@@ -630,9 +617,9 @@ static uint32_t drive_traj_end(const drive_t *d)
     return s->start_tick + s->duration_ticks;
 }
 
-bool drive_move(drive_t *d, mc_t theta_to_rad, mc_t duration_s)
+bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s)
 {
-    const drive_config_t *c = &d->cfg;
+    const paper000_config_t *c = &d->cfg;
     const bool running = d->sup.state == SUP_STATE_OPEN_LOOP || d->sup.state == SUP_STATE_CLOSED_LOOP;
     /* the reference of the next step was evaluated at traj(tick + 1) by the
      * last step (ref_next): the move starts after it, from the rest value */
@@ -675,7 +662,7 @@ bool drive_move(drive_t *d, mc_t theta_to_rad, mc_t duration_s)
     return true;
 }
 
-bool drive_stop(drive_t *d)
+bool paper000_drive_stop(paper000_drive_t *d)
 {
     if (d->sup.state == SUP_STATE_FAULT) {
         return false;
@@ -699,9 +686,9 @@ bool drive_stop(drive_t *d)
     return true;
 }
 
-bool drive_set_omega_lim(drive_t *d, mc_t omega_lim_rad_s)
+bool paper000_drive_set_omega_lim(paper000_drive_t *d, mc_t omega_lim_rad_s)
 {
-    const drive_config_t *c = &d->cfg;
+    const paper000_config_t *c = &d->cfg;
     if (d->sup.state == SUP_STATE_CLOSED_LOOP || mc_lt(omega_lim_rad_s, c->limits.omega_lim_rad_s) ||
         mc_gt(omega_lim_rad_s, c->move_speed_max_rad_s)) {
         return false;
@@ -710,7 +697,7 @@ bool drive_set_omega_lim(drive_t *d, mc_t omega_lim_rad_s)
     return true;
 }
 
-void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
+void paper000_drive_get_telemetry(const paper000_drive_t *d, paper000_telemetry_t *t)
 {
     t->fw_version = MC_VERSION_U32;
     const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
@@ -725,7 +712,7 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     /* references: the law's in closed loop; the open-loop start (68)
      * drives i_max along f; none in FAULT */
     const bool fault = d->sup.state == SUP_STATE_FAULT;
-    if (d->cfg.law == DRIVE_LAW_LOAD_ANGLE && (closed || d->sup.state == SUP_STATE_OPEN_LOOP)) {
+    if (d->cfg.law == P000_LAW_LOAD_ANGLE && (closed || d->sup.state == SUP_STATE_OPEN_LOOP)) {
         t->i_f_ref_A = d->la.i_f_ref_A;
         t->i_g_ref_A = d->la.i_g_ref_A;
     } else {
@@ -767,7 +754,7 @@ void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t)
     t->K_model_V_s = d->model.K_V_s;
 }
 
-void drive_set_applied_voltage(drive_t *d, mc_t v_a_V, mc_t v_b_V)
+void paper000_drive_set_applied_voltage(paper000_drive_t *d, mc_t v_a_V, mc_t v_b_V)
 {
     d->v_ext_V.alpha = v_a_V;
     d->v_ext_V.beta = v_b_V;

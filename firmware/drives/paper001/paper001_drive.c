@@ -15,7 +15,7 @@
  *   6. limited by the measured bus, to the phases; the flux observer is
  *      told the voltage that will be held.
  */
-#include "drives/paper001_drive.h"
+#include "drives/paper001/paper001_drive.h"
 
 #include "mc_version.h"
 

@@ -131,7 +131,7 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
 /* One sample; false (0 V out) in FAULT or disabled. */
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out);
 
-/* Commands (comm/can_paper002.h), between steps; false: refused, nothing
+/* Commands (through the drive interface: paper002_ops.c), between steps; false: refused, nothing
  * changed. */
 
 /* The share of the phase voltage the back-EMF of a commanded speed may

@@ -1,4 +1,6 @@
-#include "drives/paper002_drive.h"
+#include "drives/paper002/paper002_drive.h"
+
+#include "control/delay_comp.h"
 
 #include "adapter/phase_adapter.h"
 #include "math/frame_fg.h"
@@ -147,9 +149,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
         flux_observer_hold(&d->flux, u_ab);
         ekf_ipmsm_predict(&d->ekf, u_d, u_q);
     } else {
-        mc_ab_t u_mean;
-        u_mean.alpha = mc_mac(u_ab.alpha, c->compute_delay, mc_sub(d->u_ab_prev_V.alpha, u_ab.alpha));
-        u_mean.beta = mc_mac(u_ab.beta, c->compute_delay, mc_sub(d->u_ab_prev_V.beta, u_ab.beta));
+        const mc_ab_t u_mean = delay_applied_mean(c->compute_delay, u_ab, d->u_ab_prev_V);
         flux_observer_hold(&d->flux, u_mean);
         const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), c->ekf.p);
         mc_t u_d_mean, u_q_mean;

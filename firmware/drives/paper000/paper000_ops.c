@@ -1,0 +1,113 @@
+/*
+ * paper000_ops.c - paper 000's position drive behind the drive interface
+ * (drives/drive.h): its commands, its status in the message set's terms
+ * and its estimate. The control frame of the status is the (f-g) frame of
+ * the reference, eq. (6): I1 = i_f, I2 = i_g measured, the references of
+ * (38)-(39), the observer's currents and back-EMF (28) as voltages.
+ */
+#include "drives/paper000/paper000_drive.h"
+#include "drives/registry.h"
+
+static const char *p000_config_problem(const void *cfg)
+{
+    return paper000_config_problem((const paper000_config_t *)cfg);
+}
+
+static bool p000_init(void *self, const void *cfg)
+{
+    return paper000_drive_init((paper000_drive_t *)self, (const paper000_config_t *)cfg);
+}
+
+static bool p000_step(void *self, const hal_sample_t *in, hal_command_t *out)
+{
+    return paper000_drive_step((paper000_drive_t *)self, in, out);
+}
+
+static drive_refusal_t p000_command(void *self, const drive_cmd_t *cmd)
+{
+    paper000_drive_t *d = (paper000_drive_t *)self;
+    bool ok = false;
+    switch (cmd->kind) {
+    case DRIVE_CMD_ENABLE: ok = paper000_drive_set_enabled(d, cmd->enable); break;
+    case DRIVE_CMD_MOVE: ok = paper000_drive_move(d, cmd->theta_to_rad, cmd->duration_s); break;
+    case DRIVE_CMD_STOP: ok = paper000_drive_stop(d); break;
+    case DRIVE_CMD_SET_OMEGA_LIM: ok = paper000_drive_set_omega_lim(d, cmd->omega_lim_rad_s); break;
+    case DRIVE_CMD_CLEAR_FAULTS:
+        /* only a latched fault is cleared: re-initialising a running drive
+         * would restart it under the rotor */
+        if (d->sup.state != SUP_STATE_FAULT) {
+            return DRIVE_REFUSE_NO_FAULT;
+        }
+        ok = paper000_drive_clear_fault(d);
+        break;
+    default: return DRIVE_REFUSE_UNSUPPORTED; /* CmdSpeed: the speed drives' */
+    }
+    return ok ? DRIVE_REFUSE_NONE : DRIVE_REFUSE_STATE;
+}
+
+static void p000_status(const void *self, drive_status_t *s)
+{
+    const paper000_drive_t *d = (const paper000_drive_t *)self;
+    paper000_telemetry_t x;
+    paper000_drive_get_telemetry(d, &x);
+    s->mode = (uint8_t)x.mode;
+    s->state = (uint8_t)x.state;
+    s->enabled = !d->disabled && x.state != SUP_STATE_FAULT;
+    s->fault_code = (uint8_t)x.fault;
+    s->fault_events = (uint8_t)(x.fault_events & 0xFFu);
+    s->relocks = (uint8_t)((uint32_t)x.relocks & 0xFFu);
+    s->first_fault = (uint8_t)paper000_drive_flight_recorder(d)->fault;
+    s->overruns = (uint16_t)(x.overruns & 0xFFFFu);
+    s->saturated = x.v_saturated;
+    s->theta_ref_rad = x.theta_ref_rad;
+    s->theta_est_rad = x.theta_est_rad;
+    s->omega_ref_rad_s = x.omega_ref_rad_s;
+    s->omega_est_rad_s = x.omega_est_rad_s;
+    s->accel_est_rad_s2 = x.accel_est_rad_s2;
+    s->load_est_Nm = x.load_est_Nm;
+    s->i1_A = x.i_f_A;
+    s->i2_A = x.i_g_A;
+    s->i1_ref_A = x.i_f_ref_A;
+    s->i2_ref_A = x.i_g_ref_A;
+    s->i1_est_A = x.i_f_hat_A;
+    s->i2_est_A = x.i_g_hat_A;
+    s->emf1_V = x.e_f_hat_V;
+    s->emf2_V = x.e_g_hat_V;
+    s->v1_V = x.v_f_V;
+    s->v2_V = x.v_g_V;
+}
+
+/* The estimator's mechanical estimates; valid in closed loop only (in open
+ * loop below omega_lim the back-EMF is unobservable, paper 000 sec. 4.2). */
+static void p000_estimate(const void *self, mc_estimate_t *e)
+{
+    const paper000_drive_t *d = (const paper000_drive_t *)self;
+    paper000_telemetry_t x;
+    paper000_drive_get_telemetry(d, &x);
+    e->theta_rad = x.theta_est_rad;
+    e->omega_rad_s = x.omega_est_rad_s;
+    e->accel_rad_s2 = x.accel_est_rad_s2;
+    e->load_Nm = x.load_est_Nm;
+    e->valid = x.state == SUP_STATE_CLOSED_LOOP;
+}
+
+static const flight_recorder_t *p000_recorder(const void *self)
+{
+    return paper000_drive_flight_recorder((const paper000_drive_t *)self);
+}
+
+const drive_ops_t paper000_drive_ops = {
+    .name = "paper000",
+    .title = "paper 000: sensorless position drive of a two-phase stepper (super-twisting observer, twisting control)",
+    .kind = DRIVE_KIND_POSITION,
+    .can_kind = 0u,
+    .state_bytes = (uint32_t)sizeof(paper000_drive_t),
+    .config_bytes = (uint32_t)sizeof(paper000_config_t),
+    .config_problem = p000_config_problem,
+    .init = p000_init,
+    .step = p000_step,
+    .command = p000_command,
+    .status = p000_status,
+    .estimate = p000_estimate,
+    .recorder = p000_recorder,
+};

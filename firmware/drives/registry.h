@@ -1,0 +1,58 @@
+/*
+ * registry.h - the drives this firmware holds: one line per drive in
+ * DRIVE_REGISTRY (registry.c keeps the table) and one member of
+ * drive_storage_t, nothing else. Programs find a drive here by name
+ * (drive_find) and hold it as a drive_t (drives/drive.h); none names a
+ * drive itself. A build leaves a drive out by its CMake option
+ * (firmware/CMakeLists.txt), never by editing a program.
+ */
+#ifndef DRIVES_REGISTRY_H
+#define DRIVES_REGISTRY_H
+
+#include <stddef.h>
+
+#include "drives/drive.h"
+#include "drives/paper000/paper000_drive.h"
+#include "drives/paper001/paper001_drive.h"
+#include "drives/paper002/paper002_drive.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Each drive's operations (defined in its own folder's *_ops.c). */
+extern const drive_ops_t paper000_drive_ops;
+extern const drive_ops_t paper001_drive_ops;
+extern const drive_ops_t paper002_drive_ops;
+
+/* Static storage for any registered drive: an image holds one of these
+ * and points drive_t.self at it. */
+typedef union {
+    paper000_drive_t paper000;
+    paper001_drive_t paper001;
+    paper002_drive_t paper002;
+} drive_storage_t;
+
+/* Static storage for any registered drive's configuration. */
+typedef union {
+    paper000_config_t paper000;
+    paper001_config_t paper001;
+    paper002_config_t paper002;
+} drive_config_storage_t;
+
+/* The registered drives, in the order of their DBC DriveKind. */
+extern const drive_ops_t *const drive_registry[];
+extern const size_t drive_registry_count;
+
+/* The drive named name ("paper000"), or NULL. */
+const drive_ops_t *drive_find(const char *name);
+
+/* drive_t over storage for ops: false (d untouched) if ops is NULL or its
+ * state does not fit drive_storage_t. */
+bool drive_bind(drive_t *d, const drive_ops_t *ops, drive_storage_t *storage);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DRIVES_REGISTRY_H */
