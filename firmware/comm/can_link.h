@@ -24,10 +24,6 @@ extern "C" {
 #endif
 
 #define CAN_LINK_MSG_SET_VERSION 2u   /* the DBC's MsgSetVersion; VERSION "drive-can 2" (1 + Version) */
-/* The heartbeat's DriveKind (the DBC's VAL_ table). */
-#define CAN_DRIVE_KIND_POSITION_P000 0u
-#define CAN_DRIVE_KIND_SPEED_P001 1u
-#define CAN_DRIVE_KIND_SPEED_P002 2u
 #define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
 
 /* One classic CAN frame: the HAL's (hal/hal_types.h). */

@@ -17,6 +17,10 @@
  *                         the output frame at the middle of the interval
  *                         the voltage acts over (paper 000's (f-g) frame,
  *                         eq. (7) inverse);
+ *   delay_output_lead_s   the time from the sample to the middle of the
+ *                         interval the voltage acts over, (1/2 + d) Ts: the
+ *                         output angle's lead (a rotor-frame drive turns
+ *                         its voltage at the angle of that instant);
  *   delay_predict_fg      the measured currents predicted to t_k + d Ts,
  *                         where the command starts to act, with the model
  *                         L di/dt = v - R i + e (paper 000 eq. (23),
@@ -64,6 +68,14 @@ static inline mc_rot_t delay_rot_fraction(mc_rot_t r, mc_t x, mc_t x2)
     f.s = mc_mul(x, r.s);
     f.c = mc_sub(MC_ONE, mc_mul(x2, mc_sub(MC_ONE, r.c)));
     return f;
+}
+
+/* (1/2 + d) Ts [s]: the middle of [t_k + d Ts, t_k+1 + d Ts) after t_k.
+ * Fixed point: Ts and the result are far inside Q14.17 (3 LSB-level
+ * rounding of 1.5e-4 s is 5e-5 relative). */
+static inline mc_t delay_output_lead_s(mc_t d_samples, mc_t ts_s)
+{
+    return mc_mul(ts_s, mc_add(MC_C(0.5), d_samples));
 }
 
 /* The currents (i_f, i_g) of t_k predicted to t_k + d Ts in the same frame,

@@ -77,10 +77,15 @@ typedef struct {
     uint8_t relocks;         /* RELOCK reactions taken (mod 256) */
     bool enabled, saturated;
     uint16_t overruns;       /* HAL-reported overruns (mod 65536) */
+    bool estimate_valid;     /* the estimate is what the loop runs on (closed loop) */
     mc_t theta_ref_rad, theta_est_rad;
-    mc_t omega_ref_rad_s, omega_est_rad_s, accel_est_rad_s2, load_est_Nm;
+    mc_t omega_ref_rad_s, accel_ref_rad_s2, omega_est_rad_s, accel_est_rad_s2, load_est_Nm;
+    mc_t theta_e_est_rad;    /* the electrical angle the drive runs on, in (-pi, pi] */
     mc_t i1_A, i2_A, i1_ref_A, i2_ref_A, i1_est_A, i2_est_A;
     mc_t emf1_V, emf2_V, v1_V, v2_V;
+    mc_t v_alpha_V, v_beta_V; /* the command in the stator frame */
+    mc_t estimate_quality;   /* the estimator's own consistency figure, 1 when consistent
+                              * (paper 001's flux observer: |rho_hat|^2; 1 where none) */
 } drive_status_t;
 
 /* The operations of one drive. self is the drive's own state struct

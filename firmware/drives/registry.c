@@ -8,6 +8,7 @@ const drive_ops_t *const drive_registry[] = {
     &paper000_drive_ops,
     &paper001_drive_ops,
     &paper002_drive_ops,
+    &sensored_foc_drive_ops,
 };
 const size_t drive_registry_count = sizeof(drive_registry) / sizeof(drive_registry[0]);
 

@@ -1,7 +1,8 @@
 /*
- * registry.h - the drives this firmware holds: one line per drive in
- * DRIVE_REGISTRY (registry.c keeps the table) and one member of
- * drive_storage_t, nothing else. Programs find a drive here by name
+ * registry.h - the drives this firmware holds. A drive is registered by
+ * its header's include here, one member in each storage union below and
+ * its line in drive_registry (registry.c), nothing else; its folder
+ * (drives/<name>/) is compiled by the glob of firmware/CMakeLists.txt. Programs find a drive here by name
  * (drive_find) and hold it as a drive_t (drives/drive.h); none names a
  * drive itself. A build leaves a drive out by its CMake option
  * (firmware/CMakeLists.txt), never by editing a program.
@@ -15,15 +16,11 @@
 #include "drives/paper000/paper000_drive.h"
 #include "drives/paper001/paper001_drive.h"
 #include "drives/paper002/paper002_drive.h"
+#include "drives/sensored_foc/sensored_foc_drive.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* Each drive's operations (defined in its own folder's *_ops.c). */
-extern const drive_ops_t paper000_drive_ops;
-extern const drive_ops_t paper001_drive_ops;
-extern const drive_ops_t paper002_drive_ops;
 
 /* Static storage for any registered drive: an image holds one of these
  * and points drive_t.self at it. */
@@ -31,6 +28,7 @@ typedef union {
     paper000_drive_t paper000;
     paper001_drive_t paper001;
     paper002_drive_t paper002;
+    sensored_foc_drive_t sensored_foc;
 } drive_storage_t;
 
 /* Static storage for any registered drive's configuration. */
@@ -38,9 +36,10 @@ typedef union {
     paper000_config_t paper000;
     paper001_config_t paper001;
     paper002_config_t paper002;
+    sensored_foc_config_t sensored_foc;
 } drive_config_storage_t;
 
-/* The registered drives, in the order of their DBC DriveKind. */
+/* The registered drives, in the order of their DBC DriveKind (tools/can/drive.dbc). */
 extern const drive_ops_t *const drive_registry[];
 extern const size_t drive_registry_count;
 

@@ -16,7 +16,7 @@
  *  - literals through MC_C(x), which folds at compile time in both builds;
  *  - no coefficient smaller than about 1e-3 or larger than about 1e4 at run
  *    time: fold sample time and physical constants into per-sample gains
- *    at design time (firmware/design/), where double is allowed.
+ *    at design time (design/), where double is allowed.
  */
 #ifndef MC_NUM_H
 #define MC_NUM_H

@@ -4,7 +4,7 @@
  * f_v reads them from here (passed as a const pointer to its step), so a
  * parameter measured at run time (the standstill R/L measurement) is
  * changed in one place, by motor_model_set_rl(). Values are the design's
- * (firmware/design/), folded with the sample time where a block needs a
+ * (design/), folded with the sample time where a block needs a
  * per-sample coefficient, so the same struct serves float and fixed point.
  *
  * Model (paper 000 eq. (9), errata signs; per phase of a 2-phase stepper or

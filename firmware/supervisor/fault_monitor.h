@@ -2,7 +2,7 @@
  * fault_monitor.h - the faults every drive detects the same way, from the
  * HAL sample, the command and the backend's status, each with a stated
  * criterion (the thresholds are derived and justified in the drive's design,
- * firmware/design/): over-current (instantaneous, or on N consecutive
+ * design/): over-current (instantaneous, or on N consecutive
  * samples where single samples can carry glitches), I^2 t, voltage saturated
  * too long, non-finite values (float build), current samples stuck or at the
  * ADC rails, converter errors, the hardware trip and control-step overruns.

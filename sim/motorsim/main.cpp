@@ -41,6 +41,7 @@
 #include <CLI/CLI.hpp>
 
 #include "drives/registry.h"
+#include "host_drives/host_drive.h"
 #include "drives/paper000/paper000_drive.h"
 #include "drives/paper001/paper001_drive.h"
 #include "motorsim/commission.h"
@@ -216,6 +217,14 @@ void speed_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* ou
     }
 }
 
+// Any drive of the registry, through the drive interface (drives/drive.h).
+void drive_interface_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
+{
+    if (!drive_step(static_cast<drive_t*>(ctx), in, out)) {
+        hal_safe_state();
+    }
+}
+
 void paper002_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
 {
     if (!paper002_drive_step(static_cast<paper002_drive_t*>(ctx), in, out)) {
@@ -239,7 +248,7 @@ void warn_feasibility(const mcsim::Scenario& sc)
         // the C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0)
         w_pk = std::max(std::fabs(sc.p002.omega_start_rad_s), std::fabs(sc.p002.omega_final_rad_s));
         a_pk = 1.875 * std::fabs(sc.p002.omega_final_rad_s - sc.p002.omega_start_rad_s) / (sc.p002.t1_s - sc.p002.t0_s);
-    } else if (sc.speed_drive) {
+    } else if (!sc.position_drive()) {  // the speed profile of [speed] or of the [drive]'s table
         for (std::size_t k = 0; k < sc.speed_points.size(); ++k) {
             w_pk = std::max(w_pk, std::fabs(sc.speed_points[k].second));
             if (k + 1 < sc.speed_points.size()) {
@@ -381,7 +390,9 @@ int run(const Options& opt)
         sc.theta0_rad = opt.theta0_rad;
     }
     if (!opt.estimator.empty()) {
-        if (sc.paper002_drive) {
+        if (!sc.drive_kind.empty()) {
+            throw std::invalid_argument("--estimator: the " + sc.drive_kind + " drive ([drive] kind) has one estimator");
+        } else if (sc.paper002_drive) {
             if (opt.estimator == "back_emf") {
                 throw std::invalid_argument("--estimator: back_emf: paper 002's drive takes encoder or flux");
             }
@@ -470,7 +481,7 @@ int run(const Options& opt)
     // t = 0 (sc.pre_ticks), which the rig's start time and the run's length
     // take from it.
     std::unique_ptr<paper000_drive_t> drive;
-    if (!sc.speed_drive && !sc.paper002_drive) {
+    if (sc.position_drive()) {
         drive = std::make_unique<paper000_drive_t>();
         mcsim::design_and_init_drive(sc, drive.get());  // sets sc.pre_ticks
         if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
@@ -520,7 +531,32 @@ int run(const Options& opt)
     std::unique_ptr<paper002_drive_t> p002_drive;
     std::unique_ptr<mcsim::Paper002Recorder> p002_rec;
     const mcsim::Reference ref(sc.segments, 0.0);
-    if (sc.paper002_drive) {
+    // [drive] kind: a drive of the registry, designed by its host part
+    // (sim/host_drives/) and run through the drive interface
+    std::unique_ptr<drive_storage_t> any_storage;
+    drive_t any_drive{};
+    if (!sc.drive_kind.empty()) {
+        const mcsim::HostDrive* host = mcsim::host_drive_find(sc.drive_kind);
+        const drive_ops_t* ops = drive_find(sc.drive_kind.c_str());
+        any_storage = std::make_unique<drive_storage_t>();
+        auto cfg = std::make_unique<drive_config_storage_t>();
+        try {
+            if (host == nullptr || !drive_bind(&any_drive, ops, any_storage.get())) {
+                throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" is not in this build");
+            }
+            host->design(sc, cfg.get());
+            if (!drive_init(&any_drive, cfg.get())) {
+                const char* why = (ops->config_problem != nullptr) ? ops->config_problem(cfg.get()) : nullptr;
+                throw mcsim::ScenarioError(sc.path + ": design: " + sc.drive_kind + ": the drive refused its configuration" +
+                                           (why != nullptr ? std::string(": ") + why : std::string()));
+            }
+        } catch (...) {
+            hal_sw_plant_detach();
+            throw;
+        }
+        speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, any_drive, /*record_rows=*/write_csv);
+        hal_sw_plant_set_monitor(&mcsim::SpeedRecorder::monitor, speed_rec.get());
+    } else if (sc.paper002_drive) {
         p002_drive = std::make_unique<paper002_drive_t>();
         try {
             mcsim::design_and_init_paper002_drive(sc, p002_drive.get());
@@ -534,7 +570,8 @@ int run(const Options& opt)
         speed_drive = std::make_unique<paper001_drive_t>();
         p001_design_report_t rep{};
         mcsim::design_and_init_speed_drive(sc, speed_drive.get(), &rep);
-        speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, *speed_drive, /*record_rows=*/write_csv);
+        speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, drive_t{&paper001_drive_ops, speed_drive.get()},
+                                                            /*record_rows=*/write_csv);
         hal_sw_plant_set_monitor(&mcsim::SpeedRecorder::monitor, speed_rec.get());
     } else {
         rec = std::make_unique<mcsim::Recorder>(sc, plant, *drive, ref, /*record_rows=*/write_csv);
@@ -550,7 +587,8 @@ int run(const Options& opt)
     bool started = false;
     if (can) {
         can_ctx = std::make_unique<mcsim::CanDriveContext>();
-        can_ctx->drive = sc.paper002_drive ? drive_t{&paper002_drive_ops, p002_drive.get()}
+        can_ctx->drive = !sc.drive_kind.empty() ? any_drive
+                         : sc.paper002_drive ? drive_t{&paper002_drive_ops, p002_drive.get()}
                          : sc.speed_drive  ? drive_t{&paper001_drive_ops, speed_drive.get()}
                                            : drive_t{&paper000_drive_ops, drive.get()};
         can_ctx->ts_s = sc.ts_s;
@@ -564,6 +602,8 @@ int run(const Options& opt)
         }  // paper 002's recorder always scores against the drive's w_d
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
+    } else if (!sc.drive_kind.empty()) {
+        started = hal_start(&drive_interface_callback, &any_drive);
     } else if (sc.paper002_drive) {
         started = hal_start(&paper002_control_callback, p002_drive.get());
     } else if (sc.speed_drive) {
@@ -579,7 +619,7 @@ int run(const Options& opt)
     // [expect] names must be metrics of this drive: checked before the run
     {
         const mcsim::MetricList names =
-            p002_rec ? p002_rec->metrics(0.0) : (sc.speed_drive ? speed_rec->metrics(0.0) : rec->metrics(0.0));
+            p002_rec ? p002_rec->metrics(0.0) : (speed_rec ? speed_rec->metrics(0.0) : rec->metrics(0.0));
         for (const mcsim::Expectation& e : sc.expect) {
             bool known = false;
             std::string all;
@@ -589,17 +629,18 @@ int run(const Options& opt)
             }
             if (!known) {
                 throw mcsim::ScenarioError(sc.path + ": expect." + e.metric + ": not a metric of the " +
-                                           (p002_rec ? "paper-002" : (sc.speed_drive ? "speed" : "position")) +
+                                           (p002_rec ? "paper-002" : (!sc.drive_kind.empty() ? sc.drive_kind.c_str() : (sc.speed_drive ? "speed" : "position"))) +
                                            " drive (its metrics: " + all +
                                            ")");
             }
         }
     }
-    const mcsim::RunWatch& watch = p002_rec ? p002_rec->watch() : (sc.speed_drive ? speed_rec->watch() : rec->watch());
+    const mcsim::RunWatch& watch = p002_rec ? p002_rec->watch() : (speed_rec ? speed_rec->watch() : rec->watch());
     if (can && !opt.quiet) {
         std::fprintf(stderr, "motorsim: on CAN %s as node %u (%s), %s\n", can->iface().c_str(), opt.can_node,
-                     sc.paper002_drive ? "paper-002 speed drive"
-                                       : (sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive"),
+                     !sc.drive_kind.empty() ? sc.drive_kind.c_str()
+                     : sc.paper002_drive    ? "paper-002 speed drive"
+                                            : (sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive"),
                      opt.realtime ? "in real time" : "as fast as it runs");
     }
     const double wall_s = run_loop(sc.n_ticks(), opt.quiet, watch, opt.realtime, sc.ts_s);
@@ -607,7 +648,7 @@ int run(const Options& opt)
     hal_safe_state();
     hal_sw_plant_detach();
     mcsim::MetricList metrics =
-        p002_rec ? p002_rec->metrics(wall_s) : (sc.speed_drive ? speed_rec->metrics(wall_s) : rec->metrics(wall_s));
+        p002_rec ? p002_rec->metrics(wall_s) : (speed_rec ? speed_rec->metrics(wall_s) : rec->metrics(wall_s));
     if (board) {
         // the calibration against the emulated sensors' true offsets, and
         // the A/D converter's step
@@ -647,7 +688,7 @@ int run(const Options& opt)
         if (p002_rec) {
             mcsim::write_table_csv_atomic(csv_path, mcsim::kPaper002ColumnNames, mcsim::kP2NumColumns,
                                           p002_rec->data(), p002_rec->size());
-        } else if (sc.speed_drive) {
+        } else if (speed_rec) {
             mcsim::write_table_csv_atomic(csv_path, mcsim::kSpeedColumnNames, mcsim::kSpNumColumns, speed_rec->data(),
                                           speed_rec->size());
         } else {

@@ -30,7 +30,7 @@ const char* const kSpeedColumnNames[kSpNumColumns] = {
     "i_c_A",      "i_d_A",       "i_q_A",        "i_q_ref_A",   "v_alpha_V",    "v_beta_V",
     "v_a_V",      "v_b_V",       "v_c_V",        "rho2",        "estimate_valid", "fault"};
 
-SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const paper001_drive_t& drive,
+SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive,
                              bool record_rows)
     : sc_(sc), plant_(plant), drive_(drive), n_max_(sc.n_ticks()), watch_(sc)
 {
@@ -75,8 +75,8 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
     if (n_ >= n_max_) {
         return;
     }
-    paper001_telemetry_t tm;
-    paper001_drive_get_telemetry(&drive_, &tm);
+    drive_status_t tm;
+    drive_status(&drive_, &tm);
     const double t = p.t_s;
     double slope = 0.0;
     double w_ref = omega_ref(t, &slope);
@@ -87,7 +87,7 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
     const double w = plant_.omega_rad_s();
     const double err_rpm = std::fabs(w - w_ref) * kRadSToRpm;
     const double th_e = wrap_pi(static_cast<double>(plant_.motor().n_p) * plant_.theta_rad());
-    const double th_e_est = to_double(tm.theta_e_rad);
+    const double th_e_est = to_double(tm.theta_e_est_rad);
     const double th_err = wrap_pi(th_e_est - th_e);
     const double load = plant_.load_torque_Nm() + plant_.motor().fv_Nms_per_rad * w;
     const double load_est = to_double(tm.load_est_Nm);
@@ -148,10 +148,10 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
             first_closed_t_ = t;
         }
     }
-    if (tm.fault != DRIVE_FAULT_NONE) {
-        fault_ = static_cast<std::int64_t>(tm.fault);
+    if (tm.fault_code != DRIVE_FAULT_NONE) {
+        fault_ = static_cast<std::int64_t>(tm.fault_code);
     }
-    watch_.on_period(p, static_cast<std::int64_t>(tm.fault), plant_);
+    watch_.on_period(p, static_cast<std::int64_t>(tm.fault_code), plant_);
     if (!rows_.empty()) {
         double* r = &rows_[static_cast<std::size_t>(n_) * kSpNumColumns];
         r[kSpT] = t;
@@ -167,17 +167,17 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
         r[kSpIa] = i_ph[0];
         r[kSpIb] = i_ph[1];
         r[kSpIc] = i_ph[2];
-        r[kSpId] = to_double(tm.i_d_A);
-        r[kSpIq] = to_double(tm.i_q_A);
-        r[kSpIqRef] = to_double(tm.i_q_ref_A);
+        r[kSpId] = to_double(tm.i1_A);
+        r[kSpIq] = to_double(tm.i2_A);
+        r[kSpIqRef] = to_double(tm.i2_ref_A);
         r[kSpValpha] = to_double(tm.v_alpha_V);
         r[kSpVbeta] = to_double(tm.v_beta_V);
         r[kSpVa] = p.v_a_V;
         r[kSpVb] = p.v_b_V;
         r[kSpVc] = p.v_c_V;
-        r[kSpRho2] = to_double(tm.rho2);
+        r[kSpRho2] = to_double(tm.estimate_quality);
         r[kSpValid] = valid ? 1.0 : 0.0;
-        r[kSpFault] = static_cast<double>(tm.fault);
+        r[kSpFault] = static_cast<double>(tm.fault_code);
     }
     n_ += 1;
 }
@@ -202,10 +202,16 @@ MetricList SpeedRecorder::metrics(double wall_loop_s) const
     m.emplace_back("i_max_A", sc_.i_max_A);
     m.emplace_back("final_omega_rad_s", plant_.omega_rad_s());
     m.emplace_back("fault", fault_);
-    const flight_recorder_t* fr = paper001_flight_recorder(&drive_);
-    m.emplace_back("fault_first", static_cast<std::int64_t>(fr->fault));
-    m.emplace_back("fault_first_t_s", fr->frozen ? static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);
-    m.emplace_back("fault_events", static_cast<std::int64_t>(fr->events));
+    const flight_recorder_t* fr = drive_recorder(&drive_);
+    if (fr != nullptr) {
+        m.emplace_back("fault_first", static_cast<std::int64_t>(fr->fault));
+        m.emplace_back("fault_first_t_s", fr->frozen ? static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);
+        m.emplace_back("fault_events", static_cast<std::int64_t>(fr->events));
+    } else {  // a drive without a flight recorder: its latched fault only
+        m.emplace_back("fault_first", fault_);
+        m.emplace_back("fault_first_t_s", -1.0);
+        m.emplace_back("fault_events", static_cast<std::int64_t>(fault_ != 0 ? 1 : 0));
+    }
     m.emplace_back("relocks", static_cast<std::int64_t>(0));  // the speed drive has no re-lock
     m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
     m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));

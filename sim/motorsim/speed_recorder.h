@@ -1,6 +1,8 @@
 // speed_recorder.h - per-sample log and metrics of a speed-drive run
 // (paper 001's benchmark, section 5.1): the true plant against the drive's
-// reference and estimates, one preallocated row per period.
+// reference and estimates, one preallocated row per period. Any speed
+// drive: it reads the drive through its operations (drives/drive.h:
+// status and flight recorder).
 //
 // Metrics (keys checked by tests/sim and by checks outside them):
 //   speed_err_settled_max_rpm   max |w - w*| where w* is constant, from 0.5 s
@@ -25,7 +27,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "drives/paper001/paper001_drive.h"
+#include "drives/drive.h"
 #include "hal_sw_plant.h"
 #include "model/pm_plant.h"
 #include "motorsim/run_watch.h"
@@ -65,7 +67,7 @@ extern const char* const kSpeedColumnNames[kSpNumColumns];
 
 class SpeedRecorder {
 public:
-    SpeedRecorder(const Scenario& sc, const PmPlant& plant, const paper001_drive_t& drive, bool record_rows);
+    SpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, bool record_rows);
     static void monitor(void* ctx, const hal_sw_plant_period_t* p);
     const double* data() const { return rows_.data(); }
     std::size_t size() const { return rows_.empty() ? 0 : static_cast<std::size_t>(n_); }
@@ -86,7 +88,7 @@ private:
 
     const Scenario& sc_;
     const PmPlant& plant_;
-    const paper001_drive_t& drive_;
+    const drive_t drive_;
     std::vector<double> events_;  // reference corners and load changes, sorted
     std::uint64_t n_max_;
     std::vector<double> rows_;

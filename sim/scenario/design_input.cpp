@@ -89,7 +89,6 @@ const std::vector<std::string>& design_bound_keys()
     return k;
 }
 
-namespace {
 // The ADC's rail for the fault monitor: its largest code is full scale
 // minus one LSB; 1.5 LSB below full scale catches it without catching the
 // code below. 0 (no check) without an ADC.
@@ -101,7 +100,6 @@ double adc_rail_A(const SensorParams& p)
     const double lsb = 2.0 * p.adc_full_scale_A / std::ldexp(1.0, p.adc_bits);
     return p.adc_full_scale_A - 1.5 * lsb;
 }
-}  // namespace
 
 void make_design_input(const Scenario& sc, drive_design_input_t* in)
 {

@@ -1,5 +1,5 @@
 // design_input.h - maps a scenario onto drive_design_input_t
-// (firmware/design/drive_design.h), the one place that knows the design
+// (design/drive_design.h), the one place that knows the design
 // field names the [gains] and [bounds] tables may override.
 #ifndef MCSIM_SCENARIO_DESIGN_INPUT_H
 #define MCSIM_SCENARIO_DESIGN_INPUT_H
@@ -15,6 +15,9 @@
 namespace mcsim {
 
 // Keys accepted in [gains]: the fields of drive_gain_override_t.
+// The current at the ADC's rail for the fault monitor (0: no ADC, no check).
+double adc_rail_A(const SensorParams& p);
+
 const std::vector<std::string>& gain_override_keys();
 // Keys accepted in [bounds]: the bound_* fields of drive_design_input_t.
 const std::vector<std::string>& design_bound_keys();

@@ -14,272 +14,14 @@
 #include "design/drive_design.h"
 #include "trajectory/speed_profile.h"
 #include "scenario/design_input.h"
+#include "scenario/toml_view.h"
+#include "host_drives/host_drive.h"
 
 namespace mcsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string fmt_num(double v)
-{
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%.6g", v);
-    return buf;
-}
-
-const char* type_name(const toml::node& n)
-{
-    switch (n.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::date:
-    case toml::node_type::time:
-    case toml::node_type::date_time: return "a date/time";
-    default: return "nothing";
-    }
-}
-
-[[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& why)
-{
-    throw ScenarioError(file + ": " + key + ": " + why);
-}
-
-// A view of one TOML table that knows its file and its dotted key prefix,
-// so every error can name both.
-class View {
-public:
-    View(const toml::table& t, std::string file, std::string prefix)
-        : t_(t), file_(std::move(file)), prefix_(std::move(prefix))
-    {
-    }
-
-    std::string key(const std::string& k) const { return prefix_.empty() ? k : prefix_ + "." + k; }
-    const std::string& file() const { return file_; }
-    [[noreturn]] void fail(const std::string& k, const std::string& why) const { mcsim::fail(file_, key(k), why); }
-
-    // Unknown keys first: a typo then reads "unknown key", not "missing".
-    void only(const std::vector<std::string>& allowed) const
-    {
-        for (auto&& kv : t_) {
-            const std::string k(kv.first.str());
-            if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
-                fail(k, "unknown key");
-            }
-        }
-    }
-
-    bool has(const std::string& k) const { return t_.contains(k); }
-    const toml::table& raw() const { return t_; }
-
-    std::vector<std::string> keys() const
-    {
-        std::vector<std::string> ks;
-        for (auto&& kv : t_) {
-            ks.emplace_back(kv.first.str());
-        }
-        return ks;
-    }
-
-    std::optional<double> number(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        double v = 0.0;
-        if (n->is_floating_point()) {
-            v = n->as_floating_point()->get();
-        } else if (n->is_integer()) {
-            v = static_cast<double>(n->as_integer()->get());
-        } else {
-            fail(k, std::string("expected a number (got ") + type_name(*n) + ")");
-        }
-        if (!std::isfinite(v)) {
-            fail(k, "must be finite (got " + fmt_num(v) + ")");
-        }
-        return v;
-    }
-
-    double number_req(const std::string& k) const
-    {
-        const auto v = number(k);
-        if (!v) {
-            fail(k, "missing required field");
-        }
-        return *v;
-    }
-
-    std::optional<std::int64_t> integer(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        if (!n->is_integer()) {
-            fail(k, std::string("expected an integer (got ") + type_name(*n) + ")");
-        }
-        return n->as_integer()->get();
-    }
-
-    std::optional<bool> boolean(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        if (!n->is_boolean()) {
-            fail(k, std::string("expected true or false (got ") + type_name(*n) + ")");
-        }
-        return n->as_boolean()->get();
-    }
-
-    std::optional<std::string> string(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        if (!n->is_string()) {
-            fail(k, std::string("expected a string (got ") + type_name(*n) + ")");
-        }
-        return n->as_string()->get();
-    }
-
-    std::optional<View> table(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        if (!n->is_table()) {
-            fail(k, std::string("expected a table (got ") + type_name(*n) + ")");
-        }
-        return View(*n->as_table(), file_, key(k));
-    }
-
-    // An array whose elements must all be tables (inline or [[...]]).
-    std::optional<std::vector<View>> tables(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        if (!n->is_array()) {
-            fail(k, std::string("expected an array of tables (got ") + type_name(*n) + ")");
-        }
-        std::vector<View> out;
-        const toml::array& a = *n->as_array();
-        for (std::size_t i = 0; i < a.size(); ++i) {
-            const std::string ki = key(k) + "[" + std::to_string(i) + "]";
-            if (!a[i].is_table()) {
-                mcsim::fail(file_, ki, std::string("expected a table (got ") + type_name(a[i]) + ")");
-            }
-            out.emplace_back(*a[i].as_table(), file_, ki);
-        }
-        return out;
-    }
-
-    // An array of exactly n finite numbers, each checked by ok (its
-    // index named on failure: "key[i]: why (got x)").
-    std::optional<std::vector<double>> numbers(const std::string& k, std::size_t n, bool (*ok)(double),
-                                               const std::string& why) const
-    {
-        const toml::node* node = t_.get(k);
-        if (node == nullptr) {
-            return std::nullopt;
-        }
-        const toml::array* a = node->as_array();
-        if (a == nullptr || a->size() != n) {
-            fail(k, "expected an array of " + std::to_string(n) + " numbers (got " +
-                        (a == nullptr ? std::string(type_name(*node)) : std::to_string(a->size()) + " entries") + ")");
-        }
-        std::vector<double> out;
-        for (std::size_t i = 0; i < n; ++i) {
-            const toml::node& x = (*a)[i];
-            const std::string ki = key(k) + "[" + std::to_string(i) + "]";
-            if (!x.is_number()) {
-                mcsim::fail(file_, ki, std::string("expected a number (got ") + type_name(x) + ")");
-            }
-            const double v = x.is_floating_point() ? x.as_floating_point()->get() : static_cast<double>(x.as_integer()->get());
-            if (!std::isfinite(v) || !ok(v)) {
-                mcsim::fail(file_, ki, why + " (got " + fmt_num(v) + ")");
-            }
-            out.push_back(v);
-        }
-        return out;
-    }
-
-    // An array of [a, b] number pairs (e.g. [[0.0, 0.0], [1.0, 50.0]]).
-    std::optional<std::vector<std::pair<double, double>>> pairs(const std::string& k) const
-    {
-        const toml::node* n = t_.get(k);
-        if (n == nullptr) {
-            return std::nullopt;
-        }
-        if (!n->is_array()) {
-            fail(k, std::string("expected an array of [number, number] pairs (got ") + type_name(*n) + ")");
-        }
-        std::vector<std::pair<double, double>> out;
-        const toml::array& a = *n->as_array();
-        for (std::size_t i = 0; i < a.size(); ++i) {
-            const std::string ki = key(k) + "[" + std::to_string(i) + "]";
-            const toml::array* e = a[i].as_array();
-            if (e == nullptr || e->size() != 2) {
-                mcsim::fail(file_, ki, "expected a pair [number, number]");
-            }
-            double xy[2] = {0.0, 0.0};
-            for (std::size_t j = 0; j < 2; ++j) {
-                const toml::node& x = (*e)[j];
-                if (x.is_floating_point()) {
-                    xy[j] = x.as_floating_point()->get();
-                } else if (x.is_integer()) {
-                    xy[j] = static_cast<double>(x.as_integer()->get());
-                } else {
-                    mcsim::fail(file_, ki, std::string("expected numbers (got ") + type_name(x) + ")");
-                }
-                if (!std::isfinite(xy[j])) {
-                    mcsim::fail(file_, ki, "must be finite (got " + fmt_num(xy[j]) + ")");
-                }
-            }
-            out.emplace_back(xy[0], xy[1]);
-        }
-        return out;
-    }
-
-private:
-    const toml::table& t_;
-    std::string file_;
-    std::string prefix_;
-};
-
-// --- value checks: each names the key and shows the offending value -------
-void gt(const View& v, const std::string& k, double x, double lo)
-{
-    if (!(x > lo)) {
-        v.fail(k, "must be > " + fmt_num(lo) + " (got " + fmt_num(x) + ")");
-    }
-}
-void ge(const View& v, const std::string& k, double x, double lo)
-{
-    if (!(x >= lo)) {
-        v.fail(k, "must be >= " + fmt_num(lo) + " (got " + fmt_num(x) + ")");
-    }
-}
-void le(const View& v, const std::string& k, double x, double hi)
-{
-    if (!(x <= hi)) {
-        v.fail(k, "must be <= " + fmt_num(hi) + " (got " + fmt_num(x) + ")");
-    }
-}
-
-// Largest scenario or motor file read (the shipped ones are 1-3 KB).
-constexpr std::size_t kMaxFileBytes = 1u << 20;
-
-// "U+03A9" for a valid UTF-8 sequence at s[i], else "byte 0xNN".
 std::string describe_non_ascii(const std::string& s, std::size_t i)
 {
     const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
@@ -769,6 +511,29 @@ void read_board(const View& root, Scenario* sc)
     }
 }
 
+void read_speed_profile(const View& v, Scenario* sc)
+{
+    const auto pts = v.pairs("profile_rpm");
+    if (!pts || pts->empty()) {
+        v.fail("profile_rpm", "missing required field (corners [[t_s, rpm], ...], the first at t = 0)");
+    }
+    if (pts->size() > static_cast<std::size_t>(SPEED_PROFILE_MAX_POINTS)) {
+        v.fail("profile_rpm", "at most " + std::to_string(SPEED_PROFILE_MAX_POINTS) + " corners (got " +
+                                  std::to_string(pts->size()) + ")");
+    }
+    for (std::size_t i = 0; i < pts->size(); ++i) {
+        const double t = (*pts)[i].first;
+        if (i == 0 && t != 0.0) {
+            v.fail("profile_rpm", "the first corner must be at t = 0 (got " + fmt_num(t) + ")");
+        }
+        if (i > 0 && !(t - (*pts)[i - 1].first >= sc->ts_s)) {
+            v.fail("profile_rpm", "corner times must increase by at least Ts_s (corner " + std::to_string(i) +
+                                      " at " + fmt_num(t) + " s)");
+        }
+        sc->speed_points.emplace_back(t, (*pts)[i].second * kRpmToRadS);
+    }
+}
+
 Scenario load_scenario(const std::string& path)
 {
     Scenario sc;
@@ -781,8 +546,12 @@ Scenario load_scenario(const std::string& path)
     }
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
-    root.only({"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder", "paper002"});
+    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
+               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder", "paper002", "drive"};
+    for (const HostDrive* d : host_drives()) {
+        top.emplace_back(d->name);  // each registered drive's own table
+    }
+    root.only(top);
     // [speed] makes it the speed drive (paper 001), [paper002] paper 002's
     // speed drive; else the position drive of paper 000 with its
     // [trajectory].
@@ -792,6 +561,34 @@ Scenario load_scenario(const std::string& path)
         root.fail(sc.paper002_drive ? "paper002" : "speed",
                   "a scenario has one of [trajectory] (position drive), [speed] (paper-001 speed drive) or "
                   "[paper002] (paper-002 speed drive)");
+    }
+    // [drive] kind: a drive of the host registry (sim/host_drives/), its table
+    // [<kind>] parsed by its host part below
+    const HostDrive* host = nullptr;
+    if (const auto v = root.table("drive")) {
+        v->only({"kind"});
+        const auto k = v->string("kind");
+        if (!k) {
+            v->fail("kind", "missing required field");
+        }
+        host = host_drive_find(*k);
+        if (host == nullptr) {
+            std::string known;
+            for (const HostDrive* d : host_drives()) {
+                known += (known.empty() ? "" : ", ") + std::string("\"") + d->name + "\"";
+            }
+            v->fail("kind", "\"" + *k + "\" is not a drive of the registry (known: " + known +
+                                "; papers 000, 001 and 002 are chosen by [trajectory], [speed] and [paper002])");
+        }
+        if (sc.speed_drive || sc.paper002_drive || root.has("trajectory")) {
+            v->fail("kind", "a scenario with [drive] kind has no [trajectory], [speed] or [paper002]");
+        }
+        sc.drive_kind = *k;
+    }
+    for (const HostDrive* d : host_drives()) {
+        if (root.has(d->name) && sc.drive_kind != d->name) {
+            root.fail(d->name, std::string("only with [drive] kind = \"") + d->name + "\"");
+        }
     }
     sc.description = root.string("description").value_or("");
 
@@ -952,7 +749,7 @@ Scenario load_scenario(const std::string& path)
             }
             sc.i_trip_samples = static_cast<int>(*n);
         }
-        if ((!sc.speed_drive && !sc.paper002_drive) || v.has("omega_lim_rad_s")) {
+        if (sc.position_drive() || v.has("omega_lim_rad_s")) {
             sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
             gt(v, "omega_lim_rad_s", sc.omega_lim_rad_s, 0.0);
         }
@@ -991,7 +788,7 @@ Scenario load_scenario(const std::string& path)
             if (*g == "twisting") {
                 sc.control_law = 0;
             } else if (*g == "load_angle") {
-                if (sc.speed_drive || sc.paper002_drive) {
+                if (!sc.position_drive()) {
                     v->fail("control_law", "\"load_angle\" is the position drive's law ([trajectory]); the speed "
                                            "drives have their own");
                 }
@@ -1007,7 +804,7 @@ Scenario load_scenario(const std::string& path)
         v->only({"loss_of_sync"});
         if (const auto r = v->string("loss_of_sync")) {
             if (*r == "relock") {
-                if (sc.speed_drive || sc.paper002_drive) {
+                if (!sc.position_drive()) {
                     v->fail("loss_of_sync", "\"relock\" needs the position drive ([trajectory]); the speed drives "
                                             "have no re-lock");
                 }
@@ -1196,25 +993,7 @@ Scenario load_scenario(const std::string& path)
     if (const auto v = root.table("speed")) {
         v->only({"profile_rpm", "gamma", "a1", "a2", "r_ohm", "handover_sweep_rad", "fit_det_min",
                  "blend_tau_s", "probe_s", "identify", "estimator"});
-        const auto pts = v->pairs("profile_rpm");
-        if (!pts || pts->empty()) {
-            v->fail("profile_rpm", "missing required field (corners [[t_s, rpm], ...], the first at t = 0)");
-        }
-        if (pts->size() > static_cast<std::size_t>(SPEED_PROFILE_MAX_POINTS)) {
-            v->fail("profile_rpm", "at most " + std::to_string(SPEED_PROFILE_MAX_POINTS) + " corners (got " +
-                                       std::to_string(pts->size()) + ")");
-        }
-        for (std::size_t i = 0; i < pts->size(); ++i) {
-            const double t = (*pts)[i].first;
-            if (i == 0 && t != 0.0) {
-                v->fail("profile_rpm", "the first corner must be at t = 0 (got " + fmt_num(t) + ")");
-            }
-            if (i > 0 && !(t - (*pts)[i - 1].first >= sc.ts_s)) {
-                v->fail("profile_rpm", "corner times must increase by at least Ts_s (corner " + std::to_string(i) +
-                                           " at " + fmt_num(t) + " s)");
-            }
-            sc.speed_points.emplace_back(t, (*pts)[i].second * kRpmToRadS);
-        }
+        read_speed_profile(*v, &sc);
         auto opt = [&](const char* k, double* dst) {
             if (const auto x = v->number(k)) {
                 gt(*v, k, *x, 0.0);
@@ -1330,7 +1109,7 @@ Scenario load_scenario(const std::string& path)
     }
 
     // [trajectory]: [[trajectory.segments]]
-    if (!sc.speed_drive && !sc.paper002_drive) {
+    if (sc.position_drive()) {
         const View v = required_table("trajectory");
         v.only({"segments"});
         const auto segs = v.tables("segments");
@@ -1387,6 +1166,13 @@ Scenario load_scenario(const std::string& path)
         sc.encoder.noise_rad = v->number("noise_rad").value_or(0.0);
         ge(*v, "noise_rad", sc.encoder.noise_rad, 0.0);
     }
+
+    // the [drive] kind's own table (after every shared table it may read)
+    if (host != nullptr) {
+        const auto t = root.table(host->name);
+        host->parse(t ? &*t : nullptr, &sc);
+    }
+
     return sc;
 }
 

@@ -145,6 +145,14 @@ struct Scenario {
         double ekf_r[3] = {0, 0, 0};        // its R diagonal (all 0: the design's)
     } p002;
 
+    // [drive] kind: a drive of the host registry (sim/host_drives/host_drive.h),
+    // run through the drive interface; its own table [<kind>] is parsed by
+    // its host part into speed_points and drive_params. Empty: the drive is
+    // chosen by [trajectory] (paper 000), [speed] (paper 001) or [paper002].
+    std::string drive_kind;
+    std::vector<std::pair<std::string, double>> drive_params;  // (key, value) of [<kind>], in file order
+    bool position_drive() const { return !speed_drive && !paper002_drive && drive_kind.empty(); }
+
     std::vector<Expectation> expect;  // [expect], in file order
 
     SensorParams sensor;

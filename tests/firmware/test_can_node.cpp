@@ -13,6 +13,7 @@
 
 #include "comm/can_node.h"
 #include "comm/can_node.h"
+#include "comm/generated/drive_can.h"
 #include "drives/registry.h"
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
@@ -218,7 +219,7 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
     can_telemetry_t t{};
     telemetry_via<&paper000_drive_ops>(&d, M(30.0), M(5.0), &t);
     EXPECT_NEAR(D(t.theta_ref_rad), 0.2, 1e-4);
-    EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_POSITION_P000);
+    EXPECT_EQ(t.drive_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER000_POSITION_CHOICE);
     EXPECT_TRUE(t.enabled);
     // SetOmegaLim: 2.9 refused (below the design), 3.0 taken
     EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
@@ -625,7 +626,7 @@ TEST(CanNode, SpeedDriveCommands)
     EXPECT_NEAR(D(p.accel_rad_s2), 0.0, 1e-3) << "stop from rest: no ramp";
     can_telemetry_t t{};
     telemetry_via<&paper001_drive_ops>(&d, M(48.0), M(3.0), &t);
-    EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P001);
+    EXPECT_EQ(t.drive_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER001_SPEED_CHOICE);
 }
 
 #if !MC_FIXED
@@ -698,7 +699,7 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_NEAR(D(w), 0.0, 1e-3) << "stop from rest: nothing to ramp";
     can_telemetry_t t{};
     telemetry_via<&paper002_drive_ops>(&d, M(48.0), M(3.0), &t);
-    EXPECT_EQ(t.drive_kind, CAN_DRIVE_KIND_SPEED_P002);
+    EXPECT_EQ(t.drive_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE);
     EXPECT_TRUE(t.enabled);
     EXPECT_EQ(t.mode, 1u);
     EXPECT_EQ(t.fault_events, 0u);
@@ -773,9 +774,10 @@ TEST(DriveInterface, RegistryFindsEachDriveByItsExactName)
         }
     }
     // the DBC's DriveKind of each (comm/can_link.h mirrors tools/can/drive.dbc)
-    EXPECT_EQ(drive_find("paper000")->can_kind, CAN_DRIVE_KIND_POSITION_P000);
-    EXPECT_EQ(drive_find("paper001")->can_kind, CAN_DRIVE_KIND_SPEED_P001);
-    EXPECT_EQ(drive_find("paper002")->can_kind, CAN_DRIVE_KIND_SPEED_P002);
+    EXPECT_EQ(drive_find("paper000")->can_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER000_POSITION_CHOICE);
+    EXPECT_EQ(drive_find("paper001")->can_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER001_SPEED_CHOICE);
+    EXPECT_EQ(drive_find("paper002")->can_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE);
+    EXPECT_EQ(drive_find("sensored_foc")->can_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_SENSORED_FOC_CHOICE);
     EXPECT_EQ(drive_find("paper0"), nullptr);     // a prefix is not a name
     EXPECT_EQ(drive_find("paper0000"), nullptr);  // nor a longer one
     EXPECT_EQ(drive_find(""), nullptr);

@@ -366,6 +366,53 @@ def paper002_case(args, db):
     return log
 
 
+def sensored_case(args, db):
+    """The fourth drive (issue 27) on the shipped scenario itself:
+    motorsim --scenario sim/scenarios/sensored_benchmark.toml --can IFACE."""
+    sent_bad = []
+
+    def commander(d):
+        if not d.wait_for(lambda s: s["Heartbeat"]["Mode"] == 1 and s["Velocity"]["OmegaRef"] > 5.2, 60,
+                          "the profile at 50 rpm"):
+            return
+        d.send("CmdSetOmegaLim", OmegaLim=3.0)  # a sensorless drive's: refused (mode)
+        sent_bad.append("CmdSetOmegaLim to the sensored drive (mode)")
+        d.send("CmdSpeed", OmegaRef=10.0, Ramp=20.0)
+        if not d.wait_for(lambda s: abs(s["Velocity"]["OmegaRef"] - 10.0) < 0.01, 10, "the new reference 10 rad/s"):
+            return
+        if not d.wait_sim(0.6):
+            return
+        d.send("CmdStop", Reserved=0)
+
+    metrics, cols, rows, frames, stderr, log = run_case(
+        args, db, "sensored", os.path.join(ROOT, "sim", "scenarios", "sensored_benchmark.toml"), commander)
+    mapping = {
+        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
+                     ("LoadEst", "load_est_Nm", 1e-4)],
+        "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
+        "Heartbeat": [("Mode", "mode", 1.0)],
+    }
+    compare(frames, cols, rows, mapping, "sensored")
+    hb = frames["Heartbeat"]
+    check(bool(hb) and all(h["DriveKind"] == 3 for h in hb), "sensored: heartbeats carry DriveKind 3")
+    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
+          f"sensored: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
+    check(metrics.get("can_commands_accepted") == 2, f"sensored: {metrics.get('can_commands_accepted')} commands "
+          "carried out (CmdSpeed, CmdStop)")
+    w_ref = [r[cols["omega_ref_rad_s"]] for r in rows]
+    w = [r[cols["omega_rad_s"]] for r in rows]
+    k10 = [k for k, x in enumerate(w_ref) if abs(x - 10.0) < 1e-6]
+    check(len(k10) > 3000, f"sensored: the CSV's reference held 10 rad/s for {len(k10) / FS_HZ:.3f} s after CmdSpeed")
+    if k10:
+        k_end = k10[-1]
+        err = max(abs(w[k] - 10.0) for k in range(k_end - 2000, k_end + 1))
+        check(err < 0.1, f"sensored: the rotor ran at 10 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
+    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < 0.1,
+          f"sensored: after CmdStop the reference is {w_ref[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
+    check(metrics.get("fault") == 0, "sensored: no fault")
+    return log
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--motorsim", required=True)
@@ -380,6 +427,7 @@ def main():
     pos_log = position_case(args, db)
     speed_case(args, db)
     paper002_case(args, db)
+    sensored_case(args, db)
     # the DBC as it is with cantools' own command line
     r = subprocess.run([sys.executable, "-m", "cantools", "decode", DBC], stdin=open(pos_log), capture_output=True,
                        text=True)

@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "adapter/phase_adapter.h"
+#include "drives/drive.h"
 #include "control/fg_tracking.h"
 #include "control/load_angle.h"
 #include "estimators/fg_estimator.h"
@@ -125,7 +126,7 @@ typedef struct {
 typedef enum { P000_LAW_TWISTING = 0, P000_LAW_LOAD_ANGLE = 1 } paper000_law_t;
 
 /* Everything paper000_drive_init needs, in the firmware numeric type. Per-sample
- * coefficients already contain Ts (see firmware/design/drive_design.c).
+ * coefficients already contain Ts (see design/drive_design.c).
  * Pointer-free, so it can be stored, copied and sent as bytes. */
 typedef struct {
     motor_model_t model;          /* the motor the drive believes in */
@@ -222,6 +223,9 @@ typedef struct {
         mc_t i_f_A, i_g_A, v_a_V, v_b_V;
     } last;
 } paper000_drive_t;
+
+/* The drive's operations (drives/drive.h), paper000_ops.c. */
+extern const drive_ops_t paper000_drive_ops;
 
 /* Validates cfg, copies it and resets every state. Returns false (drive in
  * FAULT, outputs 0 V) if cfg is inconsistent; paper000_config_problem says why. */

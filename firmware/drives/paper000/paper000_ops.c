@@ -6,7 +6,7 @@
  * (38)-(39), the observer's currents and back-EMF (28) as voltages.
  */
 #include "drives/paper000/paper000_drive.h"
-#include "drives/registry.h"
+#include "comm/generated/drive_can.h"
 
 static const char *p000_config_problem(const void *cfg)
 {
@@ -62,7 +62,13 @@ static void p000_status(const void *self, drive_status_t *s)
     s->theta_ref_rad = x.theta_ref_rad;
     s->theta_est_rad = x.theta_est_rad;
     s->omega_ref_rad_s = x.omega_ref_rad_s;
+    s->accel_ref_rad_s2 = x.accel_ref_rad_s2;
     s->omega_est_rad_s = x.omega_est_rad_s;
+    s->estimate_valid = x.state == SUP_STATE_CLOSED_LOOP;
+    s->theta_e_est_rad = mc_elec_angle(x.theta_est_rad, d->cfg.model.n_p);
+    s->v_alpha_V = x.v_a_V;
+    s->v_beta_V = x.v_b_V;
+    s->estimate_quality = MC_ONE;
     s->accel_est_rad_s2 = x.accel_est_rad_s2;
     s->load_est_Nm = x.load_est_Nm;
     s->i1_A = x.i_f_A;
@@ -100,7 +106,7 @@ const drive_ops_t paper000_drive_ops = {
     .name = "paper000",
     .title = "paper 000: sensorless position drive of a two-phase stepper (super-twisting observer, twisting control)",
     .kind = DRIVE_KIND_POSITION,
-    .can_kind = 0u,
+    .can_kind = (uint8_t)DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER000_POSITION_CHOICE, /* the DBC's DriveKind */
     .state_bytes = (uint32_t)sizeof(paper000_drive_t),
     .config_bytes = (uint32_t)sizeof(paper000_config_t),
     .config_problem = p000_config_problem,

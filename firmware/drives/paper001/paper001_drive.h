@@ -54,6 +54,7 @@
 #include <stdint.h>
 
 #include "adapter/phase_adapter.h"
+#include "drives/drive.h"
 #include "control/delay_comp.h"
 #include "control/ida_pbc.h"
 #include "estimators/estimate.h"
@@ -218,6 +219,9 @@ typedef struct {
         mc_ab_t v_ab_V;
     } last;
 } paper001_drive_t;
+
+/* The drive's operations (drives/drive.h), paper001_ops.c. */
+extern const drive_ops_t paper001_drive_ops;
 
 /* Validates cfg, copies it and resets every state. Returns false (drive in
  * FAULT, outputs 0 V) if cfg is inconsistent. */

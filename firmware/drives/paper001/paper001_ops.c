@@ -6,7 +6,7 @@
  * observer (paper 001 eq. (12)), V1, V2 = v_d, v_q of (11).
  */
 #include "drives/paper001/paper001_drive.h"
-#include "drives/registry.h"
+#include "comm/generated/drive_can.h"
 
 static bool p001_init(void *self, const void *cfg)
 {
@@ -57,7 +57,13 @@ static void p001_status(const void *self, drive_status_t *s)
     s->theta_ref_rad = x.theta_ref_rad;
     s->theta_est_rad = e.theta_rad;
     s->omega_ref_rad_s = x.omega_ref_rad_s;
+    s->accel_ref_rad_s2 = x.accel_ref_rad_s2;
     s->omega_est_rad_s = x.omega_est_rad_s;
+    s->estimate_valid = x.estimate_valid;
+    s->theta_e_est_rad = x.theta_e_rad;
+    s->v_alpha_V = x.v_alpha_V;
+    s->v_beta_V = x.v_beta_V;
+    s->estimate_quality = x.rho2;
     s->accel_est_rad_s2 = e.accel_rad_s2;
     s->load_est_Nm = x.load_est_Nm;
     s->i1_A = x.i_d_A;
@@ -86,7 +92,7 @@ const drive_ops_t paper001_drive_ops = {
     .name = "paper001",
     .title = "paper 001: sensorless speed drive of a PMSM or a stepper (gradient flux and I&I observers, IDA-PBC)",
     .kind = DRIVE_KIND_SPEED,
-    .can_kind = 1u,
+    .can_kind = (uint8_t)DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER001_SPEED_CHOICE, /* the DBC's DriveKind */
     .state_bytes = (uint32_t)sizeof(paper001_drive_t),
     .config_bytes = (uint32_t)sizeof(paper001_config_t),
     .config_problem = 0,

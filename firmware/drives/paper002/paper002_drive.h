@@ -57,6 +57,7 @@
 #include "estimators/angle_unwrap.h"
 #include "estimators/ekf_ipmsm.h"
 #include "estimators/flux_observer.h"
+#include "drives/drive.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
 #include "supervisor/fault_monitor.h"
@@ -125,6 +126,9 @@ typedef struct {
         bool saturated;
     } last;
 } paper002_drive_t;
+
+/* The drive's operations (drives/drive.h), paper002_ops.c. */
+extern const drive_ops_t paper002_drive_ops;
 
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
 

@@ -10,7 +10,7 @@
  * observed from the first sample) or FAULT, and it has no flight recorder.
  */
 #include "drives/paper002/paper002_drive.h"
-#include "drives/registry.h"
+#include "comm/generated/drive_can.h"
 
 static bool p002_init(void *self, const void *cfg)
 {
@@ -57,7 +57,15 @@ static void p002_status(const void *self, drive_status_t *s)
     s->theta_ref_rad = d->theta_ref_rad;
     s->theta_est_rad = d->last.theta_hat_rad;
     s->omega_ref_rad_s = d->last.w_d_rad_s;
+    mc_t w_d, dw_d; /* the reference of the last step (the step counts its tick after it) */
+    speed_poly_eval(&d->reference, d->tick > 0u ? d->tick - 1u : 0u, &w_d, &dw_d);
+    s->accel_ref_rad_s2 = dw_d;
     s->omega_est_rad_s = d->last.w_hat_rad_s;
+    s->estimate_valid = !faulted;
+    s->theta_e_est_rad = mc_elec_angle(d->last.theta_hat_rad, d->cfg.ekf.p);
+    s->v_alpha_V = d->u_ab_prev_V.alpha;
+    s->v_beta_V = d->u_ab_prev_V.beta;
+    s->estimate_quality = MC_ONE;
     s->accel_est_rad_s2 = ekf_ipmsm_accel(&d->ekf);
     s->load_est_Nm = d->last.M0_hat_Nm;
     s->i1_A = d->last.i_d_A;
@@ -94,7 +102,7 @@ const drive_ops_t paper002_drive_ops = {
     .name = "paper002",
     .title = "paper 002: IPMSM speed drive (EKF with lumped disturbance, MTPA, SOSMC/HTSMC, encoder or flux observer)",
     .kind = DRIVE_KIND_SPEED,
-    .can_kind = 2u,
+    .can_kind = (uint8_t)DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE, /* the DBC's DriveKind */
     .state_bytes = (uint32_t)sizeof(paper002_drive_t),
     .config_bytes = (uint32_t)sizeof(paper002_config_t),
     .config_problem = 0,

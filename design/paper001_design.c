@@ -10,6 +10,7 @@
  *   K_t = (m/2) n_p Phi (torque, m = 2 or 3 phases).
  */
 #include "design/paper001_design.h"
+#include "design/profile_design.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -325,24 +326,9 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     }
 
     /* speed profile: ticks, slopes, lengths, angles at the corners */
-    speed_profile_config_t *pc = &cfg->profile;
-    pc->n_points = (uint32_t)in->n_points;
-    pc->fs_hz = mm->fs_hz;
-    double theta = 0.0;
-    for (size_t k = 0; k < in->n_points; ++k) {
-        const double tk = in->t_s[k];
-        if (!(tk >= 0.0) || (k == 0 && tk != 0.0) || (k > 0 && !(tk > in->t_s[k - 1])) || !isfinite(in->omega_rad_s[k])) {
-            return p001_fail(err, err_len, "profile", "corner times must start at 0 and increase", tk);
-        }
-        pc->t_tick[k] = (uint32_t)llround(tk * fs);
-        pc->omega_rad_s[k] = mc_from_double(in->omega_rad_s[k]);
-        pc->theta_rad[k] = mc_from_double(theta);
-        if (k + 1 < in->n_points) {
-            const double T = (double)((uint32_t)llround(in->t_s[k + 1] * fs) - pc->t_tick[k]) * ts;
-            pc->length_s[k] = mc_from_double(T);
-            pc->slope_rad_s2[k] = mc_from_double((in->omega_rad_s[k + 1] - in->omega_rad_s[k]) / T);
-            theta += 0.5 * (in->omega_rad_s[k] + in->omega_rad_s[k + 1]) * T;
-        }
+    double bad_t = 0.0;
+    if (!speed_profile_design(&cfg->profile, in->n_points, in->t_s, in->omega_rad_s, mm->fs_hz, ts, &bad_t)) {
+        return p001_fail(err, err_len, "profile", "corner times must start at 0 and increase", bad_t);
     }
     if (rep != NULL) {
         rep->gamma = gamma;

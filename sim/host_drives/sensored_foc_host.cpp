@@ -1,0 +1,101 @@
+// sensored_foc_host.cpp - the sensored FOC drive's host part: its scenario
+// table [sensored_foc] and its design from the scenario.
+//
+//   [drive]
+//   kind = "sensored_foc"
+//   [sensored_foc]
+//   profile_rpm = [[t_s, rpm], ...]   the speed reference's corners (required)
+//   current_bw_hz, speed_bw_hz, observer_bw_hz, load_bw_hz, position_bw_hz
+//                                     the loops' bandwidths (optional;
+//                                     design/sensored_foc_design.h: defaults
+//                                     500, 20, 50, 5, 5 Hz)
+//
+// The drive reads the scenario's [encoder] (required), the motor (a pmsm3),
+// [supply] v_bus_V, [limits] and [run] compute_delay_samples.
+#include <cstdio>
+#include <string>
+
+#include "host_drives/host_drive.h"
+#include "scenario/design_input.h"
+
+extern "C" {
+#include "design/sensored_foc_design.h"
+}
+
+namespace mcsim {
+namespace {
+
+const char* const kBandwidths[] = {"current_bw_hz", "speed_bw_hz", "observer_bw_hz", "load_bw_hz", "position_bw_hz"};
+
+std::vector<std::string> sfoc_keys()
+{
+    std::vector<std::string> k = {"profile_rpm"};
+    for (const char* b : kBandwidths) {
+        k.emplace_back(b);
+    }
+    return k;
+}
+
+void sfoc_parse(const View* t, Scenario* sc)
+{
+    if (t == nullptr) {
+        throw ScenarioError(sc->path + ": sensored_foc: missing required table (profile_rpm, its speed reference)");
+    }
+    t->only(sfoc_keys());
+    read_speed_profile(*t, sc);
+    for (const char* b : kBandwidths) {
+        if (const auto x = t->number(b)) {
+            gt(*t, b, *x, 0.0);
+            sc->drive_params.emplace_back(b, *x);
+        }
+    }
+    if (sc->motor.type != MotorType::kPmsm3) {
+        throw ScenarioError(sc->path + ": motor.file: the sensored FOC drive runs a three-phase PMSM (type = \"pmsm3\")");
+    }
+    if (!sc->encoder.present()) {
+        throw ScenarioError(sc->path + ": encoder: missing required table: the sensored FOC drive reads an encoder");
+    }
+}
+
+void sfoc_design_from(const Scenario& sc, drive_config_storage_t* out)
+{
+    sfoc_design_input_t in{};
+    sfoc_design_defaults(&in);
+    const MotorParams& m = sc.drive_model;
+    in.n_p = m.n_p;
+    in.R_ohm = m.R_ohm;
+    in.L_d_H = m.L_H;
+    in.L_q_H = (m.L_q_H > 0.0) ? m.L_q_H : m.L_H;
+    in.psi_Wb = m.Phi_Wb();
+    in.J_kgm2 = m.J_kgm2;
+    in.ts_s = sc.ts_s;
+    in.compute_delay_samples = sc.compute_delay_samples;
+    in.v_bus_V = 2.0 * sc.v_max_V;  // three legs: v_max_V = v_bus / 2 ([supply])
+    in.i_max_A = sc.i_max_A;
+    in.i_trip_A = sc.i_trip_A;
+    in.i_trip_samples = sc.i_trip_samples;
+    in.i_rail_A = adc_rail_A(sc.sensor);
+    for (const auto& [k, v] : sc.drive_params) {
+        if (k == "current_bw_hz") in.current_bw_hz = v;
+        if (k == "speed_bw_hz") in.speed_bw_hz = v;
+        if (k == "observer_bw_hz") in.observer_bw_hz = v;
+        if (k == "load_bw_hz") in.load_bw_hz = v;
+        if (k == "position_bw_hz") in.position_bw_hz = v;
+    }
+    in.n_points = sc.speed_points.size();
+    for (std::size_t k = 0; k < sc.speed_points.size() && k < SPEED_PROFILE_MAX_POINTS; ++k) {
+        in.t_s[k] = sc.speed_points[k].first;
+        in.omega_rad_s[k] = sc.speed_points[k].second;
+    }
+    char err[256];
+    if (!sfoc_design(&in, &out->sensored_foc, err, sizeof err)) {
+        throw ScenarioError(sc.path + ": design: sensored_foc: " + err);
+    }
+}
+
+}  // namespace
+
+extern const HostDrive kSensoredFocHost;
+const HostDrive kSensoredFocHost = {"sensored_foc", &sfoc_parse, &sfoc_design_from, &sfoc_keys};
+
+}  // namespace mcsim

@@ -1,0 +1,191 @@
+// The sensored FOC drive's blocks (control/pi_ctrl.h,
+// estimators/encoder_observer.h), its design (design/sensored_foc_design.h)
+// against their equations evaluated in double, and the drive's refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+extern "C" {
+#include "control/pi_ctrl.h"
+#include "design/sensored_foc_design.h"
+#include "drives/sensored_foc/sensored_foc_drive.h"
+#include "estimators/encoder_observer.h"
+#include "math/mc_convert.h"
+}
+
+#include "fw_test_util.h"
+
+using fwtest::D;
+using fwtest::kPi;
+using fwtest::M;
+
+namespace {
+#if MC_FIXED
+constexpr double kTol = 2e-4;
+#else
+constexpr double kTol = 1e-5;
+#endif
+}  // namespace
+
+// u = kp e + I + ff, I += ki_ts e, evaluated in double alongside.
+TEST(PiCtrl, FollowsItsEquationInsideTheLimit)
+{
+    pi_ctrl_t c;
+    const pi_ctrl_config_t cfg{M(2.0), M(0.05)};
+    ASSERT_TRUE(pi_ctrl_init(&c, &cfg));
+    double I = 0.0;
+    for (int k = 0; k < 20; ++k) {
+        const double e = 0.3 * std::sin(0.4 * k), ff = 0.1;
+        const double u = pi_ctrl_step(&c, M(e), M(ff), M(10.0));
+        EXPECT_NEAR(D(u), 2.0 * e + I + ff, 5 * kTol) << "k " << k;
+        I += 0.05 * e;
+        EXPECT_FALSE(c.saturated);
+    }
+    EXPECT_NEAR(D(c.integral), I, 20 * kTol);
+}
+
+// At the limit the integral stops while the error pushes further into it,
+// and integrates again as soon as the error turns.
+TEST(PiCtrl, ConditionalIntegrationAtTheLimit)
+{
+    pi_ctrl_t c;
+    const pi_ctrl_config_t cfg{M(1.0), M(0.1)};
+    ASSERT_TRUE(pi_ctrl_init(&c, &cfg));
+    pi_ctrl_reset(&c, M(0.5));
+    const mc_t u = pi_ctrl_step(&c, M(3.0), M(0.0), M(2.0));
+    EXPECT_EQ(D(u), 2.0);
+    EXPECT_TRUE(c.saturated);
+    EXPECT_NEAR(D(c.integral), 0.5, kTol) << "no windup into the limit";
+    (void)pi_ctrl_step(&c, M(-3.0), M(0.0), M(2.0));  // saturated low, but e < 0 and u_raw < 0 ...
+    (void)pi_ctrl_step(&c, M(-0.5), M(0.0), M(2.0));  // inside: integrates
+    EXPECT_FALSE(c.saturated);
+    EXPECT_NEAR(D(c.integral), 0.5 - 0.05, 5 * kTol);
+    const pi_ctrl_config_t bad{M(-1.0), M(0.1)};
+    EXPECT_FALSE(pi_ctrl_init(&c, &bad));
+}
+
+namespace {
+encoder_observer_config_t obs_cfg(double J, double wo, double wl, double Ts)
+{
+    encoder_observer_config_t c{};
+    c.l1_ts_scaled = M((2 * wo + wl) * Ts * 1024.0);
+    c.ts_scaled = M(Ts * 1024.0);
+    c.l2_ts = M((wo * wo + 2 * wo * wl) * Ts);
+    c.l3_ts = M(J * wo * wo * wl * Ts);
+    c.ts_s = M(Ts);
+    c.ts_over_J = M(Ts / J);
+    c.inv_J = M(1 / J);
+    return c;
+}
+}  // namespace
+
+// A rotor accelerating against a constant load over many turns: the
+// observer's angle (unwrapped across +-pi), speed and load converge to the
+// truth, from a wrapped sensor angle.
+TEST(EncoderObserver, TracksAngleSpeedAndLoadAcrossTurns)
+{
+    const double J = 0.012, Ts = 1e-4, TL = 0.8, a = 20.0;  // rad/s^2
+    encoder_observer_t o;
+    const encoder_observer_config_t cfg = obs_cfg(J, 2 * kPi * 50, 2 * kPi * 5, Ts);
+    ASSERT_TRUE(encoder_observer_init(&o, &cfg, M(0.0)));
+    double th = 0.0, w = 0.0, err_w = 0, err_l = 0, err_th = 0;
+    const int n = 30000;  // 3 s: 90 rad, 14 turns
+    for (int k = 0; k < n; ++k) {
+        const double meas = std::remainder(th, 2 * kPi);
+        encoder_observer_step(&o, M(meas), M(J * a + TL));
+        th += w * Ts + 0.5 * a * Ts * Ts;
+        w += a * Ts;
+        if (k > n - 1000) {
+            err_th = std::max(err_th, std::fabs(D(o.theta_rad) - th));
+            err_w = std::max(err_w, std::fabs(D(o.omega_rad_s) - w));
+            err_l = std::max(err_l, std::fabs(D(o.load_Nm) - TL));
+        }
+    }
+    EXPECT_GT(o.turns, 10);
+    EXPECT_LT(err_th, 2e-3) << "angle";
+    EXPECT_LT(err_w, 0.02) << "speed";
+    EXPECT_LT(err_l, 0.01) << "load";
+    mc_estimate_t e;
+    encoder_observer_get(&o, &e);
+    EXPECT_TRUE(e.valid);
+    EXPECT_NEAR(D(e.accel_rad_s2), (J * a + TL - D(o.load_Nm)) / J, 1.0);
+}
+
+// The design's gains are the header's formulas.
+TEST(SensoredFocDesign, GainsAreTheStatedFormulas)
+{
+    sfoc_design_input_t in{};
+    sfoc_design_defaults(&in);
+    in.n_p = 3;
+    in.R_ohm = 0.225;
+    in.L_d_H = in.L_q_H = 3.8e-3;
+    in.psi_Wb = 0.17;
+    in.J_kgm2 = 0.012;
+    in.ts_s = 1e-4;
+    in.v_bus_V = 48;
+    in.i_max_A = 8;
+    in.i_trip_A = 12;
+    sensored_foc_config_t c;
+    char err[200];
+    ASSERT_TRUE(sfoc_design(&in, &c, err, sizeof err)) << err;
+    const double wc = 2 * kPi * 500, ws = 2 * kPi * 20, wo = 2 * kPi * 50, wl = 2 * kPi * 5;
+    const double kt = 1.5 * 3 * 0.17;
+    EXPECT_NEAR(D(c.pi_q.kp), 3.8e-3 * wc, 1e-3);
+    EXPECT_NEAR(D(c.pi_q.ki_ts), 0.225 * wc * 1e-4, kTol);
+    EXPECT_NEAR(D(c.kt_Nm_per_A), kt, kTol);
+    EXPECT_NEAR(D(c.pi_speed.kp), 0.012 * ws / kt, 1e-4);
+    EXPECT_NEAR(D(c.pi_speed.ki_ts), 0.012 * ws / kt * 0.25 * ws * 1e-4, kTol);
+    EXPECT_NEAR(D(c.obs.l2_ts), (wo * wo + 2 * wo * wl) * 1e-4, 1e-3);
+    EXPECT_NEAR(D(c.obs.l3_ts), 0.012 * wo * wo * wl * 1e-4, 1e-3);
+    EXPECT_NEAR(D(c.obs.l1_ts_scaled), (2 * wo + wl) * 1e-4 * 1024, 1e-3);
+    EXPECT_NEAR(D(c.speed_cmd_max_rad_s), 0.9 * 48 / std::sqrt(3.0) / (3 * 0.17), 1e-3);
+    // loops that do not nest are refused, naming the field
+    in.speed_bw_hz = 60;
+    EXPECT_FALSE(sfoc_design(&in, &c, err, sizeof err));
+    EXPECT_NE(std::string(err).find("speed_bw_hz"), std::string::npos) << err;
+}
+
+// The drive: a sample without the encoder is bad input (latched, 0 V); a
+// move is refused while the speed reference runs and beyond the design's
+// speed; CmdSpeed beyond its bound is refused.
+TEST(SensoredFocDrive, RefusesWhatItCannotDo)
+{
+    sfoc_design_input_t in{};
+    sfoc_design_defaults(&in);
+    in.n_p = 3;
+    in.R_ohm = 0.225;
+    in.L_d_H = in.L_q_H = 3.8e-3;
+    in.psi_Wb = 0.17;
+    in.J_kgm2 = 0.012;
+    in.ts_s = 1e-4;
+    in.v_bus_V = 48;
+    in.i_max_A = 8;
+    in.i_trip_A = 12;
+    static sensored_foc_config_t c;
+    char err[200];
+    ASSERT_TRUE(sfoc_design(&in, &c, err, sizeof err)) << err;
+    static sensored_foc_drive_t d;
+    ASSERT_TRUE(sensored_foc_drive_init(&d, &c));
+    hal_sample_t s{};
+    s.n_phases = 3;
+    s.v_bus_V = M(48);
+    s.has_angle = true;
+    s.angle_rad = M(0.1);
+    s.i_A[0] = M(0.001);
+    hal_command_t out{};
+    ASSERT_TRUE(sensored_foc_drive_step(&d, &s, &out));
+    const double w_max = D(c.speed_cmd_max_rad_s);
+    EXPECT_FALSE(sensored_foc_set_speed(&d, M(1.1 * w_max), M(10)));
+    EXPECT_FALSE(sensored_foc_move(&d, M(1000.0), M(0.1))) << "peak speed beyond the bound";
+    ASSERT_TRUE(sensored_foc_move(&d, M(1.0), M(1.0)));
+    EXPECT_FALSE(sensored_foc_move(&d, M(2.0), M(1.0))) << "a move during a move";
+    EXPECT_FALSE(sensored_foc_set_speed(&d, M(5.0), M(10))) << "CmdSpeed during a move";
+    s.has_angle = false;
+    out.v_V[0] = M(1.0);
+    EXPECT_FALSE(sensored_foc_drive_step(&d, &s, &out));
+    EXPECT_EQ(d.fault, DRIVE_FAULT_BAD_INPUT);
+    EXPECT_EQ(D(out.v_V[0]), 0.0);
+    s.has_angle = true;
+    EXPECT_FALSE(sensored_foc_drive_step(&d, &s, &out)) << "latched";
+    EXPECT_EQ(d.rec.fault, DRIVE_FAULT_BAD_INPUT);
+}
