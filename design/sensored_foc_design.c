@@ -112,6 +112,7 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     cfg->L_q_H = mc_from_double(in->L_q_H);
     cfg->psi_Wb = mc_from_double(in->psi_Wb);
     cfg->kt_Nm_per_A = mc_from_double(kt);
+    cfg->inv_kt_A_per_Nm = mc_from_double(1.0 / kt);
     cfg->J_kgm2 = mc_from_double(in->J_kgm2);
     /* current loops: kp = L w_c, ki = R w_c (header) */
     cfg->pi_d.kp = mc_from_double(in->L_d_H * wc);
@@ -128,7 +129,6 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     cfg->obs.ts_scaled = mc_from_double(ts * (double)(1 << ENC_OBS_SHIFT));
     cfg->obs.l2_ts = mc_from_double((wo * wo + 2.0 * wo * wl) * ts);
     cfg->obs.l3_ts = mc_from_double(in->J_kgm2 * wo * wo * wl * ts);
-    cfg->obs.ts_s = mc_from_double(ts);
     cfg->obs.ts_over_J = mc_from_double(ts / in->J_kgm2);
     cfg->obs.inv_J = mc_from_double(1.0 / in->J_kgm2);
     cfg->i_max_A = mc_from_double(in->i_max_A);

@@ -77,12 +77,12 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
     case CAN_TLM_HEARTBEAT: {
         struct drive_can_heartbeat_t s = {0};
         s.drive_kind = (uint8_t)(t->drive_kind & 0xFu);
-        s.mode = (uint8_t)(t->mode & 0x3u);
-        s.enabled = t->enabled ? 1u : 0u;
-        s.state = (uint8_t)(t->state & 0xFu);
+        s.mode = (uint8_t)(t->drive.mode & 0x3u);
+        s.enabled = t->drive.enabled ? 1u : 0u;
+        s.state = (uint8_t)(t->drive.state & 0xFu);
         s.msg_set_version = (uint8_t)CAN_LINK_MSG_SET_VERSION;
-        s.fault_code = t->fault_code;
-        s.fault_events = t->fault_events;
+        s.fault_code = t->drive.fault_code;
+        s.fault_events = t->drive.fault_events;
         s.rejected_commands = t->rejected_commands;
         s.counter = t->counter;
         id = DRIVE_CAN_HEARTBEAT_FRAME_ID;
@@ -91,48 +91,48 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
     }
     case CAN_TLM_POSITION: {
         struct drive_can_position_t s = {0};
-        s.theta_ref = I32(t->theta_ref_rad, 100000);
-        s.theta_est = I32(t->theta_est_rad, 100000);
+        s.theta_ref = I32(t->drive.theta_ref_rad, 100000);
+        s.theta_est = I32(t->drive.theta_est_rad, 100000);
         id = DRIVE_CAN_POSITION_FRAME_ID;
         n = drive_can_position_pack(f->data, &s, sizeof f->data);
         break;
     }
     case CAN_TLM_VELOCITY: {
         struct drive_can_velocity_t s = {0};
-        s.omega_ref = I16(t->omega_ref_rad_s, 100);
-        s.omega_est = I16(t->omega_est_rad_s, 100);
-        s.accel_est = I16(t->accel_est_rad_s2, 1);
-        s.load_est = I16(t->load_est_Nm, 10000);
+        s.omega_ref = I16(t->drive.omega_ref_rad_s, 100);
+        s.omega_est = I16(t->drive.omega_est_rad_s, 100);
+        s.accel_est = I16(t->drive.accel_est_rad_s2, 1);
+        s.load_est = I16(t->drive.load_est_Nm, 10000);
         id = DRIVE_CAN_VELOCITY_FRAME_ID;
         n = drive_can_velocity_pack(f->data, &s, sizeof f->data);
         break;
     }
     case CAN_TLM_CURRENTS: {
         struct drive_can_currents_t s = {0};
-        s.i1 = I16(t->i1_A, 1000);
-        s.i2 = I16(t->i2_A, 1000);
-        s.i1_ref = I16(t->i1_ref_A, 1000);
-        s.i2_ref = I16(t->i2_ref_A, 1000);
+        s.i1 = I16(t->drive.i1_A, 1000);
+        s.i2 = I16(t->drive.i2_A, 1000);
+        s.i1_ref = I16(t->drive.i1_ref_A, 1000);
+        s.i2_ref = I16(t->drive.i2_ref_A, 1000);
         id = DRIVE_CAN_CURRENTS_FRAME_ID;
         n = drive_can_currents_pack(f->data, &s, sizeof f->data);
         break;
     }
     case CAN_TLM_OBSERVER: {
         struct drive_can_observer_t s = {0};
-        s.i1_est = I16(t->i1_est_A, 1000);
-        s.i2_est = I16(t->i2_est_A, 1000);
-        s.emf1 = I16(t->emf1_V, 500);
-        s.emf2 = I16(t->emf2_V, 500);
+        s.i1_est = I16(t->drive.i1_est_A, 1000);
+        s.i2_est = I16(t->drive.i2_est_A, 1000);
+        s.emf1 = I16(t->drive.emf1_V, 500);
+        s.emf2 = I16(t->drive.emf2_V, 500);
         id = DRIVE_CAN_OBSERVER_FRAME_ID;
         n = drive_can_observer_pack(f->data, &s, sizeof f->data);
         break;
     }
     case CAN_TLM_VOLTAGES: {
         struct drive_can_voltages_t s = {0};
-        s.v1 = I16(t->v1_V, 500);
-        s.v2 = I16(t->v2_V, 500);
+        s.v1 = I16(t->drive.v1_V, 500);
+        s.v2 = I16(t->drive.v2_V, 500);
         s.v_bus = U16(t->v_bus_V, 100);
-        s.saturated = t->saturated ? 1u : 0u;
+        s.saturated = t->drive.saturated ? 1u : 0u;
         id = DRIVE_CAN_VOLTAGES_FRAME_ID;
         n = drive_can_voltages_pack(f->data, &s, sizeof f->data);
         break;
@@ -140,9 +140,9 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
     case CAN_TLM_TIMING: {
         struct drive_can_timing_t s = {0};
         s.step_time = U16(t->step_time_us, 100);
-        s.overruns = t->overruns;
-        s.relocks = t->relocks;
-        s.first_fault = t->first_fault;
+        s.overruns = t->drive.overruns;
+        s.relocks = t->drive.relocks;
+        s.first_fault = t->drive.first_fault;
         id = DRIVE_CAN_TIMING_FRAME_ID;
         n = drive_can_timing_pack(f->data, &s, sizeof f->data);
         break;

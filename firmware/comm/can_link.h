@@ -16,6 +16,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "drives/drive.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
 
@@ -43,17 +44,16 @@ typedef enum {
 } can_tlm_msg_t;
 
 /* Everything the telemetry carries, SI in mc_t (the DBC's comments say
- * what each is for each drive). Out-of-range values saturate to the
- * signal's range; a non-finite one is sent as 0. */
+ * what each is for each drive): the drive's status (drives/drive.h, the
+ * one list of what a drive reports) and what the node and the backend add.
+ * Out-of-range values saturate to the signal's range; a non-finite one is
+ * sent as 0. */
 typedef struct {
-    uint8_t drive_kind, mode, state, fault_code, fault_events, rejected_commands, relocks, first_fault;
-    bool enabled, saturated;
-    uint16_t counter, overruns;
-    mc_t theta_ref_rad, theta_est_rad;
-    mc_t omega_ref_rad_s, omega_est_rad_s, accel_est_rad_s2, load_est_Nm;
-    mc_t i1_A, i2_A, i1_ref_A, i2_ref_A, i1_est_A, i2_est_A;
-    mc_t emf1_V, emf2_V, v1_V, v2_V, v_bus_V;
-    mc_t step_time_us;
+    drive_status_t drive;        /* mode, state, faults, estimates, currents, voltages */
+    uint8_t drive_kind;          /* the DBC's DriveKind (the drive's operations) */
+    uint8_t rejected_commands;   /* the node's */
+    uint16_t counter;            /* the heartbeat's */
+    mc_t v_bus_V, step_time_us;  /* the backend's */
 } can_telemetry_t;
 
 /* Packs telemetry message m of node into *f. Returns false for an unknown m

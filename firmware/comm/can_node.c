@@ -92,34 +92,8 @@ can_reject_t can_node_apply_drive(void *drive, const can_cmd_t *cmd)
 
 void can_node_drive_telemetry(const drive_t *d, mc_t v_bus_V, mc_t step_time_us, can_telemetry_t *t)
 {
-    drive_status_t s;
-    drive_status(d, &s);
+    drive_status(d, &t->drive);
     t->drive_kind = d->ops->can_kind;
-    t->mode = s.mode;
-    t->state = s.state;
-    t->enabled = s.enabled;
-    t->fault_code = s.fault_code;
-    t->fault_events = s.fault_events;
-    t->relocks = s.relocks;
-    t->first_fault = s.first_fault;
-    t->overruns = s.overruns;
-    t->saturated = s.saturated;
-    t->theta_ref_rad = s.theta_ref_rad;
-    t->theta_est_rad = s.theta_est_rad;
-    t->omega_ref_rad_s = s.omega_ref_rad_s;
-    t->omega_est_rad_s = s.omega_est_rad_s;
-    t->accel_est_rad_s2 = s.accel_est_rad_s2;
-    t->load_est_Nm = s.load_est_Nm;
-    t->i1_A = s.i1_A;
-    t->i2_A = s.i2_A;
-    t->i1_ref_A = s.i1_ref_A;
-    t->i2_ref_A = s.i2_ref_A;
-    t->i1_est_A = s.i1_est_A;
-    t->i2_est_A = s.i2_est_A;
-    t->emf1_V = s.emf1_V;
-    t->emf2_V = s.emf2_V;
-    t->v1_V = s.v1_V;
-    t->v2_V = s.v2_V;
     t->v_bus_V = v_bus_V;
     t->step_time_us = step_time_us;
 }

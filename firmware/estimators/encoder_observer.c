@@ -19,7 +19,7 @@ bool encoder_observer_init(encoder_observer_t *o, const encoder_observer_config_
     o->accel_rad_s2 = MC_ZERO;
     o->load_Nm = MC_ZERO;
     o->eps_rad = MC_ZERO;
-    return mc_gt(cfg->ts_s, MC_ZERO) && mc_gt(cfg->ts_over_J, MC_ZERO) && mc_gt(cfg->inv_J, MC_ZERO) && mc_ge(cfg->l1_ts_scaled, MC_ZERO) && mc_gt(cfg->ts_scaled, MC_ZERO) &&
+    return mc_gt(cfg->ts_over_J, MC_ZERO) && mc_gt(cfg->inv_J, MC_ZERO) && mc_ge(cfg->l1_ts_scaled, MC_ZERO) && mc_gt(cfg->ts_scaled, MC_ZERO) &&
            mc_ge(cfg->l2_ts, MC_ZERO) && mc_ge(cfg->l3_ts, MC_ZERO);
 }
 
@@ -30,7 +30,8 @@ void encoder_observer_step(encoder_observer_t *o, mc_t theta_meas_rad, mc_t torq
     const mc_t th = mc_mul(o->theta_s, ENC_OBS_INV_SCALE);
     const mc_t eps = mc_wrap_pi(mc_sub(theta_meas_rad, th));
     o->eps_rad = eps;
-    o->accel_rad_s2 = mc_mul(mc_sub(torque_Nm, o->load_Nm), c->inv_J);
+    const mc_t net_Nm = mc_sub(torque_Nm, o->load_Nm); /* T_e - T_L_hat */
+    o->accel_rad_s2 = mc_mul(net_Nm, c->inv_J);
     /* forward Euler of the three observer equations (header), the angle
      * scaled by 2^ENC_OBS_SHIFT and wrapped, its turns counted */
     o->theta_s = mc_add(o->theta_s, mc_mac(mc_mul(o->omega_rad_s, c->ts_scaled), c->l1_ts_scaled, eps));
@@ -42,7 +43,7 @@ void encoder_observer_step(encoder_observer_t *o, mc_t theta_meas_rad, mc_t torq
         o->turns -= 1;
     }
     o->theta_rad = mc_add(mc_mul(o->theta_s, ENC_OBS_INV_SCALE), mc_mul_i(MC_TWO_PI, o->turns));
-    o->omega_rad_s = mc_add(o->omega_rad_s, mc_mac(mc_mul(mc_sub(torque_Nm, o->load_Nm), c->ts_over_J), c->l2_ts, eps));
+    o->omega_rad_s = mc_add(o->omega_rad_s, mc_mac(mc_mul(net_Nm, c->ts_over_J), c->l2_ts, eps));
     o->load_Nm = mc_sub(o->load_Nm, mc_mul(c->l3_ts, eps));
 }
 

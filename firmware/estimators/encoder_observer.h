@@ -52,7 +52,6 @@ typedef struct {
     mc_t ts_scaled;      /* Ts 2^ENC_OBS_SHIFT [s] */
     mc_t l2_ts;          /* l2 Ts [1/s] */
     mc_t l3_ts;          /* l3 Ts [N m / rad] */
-    mc_t ts_s;           /* Ts [s] */
     mc_t ts_over_J;      /* Ts / J [s / (kg m^2)] */
     mc_t inv_J;          /* 1 / J [1 / (kg m^2)] */
 } encoder_observer_config_t;
@@ -69,7 +68,7 @@ typedef struct {
 } encoder_observer_t;
 
 /* Copies cfg and starts at theta0_rad at rest, no load. False for a
- * non-positive Ts, Ts/J or 1/J, or negative gains. */
+ * non-positive Ts 2^ENC_OBS_SHIFT, Ts/J or 1/J, or negative gains. */
 bool encoder_observer_init(encoder_observer_t *o, const encoder_observer_config_t *cfg, mc_t theta0_rad);
 
 /* Sets the angle estimate (the first measurement: no start transient). */

@@ -35,24 +35,24 @@ int tlm()
         can_telemetry_t t;
         std::memset(&t, 0, sizeof t);
         const mc_t x = mc_from_double(v);
-        t.theta_ref_rad = t.theta_est_rad = x;
-        t.omega_ref_rad_s = t.omega_est_rad_s = t.accel_est_rad_s2 = t.load_est_Nm = x;
-        t.i1_A = t.i2_A = t.i1_ref_A = t.i2_ref_A = t.i1_est_A = t.i2_est_A = x;
-        t.emf1_V = t.emf2_V = t.v1_V = t.v2_V = t.v_bus_V = x;
+        t.drive.theta_ref_rad = t.drive.theta_est_rad = x;
+        t.drive.omega_ref_rad_s = t.drive.omega_est_rad_s = t.drive.accel_est_rad_s2 = t.drive.load_est_Nm = x;
+        t.drive.i1_A = t.drive.i2_A = t.drive.i1_ref_A = t.drive.i2_ref_A = t.drive.i1_est_A = t.drive.i2_est_A = x;
+        t.drive.emf1_V = t.drive.emf2_V = t.drive.v1_V = t.drive.v2_V = t.v_bus_V = x;
         t.step_time_us = x;
         // the integer signals, at fixed test values
         t.drive_kind = 1;
-        t.mode = 2;
-        t.state = 4;
-        t.enabled = true;
-        t.fault_code = 5;
-        t.fault_events = 7;
+        t.drive.mode = 2;
+        t.drive.state = 4;
+        t.drive.enabled = true;
+        t.drive.fault_code = 5;
+        t.drive.fault_events = 7;
         t.rejected_commands = 9;
         t.counter = 65535;
-        t.saturated = true;
-        t.overruns = 1234;
-        t.relocks = 3;
-        t.first_fault = 11;
+        t.drive.saturated = true;
+        t.drive.overruns = 1234;
+        t.drive.relocks = 3;
+        t.drive.first_fault = 11;
         for (int m = 0; m < CAN_TLM_COUNT; ++m) {
             can_frame_t f;
             if (!can_link_pack(static_cast<can_tlm_msg_t>(m), 3, &t, &f)) {

@@ -12,13 +12,13 @@
 #include <vector>
 
 #include "comm/can_node.h"
-#include "comm/can_node.h"
 #include "comm/generated/drive_can.h"
 #include "drives/registry.h"
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
 #include "design/paper002_design.h"
 #include "math/mc_convert.h"
+#include "p001_fixture.h"
 
 namespace {
 mc_t M(double x) { return mc_from_double(x); }
@@ -218,9 +218,9 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
     // ThetaRef of the position telemetry is the new one
     can_telemetry_t t{};
     telemetry_via<&paper000_drive_ops>(&d, M(30.0), M(5.0), &t);
-    EXPECT_NEAR(D(t.theta_ref_rad), 0.2, 1e-4);
+    EXPECT_NEAR(D(t.drive.theta_ref_rad), 0.2, 1e-4);
     EXPECT_EQ(t.drive_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER000_POSITION_CHOICE);
-    EXPECT_TRUE(t.enabled);
+    EXPECT_TRUE(t.drive.enabled);
     // SetOmegaLim: 2.9 refused (below the design), 3.0 taken
     EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_MODE);
@@ -279,7 +279,7 @@ TEST(CanNode, DisableHoldsZeroVoltsEnableRestarts)
     }
     can_telemetry_t t{};
     telemetry_via<&paper000_drive_ops>(&d, M(30.0), M(5.0), &t);
-    EXPECT_FALSE(t.enabled);
+    EXPECT_FALSE(t.drive.enabled);
     EXPECT_NE(d.sup.state, SUP_STATE_FAULT);
     ASSERT_EQ(can_node_receive(&n, 1100, &(const can_frame_t&)frame(0x200, {1}), &apply_via<&paper000_drive_ops>, &d),
               CAN_REJECT_NONE);
@@ -341,9 +341,9 @@ void transmit_at(can_node_t* n, uint32_t k, can_telemetry_t* t)
 {
     if (!can_node_due(n, k)) return;
     *t = can_telemetry_t{};
-    t->theta_ref_rad = M(1e-3 * k);
-    t->omega_ref_rad_s = M(1e-2 * k);
-    t->i1_A = M(-1e-4 * k);
+    t->drive.theta_ref_rad = M(1e-3 * k);
+    t->drive.omega_ref_rad_s = M(1e-2 * k);
+    t->drive.i1_A = M(-1e-4 * k);
     t->step_time_us = M(k % 97);
     can_node_transmit(n, k, t);
 }
@@ -552,21 +552,10 @@ TEST(SpeedProfile, RetargetIsContinuousAndReachesTheTarget)
 }
 
 namespace {
-// paper 001's PMSM (sim/motors/paper001_pmsm.toml), 48 V bus, 8 A, its
-// profile 0 -> 5 rad/s in 1 s
+// paper 001's PMSM with its profile 0 -> 5 rad/s in 1 s (p001_fixture.h)
 bool init_speed(paper001_drive_t* d)
 {
-    p001_design_input_t in;
-    p001_design_defaults(&in);
-    in.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
-    in.ts_s = 1e-4;
-    in.i_max_A = 8.0;
-    in.i_trip_A = 12.0;
-    in.n_points = 2;
-    in.t_s[0] = 0.0;
-    in.omega_rad_s[0] = 0.0;
-    in.t_s[1] = 1.0;
-    in.omega_rad_s[1] = 5.0;
+    const p001_design_input_t in = fwtest::p001_input();
     paper001_config_t cfg;
     p001_design_report_t rep;
     char err[160];
@@ -700,9 +689,9 @@ TEST(CanNode, Paper002DriveCommands)
     can_telemetry_t t{};
     telemetry_via<&paper002_drive_ops>(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.drive_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE);
-    EXPECT_TRUE(t.enabled);
-    EXPECT_EQ(t.mode, 1u);
-    EXPECT_EQ(t.fault_events, 0u);
+    EXPECT_TRUE(t.drive.enabled);
+    EXPECT_EQ(t.drive.mode, 1u);
+    EXPECT_EQ(t.drive.fault_events, 0u);
     // CmdStop on the move: the reference ramps from where it is to 0 at the
     // last ramp (1000 rad/s^2): 30 rad/s after 0.03 s of a reference at
     // 30 rad/s takes 1.875 x 30 / 1000 = 56 ms
@@ -739,11 +728,11 @@ TEST(CanNode, Paper002DriveCommands)
     for (int j = 0; j < 3; ++j) EXPECT_EQ(D(out.v_V[j]), 0.0);
     EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
     telemetry_via<&paper002_drive_ops>(&d, M(48.0), M(3.0), &t);
-    EXPECT_EQ(t.mode, 2u);
-    EXPECT_EQ(t.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
-    EXPECT_EQ(t.first_fault, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
-    EXPECT_EQ(t.fault_events, 1u);
-    EXPECT_FALSE(t.enabled);
+    EXPECT_EQ(t.drive.mode, 2u);
+    EXPECT_EQ(t.drive.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
+    EXPECT_EQ(t.drive.first_fault, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
+    EXPECT_EQ(t.drive.fault_events, 1u);
+    EXPECT_FALSE(t.drive.enabled);
     EXPECT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_MODE);
     ASSERT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)frame(0x250, {0}), &apply_via<&paper002_drive_ops>, &d),

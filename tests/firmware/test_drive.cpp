@@ -8,6 +8,7 @@
 #include "design/drive_design.h"
 #include "design/paper001_design.h"
 #include "math/mc_convert.h"
+#include "p001_fixture.h"
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -568,22 +569,7 @@ TEST(Drive, ReportedFaultsAreEachCountedAndTheFirstIsKept)
 // ---- the PMSM commissioning run (startup/pmsm_identification.h) ----
 
 namespace {
-// paper 001's PMSM (sim/motors/paper001_pmsm.toml), 48 V bus, 8 A, trip 12 A
-p001_design_input_t p001_input()
-{
-    p001_design_input_t in;
-    p001_design_defaults(&in);
-    in.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
-    in.ts_s = 1e-4;
-    in.i_max_A = 8.0;
-    in.i_trip_A = 12.0;
-    in.n_points = 2;
-    in.t_s[0] = 0.0;
-    in.omega_rad_s[0] = 0.0;
-    in.t_s[1] = 1.0;
-    in.omega_rad_s[1] = 5.0;
-    return in;
-}
+using fwtest::p001_input;
 // Its windings as R-L circuits in alpha-beta (R 10 % above the model's,
 // L 10 % below, so a measurement differs from the model), the rotor held.
 struct PmsmRig {

@@ -72,7 +72,6 @@ encoder_observer_config_t obs_cfg(double J, double wo, double wl, double Ts)
     c.ts_scaled = M(Ts * 1024.0);
     c.l2_ts = M((wo * wo + 2 * wo * wl) * Ts);
     c.l3_ts = M(J * wo * wo * wl * Ts);
-    c.ts_s = M(Ts);
     c.ts_over_J = M(Ts / J);
     c.inv_J = M(1 / J);
     return c;
@@ -111,8 +110,9 @@ TEST(EncoderObserver, TracksAngleSpeedAndLoadAcrossTurns)
     EXPECT_NEAR(D(e.accel_rad_s2), (J * a + TL - D(o.load_Nm)) / J, 1.0);
 }
 
-// The design's gains are the header's formulas.
-TEST(SensoredFocDesign, GainsAreTheStatedFormulas)
+namespace {
+// paper 001's PMSM (sim/motors/paper001_pmsm.toml), 48 V bus, 8 A, trip 12 A
+sfoc_design_input_t sfoc_input()
 {
     sfoc_design_input_t in{};
     sfoc_design_defaults(&in);
@@ -125,6 +125,14 @@ TEST(SensoredFocDesign, GainsAreTheStatedFormulas)
     in.v_bus_V = 48;
     in.i_max_A = 8;
     in.i_trip_A = 12;
+    return in;
+}
+}  // namespace
+
+// The design's gains are the header's formulas.
+TEST(SensoredFocDesign, GainsAreTheStatedFormulas)
+{
+    sfoc_design_input_t in = sfoc_input();
     sensored_foc_config_t c;
     char err[200];
     ASSERT_TRUE(sfoc_design(&in, &c, err, sizeof err)) << err;
@@ -133,6 +141,7 @@ TEST(SensoredFocDesign, GainsAreTheStatedFormulas)
     EXPECT_NEAR(D(c.pi_q.kp), 3.8e-3 * wc, 1e-3);
     EXPECT_NEAR(D(c.pi_q.ki_ts), 0.225 * wc * 1e-4, kTol);
     EXPECT_NEAR(D(c.kt_Nm_per_A), kt, kTol);
+    EXPECT_NEAR(D(c.inv_kt_A_per_Nm), 1 / kt, kTol);
     EXPECT_NEAR(D(c.pi_speed.kp), 0.012 * ws / kt, 1e-4);
     EXPECT_NEAR(D(c.pi_speed.ki_ts), 0.012 * ws / kt * 0.25 * ws * 1e-4, kTol);
     EXPECT_NEAR(D(c.obs.l2_ts), (wo * wo + 2 * wo * wl) * 1e-4, 1e-3);
@@ -150,17 +159,7 @@ TEST(SensoredFocDesign, GainsAreTheStatedFormulas)
 // speed; CmdSpeed beyond its bound is refused.
 TEST(SensoredFocDrive, RefusesWhatItCannotDo)
 {
-    sfoc_design_input_t in{};
-    sfoc_design_defaults(&in);
-    in.n_p = 3;
-    in.R_ohm = 0.225;
-    in.L_d_H = in.L_q_H = 3.8e-3;
-    in.psi_Wb = 0.17;
-    in.J_kgm2 = 0.012;
-    in.ts_s = 1e-4;
-    in.v_bus_V = 48;
-    in.i_max_A = 8;
-    in.i_trip_A = 12;
+    sfoc_design_input_t in = sfoc_input();
     static sensored_foc_config_t c;
     char err[200];
     ASSERT_TRUE(sfoc_design(&in, &c, err, sizeof err)) << err;

@@ -270,6 +270,36 @@ def position_case(args, db):
     return log
 
 
+def speed_command_checks(name, kind, metrics, cols, rows, frames, sent_bad):
+    """A speed drive commanded to 10 rad/s, then stopped, over CAN: the
+    telemetry equals the CSV, the heartbeat's DriveKind and refusals, the
+    commands carried out, the rotor at 10 rad/s and then at rest."""
+    mapping = {
+        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
+                     ("LoadEst", "load_est_Nm", 1e-4)],
+        "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
+        "Heartbeat": [("Mode", "mode", 1.0)],
+    }
+    compare(frames, cols, rows, mapping, name)
+    hb = frames["Heartbeat"]
+    check(bool(hb) and all(h["DriveKind"] == kind for h in hb), f"{name}: heartbeats carry DriveKind {kind}")
+    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
+          f"{name}: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
+    check(metrics.get("can_commands_accepted") == 2, f"{name}: {metrics.get('can_commands_accepted')} commands "
+          "carried out (CmdSpeed, CmdStop)")
+    w_ref = [r[cols["omega_ref_rad_s"]] for r in rows]
+    w = [r[cols["omega_rad_s"]] for r in rows]
+    k10 = [k for k, x in enumerate(w_ref) if abs(x - 10.0) < 1e-6]
+    check(len(k10) > 3000, f"{name}: the CSV's reference held 10 rad/s for {len(k10) / FS_HZ:.3f} s after CmdSpeed")
+    if k10:
+        k_end = k10[-1]
+        err = max(abs(w[k] - 10.0) for k in range(k_end - 2000, k_end + 1))
+        check(err < 0.1, f"{name}: the rotor ran at 10 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
+    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < 0.1,
+          f"{name}: after CmdStop the reference is {w_ref[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
+    check(metrics.get("fault") == 0, f"{name}: no fault")
+
+
 def speed_case(args, db):
     sent_bad = []
 
@@ -289,30 +319,7 @@ def speed_case(args, db):
 
     metrics, cols, rows, frames, stderr, log = run_case(args, db, "speed", os.path.join(HERE, "speed_can.toml"),
                                                          commander)
-    mapping = {
-        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
-                     ("LoadEst", "load_est_Nm", 1e-4)],
-        "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
-        "Heartbeat": [("Mode", "mode", 1.0)],
-    }
-    compare(frames, cols, rows, mapping, "speed")
-    hb = frames["Heartbeat"]
-    check(bool(hb) and all(h["DriveKind"] == 1 for h in hb), "speed: heartbeats carry DriveKind 1")
-    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
-          f"speed: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
-    check(metrics.get("can_commands_accepted") == 2, f"speed: {metrics.get('can_commands_accepted')} commands "
-          "carried out (CmdSpeed, CmdStop)")
-    w_ref = [r[cols["omega_ref_rad_s"]] for r in rows]
-    w = [r[cols["omega_rad_s"]] for r in rows]
-    k10 = [k for k, x in enumerate(w_ref) if abs(x - 10.0) < 1e-6]
-    check(len(k10) > 3000, f"speed: the CSV's reference held 10 rad/s for {len(k10) / FS_HZ:.3f} s after CmdSpeed")
-    if k10:
-        k_end = k10[-1]
-        err = max(abs(w[k] - 10.0) for k in range(k_end - 2000, k_end + 1))
-        check(err < 0.1, f"speed: the rotor ran at 10 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
-    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < 0.1,
-          f"speed: after CmdStop the reference is {w_ref[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
-    check(metrics.get("fault") == 0, "speed: no fault")
+    speed_command_checks("speed", 1, metrics, cols, rows, frames, sent_bad)
     return log
 
 
@@ -386,30 +393,7 @@ def sensored_case(args, db):
 
     metrics, cols, rows, frames, stderr, log = run_case(
         args, db, "sensored", os.path.join(ROOT, "sim", "scenarios", "sensored_benchmark.toml"), commander)
-    mapping = {
-        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
-                     ("LoadEst", "load_est_Nm", 1e-4)],
-        "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
-        "Heartbeat": [("Mode", "mode", 1.0)],
-    }
-    compare(frames, cols, rows, mapping, "sensored")
-    hb = frames["Heartbeat"]
-    check(bool(hb) and all(h["DriveKind"] == 3 for h in hb), "sensored: heartbeats carry DriveKind 3")
-    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
-          f"sensored: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
-    check(metrics.get("can_commands_accepted") == 2, f"sensored: {metrics.get('can_commands_accepted')} commands "
-          "carried out (CmdSpeed, CmdStop)")
-    w_ref = [r[cols["omega_ref_rad_s"]] for r in rows]
-    w = [r[cols["omega_rad_s"]] for r in rows]
-    k10 = [k for k, x in enumerate(w_ref) if abs(x - 10.0) < 1e-6]
-    check(len(k10) > 3000, f"sensored: the CSV's reference held 10 rad/s for {len(k10) / FS_HZ:.3f} s after CmdSpeed")
-    if k10:
-        k_end = k10[-1]
-        err = max(abs(w[k] - 10.0) for k in range(k_end - 2000, k_end + 1))
-        check(err < 0.1, f"sensored: the rotor ran at 10 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
-    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < 0.1,
-          f"sensored: after CmdStop the reference is {w_ref[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
-    check(metrics.get("fault") == 0, "sensored: no fault")
+    speed_command_checks("sensored", 3, metrics, cols, rows, frames, sent_bad)
     return log
 
 

@@ -42,6 +42,7 @@ PENDING = {
     "hal/backends/mcu/pil_vectors.h": "issue 29",
     "hal/backends/stm32f405/app_drive.c": "issue 29: the image's drive chosen at configure time",
     "hal/backends/stm32f405/app_drive.h": "issue 29",
+    "hal/backends/stm32f405/CMakeLists.txt": "issue 29: the QEMU image's drive by a configure-time option",
     "hal/backends/stm32f405/boards/vesc6_drive_config.c": "issue 29: generated from paper 001's design",
     "sim/CMakeLists.txt": "issue 28",
     "sim/board_drive/board_drive.cpp": "issue 28: through the interface",
@@ -72,16 +73,17 @@ def drives(root: Path) -> list[str]:
 
 
 def patterns(names: list[str]) -> re.Pattern:
+    """Each name, upper- and lower-case, and its short prefix: paper001 ->
+    p001/P001; a name of words (sensored_foc) -> the initials of all but the
+    last word and the last word (sfoc/SFOC)."""
     alts = []
     for n in names:
-        alts.append(re.escape(n))
         m = re.fullmatch(r"paper(\d{3})", n)
-        if m:
-            alts += [f"p{m.group(1)}", f"P{m.group(1)}"]
-        else:
-            alts.append(re.escape(n.upper()))
-    alts += ["SFOC", "sfoc"] if "sensored_foc" in names else []
-    return re.compile(r"(?<![A-Za-z0-9])(" + "|".join(alts) + r")(?=[A-Za-z0-9_]|\b)")
+        words = n.split("_")
+        short = f"p{m.group(1)}" if m else "".join(w[0] for w in words[:-1]) + words[-1]
+        alts += [n, n.upper(), short, short.upper()]
+    return re.compile(r"(?<![A-Za-z0-9])(" + "|".join(map(re.escape, sorted(set(alts), key=len, reverse=True)))
+                      + r")(?=[A-Za-z0-9_]|\b)")
 
 
 def allowed(rel: str, names: list[str]) -> bool:

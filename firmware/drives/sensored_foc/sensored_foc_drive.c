@@ -38,7 +38,6 @@ static bool sfoc_trip(sensored_foc_drive_t *d, drive_fault_t f, hal_command_t *o
 {
     flight_recorder_fault(&d->rec, f, d->tick);
     d->fault = f;
-    d->fault_events += 1u;
     sfoc_zero_output(d, out);
     return false;
 }
@@ -54,8 +53,8 @@ const char *sensored_foc_config_problem(const sensored_foc_config_t *c)
     if (!mc_gt(c->L_d_H, MC_ZERO) || !mc_gt(c->L_q_H, MC_ZERO) || !mc_ge(c->psi_Wb, MC_ZERO)) {
         return "L_d_H, L_q_H: must be > 0; psi_Wb >= 0";
     }
-    if (!mc_gt(c->kt_Nm_per_A, MC_ZERO) || !mc_gt(c->J_kgm2, MC_ZERO)) {
-        return "kt_Nm_per_A, J_kgm2: must be > 0";
+    if (!mc_gt(c->kt_Nm_per_A, MC_ZERO) || !mc_gt(c->inv_kt_A_per_Nm, MC_ZERO) || !mc_gt(c->J_kgm2, MC_ZERO)) {
+        return "kt_Nm_per_A, inv_kt_A_per_Nm, J_kgm2: must be > 0";
     }
     if (!mc_gt(c->i_max_A, MC_ZERO) || !mc_gt(c->v_bus_min_V, MC_ZERO)) {
         return "i_max_A, v_bus_min_V: must be > 0";
@@ -74,7 +73,6 @@ bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_
 {
     d->cfg = *cfg;
     d->fault = DRIVE_FAULT_NONE;
-    d->fault_events = 0u;
     d->disabled = false;
     d->started = false;
     d->mode = SFOC_MODE_SPEED;
@@ -173,7 +171,7 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     /* 3. the reference */
     const mc_t w_cmd = sfoc_reference(d);
     /* 4. speed loop: i_q* with the load and J a_ref fed forward, |i_q*| <= i_max */
-    const mc_t ff_q = mc_div(mc_mac(d->obs.load_Nm, c->J_kgm2, d->last.accel_ref_rad_s2), c->kt_Nm_per_A);
+    const mc_t ff_q = mc_mul(mc_mac(d->obs.load_Nm, c->J_kgm2, d->last.accel_ref_rad_s2), c->inv_kt_A_per_Nm);
     const mc_t i_q_ref = pi_ctrl_step(&d->pi_speed, mc_sub(w_cmd, d->obs.omega_rad_s), ff_q, c->i_max_A);
     const mc_t i_d_ref = MC_ZERO;
     /* 5. current loops with the decoupling terms of the PMSM's voltage

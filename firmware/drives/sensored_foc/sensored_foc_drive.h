@@ -62,6 +62,7 @@ typedef struct {
     mc_t ts_s;                     /* 1 / fs_hz */
     mc_t L_d_H, L_q_H, psi_Wb;     /* decoupling: -w_e L_q i_q on d, w_e (L_d i_d + psi) on q */
     mc_t kt_Nm_per_A;              /* 3/2 n_p psi: torque per i_q (amplitude-invariant Clarke) */
+    mc_t inv_kt_A_per_Nm;          /* 1 / kt: i_q per torque of the feedforward (no division per sample) */
     mc_t J_kgm2;                   /* the acceleration feedforward J a_ref */
     pi_ctrl_config_t pi_d, pi_q;   /* current loops [V/A], [V/(A sample)] */
     pi_ctrl_config_t pi_speed;     /* speed loop [A s/rad], [A/rad per sample] */
@@ -85,8 +86,7 @@ typedef struct {
     speed_profile_t profile;
     fault_monitor_t mon;
     flight_recorder_t rec;
-    drive_fault_t fault;           /* latched until cleared */
-    uint32_t fault_events;
+    drive_fault_t fault;           /* latched until cleared (rec.events counts them) */
     bool disabled;
     bool started;                  /* the observer took the first angle */
     sfoc_mode_t mode;

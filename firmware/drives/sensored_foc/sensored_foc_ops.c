@@ -53,7 +53,7 @@ static void sfoc_op_status(const void *self, drive_status_t *s)
     s->state = (uint8_t)(faulted ? SUP_STATE_FAULT : SUP_STATE_CLOSED_LOOP);
     s->fault_code = (uint8_t)d->fault;
     s->first_fault = (uint8_t)d->rec.fault;
-    s->fault_events = (uint8_t)(d->fault_events & 0xFFu);
+    s->fault_events = (uint8_t)(d->rec.events & 0xFFu);
     s->relocks = 0u;
     s->enabled = !d->disabled && !faulted;
     s->saturated = d->last.saturated;
