@@ -26,12 +26,6 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-void speed_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
-{
-    if (!paper001_drive_step(static_cast<paper001_drive_t*>(ctx), in, out)) {
-        hal_safe_state();
-    }
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -84,7 +78,8 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "board_drive: %s: not starting, nothing driven\n", err);
         return 1;
     }
-    const bool started = spd ? hal_start(&speed_callback, spd.get()) : hal_start(&mcsim::drive_control_callback, pos.get());
+    drive_t active = spd ? drive_t{&paper001_drive_ops, spd.get()} : drive_t{&paper000_drive_ops, pos.get()};
+    const bool started = hal_start(&mcsim::drive_control_callback, &active);
     if (!started) {
         std::fprintf(stderr, "board_drive: %s\n", hal_last_error());
         hal_board_close();

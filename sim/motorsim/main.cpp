@@ -210,28 +210,6 @@ double run_loop(std::uint32_t n_total, bool quiet, const mcsim::RunWatch& watch,
     return wall_s;
 }
 
-void speed_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
-{
-    if (!paper001_drive_step(static_cast<paper001_drive_t*>(ctx), in, out)) {
-        hal_safe_state();
-    }
-}
-
-// Any drive of the registry, through the drive interface (drives/drive.h).
-void drive_interface_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
-{
-    if (!drive_step(static_cast<drive_t*>(ctx), in, out)) {
-        hal_safe_state();
-    }
-}
-
-void paper002_control_callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
-{
-    if (!paper002_drive_step(static_cast<paper002_drive_t*>(ctx), in, out)) {
-        hal_safe_state();
-    }
-}
-
 // Warns (stderr, the run goes on) where the reference asks more than the
 // supply and the current limit can give: a motor turning at w needs K_e w
 // of back-EMF plus R i within the voltage the drive has, and an
@@ -544,6 +522,10 @@ int run(const Options& opt)
             if (host == nullptr || !drive_bind(&any_drive, ops, any_storage.get())) {
                 throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" is not in this build");
             }
+            if (ops->kind != DRIVE_KIND_SPEED) {  // the recorder of [drive] kind runs speed drives (issue 28: one recorder)
+                throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind +
+                                           "\" is a position drive; motorsim records speed drives by [drive] kind");
+            }
             host->design(sc, cfg.get());
             if (!drive_init(&any_drive, cfg.get())) {
                 const char* why = (ops->config_problem != nullptr) ? ops->config_problem(cfg.get()) : nullptr;
@@ -581,16 +563,18 @@ int run(const Options& opt)
     // with the numbers, once the drive has accepted the scenario (a refused
     // scenario gets its one error line and nothing else).
     warn_feasibility(sc);
-    // On CAN the callback is the drive's node (motorsim/can_glue.h); else
+    // The drive of the scenario as the programs hold any drive
+    // (drives/drive.h); on CAN the callback is the drive's node (motorsim/can_glue.h); else
     // the drive alone.
+    drive_t active = !sc.drive_kind.empty() ? any_drive
+                     : sc.paper002_drive   ? drive_t{&paper002_drive_ops, p002_drive.get()}
+                     : sc.speed_drive      ? drive_t{&paper001_drive_ops, speed_drive.get()}
+                                           : drive_t{&paper000_drive_ops, drive.get()};
     std::unique_ptr<mcsim::CanDriveContext> can_ctx;
     bool started = false;
     if (can) {
         can_ctx = std::make_unique<mcsim::CanDriveContext>();
-        can_ctx->drive = !sc.drive_kind.empty() ? any_drive
-                         : sc.paper002_drive ? drive_t{&paper002_drive_ops, p002_drive.get()}
-                         : sc.speed_drive  ? drive_t{&paper001_drive_ops, speed_drive.get()}
-                                           : drive_t{&paper000_drive_ops, drive.get()};
+        can_ctx->drive = active;
         can_ctx->ts_s = sc.ts_s;
         can_ctx->t_start_s = sc.t_start_s();
         can_ctx->log = opt.quiet ? nullptr : stderr;
@@ -602,14 +586,8 @@ int run(const Options& opt)
         }  // paper 002's recorder always scores against the drive's w_d
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
-    } else if (!sc.drive_kind.empty()) {
-        started = hal_start(&drive_interface_callback, &any_drive);
-    } else if (sc.paper002_drive) {
-        started = hal_start(&paper002_control_callback, p002_drive.get());
-    } else if (sc.speed_drive) {
-        started = hal_start(&speed_control_callback, speed_drive.get());
     } else {
-        started = hal_start(&mcsim::drive_control_callback, drive.get());
+        started = hal_start(&mcsim::drive_control_callback, &active);
     }
     if (!started) {
         throw std::runtime_error(std::string("hal_start: ") + hal_last_error());

@@ -62,7 +62,9 @@ int main(int argc, char** argv)
         std::string why;
         if (!board.calibrate(&why)) throw std::runtime_error("board calibration: " + why);
         hal_sw_plant_set_board(&board);
-        if (!hal_start(&mcsim::drive_control_callback, drive.get())) throw std::runtime_error(hal_last_error());
+        static drive_t active;  // outlives the loop
+        active = drive_t{&paper000_drive_ops, drive.get()};
+        if (!hal_start(&mcsim::drive_control_callback, &active)) throw std::runtime_error(hal_last_error());
         rt_loop_config_t cfg{static_cast<std::uint32_t>(std::lround(sc.ts_s * 1e9)), priority};
         static rt_loop_stats_t st;
         const auto n = static_cast<std::uint64_t>(std::llround(seconds / sc.ts_s));

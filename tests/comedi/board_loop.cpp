@@ -136,7 +136,8 @@ int main(int argc, char** argv)
     if (!read_all(from_plant, &theta, sizeof theta)) die("the plant process stopped");
     const auto fs = static_cast<std::uint32_t>(std::lround(1.0 / sc.ts_s));
     if (!hal_board_open(&cfg, dev, sc.board.calibration_samples, fs, err, sizeof err)) die(err);
-    if (!hal_start(&mcsim::drive_control_callback, drive.get())) die(hal_last_error());
+    drive_t active{&paper000_drive_ops, drive.get()};
+    if (!hal_start(&mcsim::drive_control_callback, &active)) die(hal_last_error());
     const board_chain_t& chain = *hal_board_chain();
     const int n_cal = sc.board.calibration_samples;
 

@@ -47,8 +47,6 @@ PENDING = {
     "sim/CMakeLists.txt": "issue 28",
     "sim/board_drive/board_drive.cpp": "issue 28: through the interface",
     "sim/motorsim/commission.cpp": "issue 28: commissioning as a drive's host part",
-    "sim/motorsim/drive_glue.cpp": "issue 28: paper 000's callback, replaced by the interface's",
-    "sim/motorsim/drive_glue.h": "issue 28",
     "sim/motorsim/main.cpp": "issue 28: papers 000-002 chosen by [drive] kind too",
     "sim/motorsim/paper002_recorder.cpp": "issue 28: one recorder over drive_status_t",
     "sim/motorsim/paper002_recorder.h": "issue 28",
