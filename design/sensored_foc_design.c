@@ -108,17 +108,17 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     cfg->n_p = in->n_p;
     cfg->fs_hz = (int32_t)fsr;
     cfg->ts_s = mc_from_double(ts);
-    cfg->L_d_H = mc_from_double(in->L_d_H);
-    cfg->L_q_H = mc_from_double(in->L_q_H);
-    cfg->psi_Wb = mc_from_double(in->psi_Wb);
+    cfg->current.L_d_H = mc_from_double(in->L_d_H);
+    cfg->current.L_q_H = mc_from_double(in->L_q_H);
+    cfg->current.psi_Wb = mc_from_double(in->psi_Wb);
     cfg->kt_Nm_per_A = mc_from_double(kt);
     cfg->inv_kt_A_per_Nm = mc_from_double(1.0 / kt);
     cfg->J_kgm2 = mc_from_double(in->J_kgm2);
     /* current loops: kp = L w_c, ki = R w_c (header) */
-    cfg->pi_d.kp = mc_from_double(in->L_d_H * wc);
-    cfg->pi_d.ki_ts = mc_from_double(in->R_ohm * wc * ts);
-    cfg->pi_q.kp = mc_from_double(in->L_q_H * wc);
-    cfg->pi_q.ki_ts = mc_from_double(in->R_ohm * wc * ts);
+    cfg->current.pi_d.kp = mc_from_double(in->L_d_H * wc);
+    cfg->current.pi_d.ki_ts = mc_from_double(in->R_ohm * wc * ts);
+    cfg->current.pi_q.kp = mc_from_double(in->L_q_H * wc);
+    cfg->current.pi_q.ki_ts = mc_from_double(in->R_ohm * wc * ts);
     /* speed loop: kp = J w_s / K_t, ki = kp w_s / 4 */
     const double kp_w = in->J_kgm2 * ws / kt;
     cfg->pi_speed.kp = mc_from_double(kp_w);

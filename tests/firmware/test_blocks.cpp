@@ -67,6 +67,16 @@ TEST(DelayComp, AppliedMeanIsTheTimeAverageOfTheTwoCommands)
     }
 }
 
+// The output's lead: the middle of [t_k + d Ts, t_k+1 + d Ts) is (1/2 + d) Ts
+// after the sample.
+TEST(DelayComp, OutputLeadIsHalfASamplePlusTheDelay)
+{
+    const double tol = MC_FIXED ? 1.5 / 131072 : 1e-11;  // Ts itself rounds to a Q14.17 LSB
+    for (double d : {0.0, 0.25, 1.0}) {
+        EXPECT_NEAR(D(delay_output_lead_s(M(d), M(1e-4))), (0.5 + d) * 1e-4, tol) << "d = " << d;
+    }
+}
+
 // R(x phi) from R(phi): exact at x = 0 and 1, within the stated bound
 // 0.064 phi^3 in angle in between.
 TEST(DelayComp, RotationFractionWithinItsBound)

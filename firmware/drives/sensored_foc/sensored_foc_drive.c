@@ -50,9 +50,6 @@ const char *sensored_foc_config_problem(const sensored_foc_config_t *c)
     if (c->fs_hz <= 0 || !mc_gt(c->ts_s, MC_ZERO)) {
         return "fs_hz, ts_s: must be > 0";
     }
-    if (!mc_gt(c->L_d_H, MC_ZERO) || !mc_gt(c->L_q_H, MC_ZERO) || !mc_ge(c->psi_Wb, MC_ZERO)) {
-        return "L_d_H, L_q_H: must be > 0; psi_Wb >= 0";
-    }
     if (!mc_gt(c->kt_Nm_per_A, MC_ZERO) || !mc_gt(c->inv_kt_A_per_Nm, MC_ZERO) || !mc_gt(c->J_kgm2, MC_ZERO)) {
         return "kt_Nm_per_A, inv_kt_A_per_Nm, J_kgm2: must be > 0";
     }
@@ -97,8 +94,8 @@ bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_
     sfoc_zero_output(d, &none);
     fault_monitor_init(&d->mon, &cfg->faults);
     flight_recorder_init(&d->rec);
-    const bool ok = sensored_foc_config_problem(cfg) == 0 && pi_ctrl_init(&d->pi_d, &cfg->pi_d) &&
-                    pi_ctrl_init(&d->pi_q, &cfg->pi_q) && pi_ctrl_init(&d->pi_speed, &cfg->pi_speed) &&
+    const bool ok = sensored_foc_config_problem(cfg) == 0 && foc_current_init(&d->current, &cfg->current) &&
+                    pi_ctrl_init(&d->pi_speed, &cfg->pi_speed) &&
                     encoder_observer_init(&d->obs, &cfg->obs, MC_ZERO) && speed_profile_init(&d->profile, &cfg->profile);
     if (!ok) {
         d->fault = DRIVE_FAULT_BAD_INPUT;
@@ -174,16 +171,12 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     const mc_t ff_q = mc_mul(mc_mac(d->obs.load_Nm, c->J_kgm2, d->last.accel_ref_rad_s2), c->inv_kt_A_per_Nm);
     const mc_t i_q_ref = pi_ctrl_step(&d->pi_speed, mc_sub(w_cmd, d->obs.omega_rad_s), ff_q, c->i_max_A);
     const mc_t i_d_ref = MC_ZERO;
-    /* 5. current loops with the decoupling terms of the PMSM's voltage
-     * equations, v_d = R i_d + L_d di_d/dt - w_e L_q i_q and
-     * v_q = R i_q + L_q di_q/dt + w_e (L_d i_d + psi) (paper 002 eq. (1)
-     * with L_d = L_q for the surface motor), limited to the circle of
-     * radius v_bus/sqrt(3), d first */
+    /* 5. current loops with the decoupling terms (control/foc_current.h),
+     * limited to the circle of radius v_bus/sqrt(3), d first */
     const mc_t w_e = mc_mul_i(d->obs.omega_rad_s, c->n_p);
     const mc_t u_max = mc_mul(in->v_bus_V, SFOC_INV_SQRT3);
-    const mc_t v_d = pi_ctrl_step(&d->pi_d, mc_sub(i_d_ref, i_d), mc_neg(mc_mul(w_e, mc_mul(c->L_q_H, i_q))), u_max);
-    const mc_t u_q_max = mc_sqrt(mc_sub(mc_mul(u_max, u_max), mc_mul(v_d, v_d)));
-    const mc_t v_q = pi_ctrl_step(&d->pi_q, mc_sub(i_q_ref, i_q), mc_mul(w_e, mc_mac(c->psi_Wb, c->L_d_H, i_d)), u_q_max);
+    mc_t v_d, v_q;
+    foc_current_step(&d->current, i_d_ref, i_q_ref, i_d, i_q, w_e, u_max, &v_d, &v_q);
     /* 6. to the phases at the angle of the middle of the interval the
      * voltage acts over, (1/2 + d) Ts after the sample */
     const mc_t lead_s = delay_output_lead_s(c->compute_delay, c->ts_s);
@@ -199,7 +192,7 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     d->last.v_q_V = v_q;
     d->last.v_ab_V = v_ab;
     d->last.theta_e_rad = th_e;
-    d->last.saturated = d->pi_d.saturated || d->pi_q.saturated;
+    d->last.saturated = d->current.saturated;
     /* the command's checks, the estimate's, the flight recorder */
     drive_fault_t f = fault_monitor_command(&d->mon, out, d->last.saturated);
     if (f == DRIVE_FAULT_NONE && (!mc_is_finite(d->obs.theta_rad) || !mc_is_finite(d->obs.omega_rad_s))) {

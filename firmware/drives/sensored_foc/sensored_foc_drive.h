@@ -14,8 +14,8 @@
  *                                   reference (moves only)
  *   speed loop (control/pi_ctrl)    PI on the speed error -> i_q*, with the
  *                                   load and J a_ref fed forward, |i_q*| <= i_max
- *   current loops (control/pi_ctrl) PI on i_d, i_q with the cross-coupling
- *                                   and back-EMF fed forward (decoupling),
+ *   current loops (control/           PI on i_d, i_q with the cross-coupling
+ *     foc_current)                  and back-EMF fed forward (decoupling),
  *                                   the voltage limited to the bus's circle
  *                                   (d first), conditional integration
  *   fault set (supervisor/)         the generic monitor, latch, flight recorder
@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "adapter/phase_adapter.h"
+#include "control/foc_current.h"
 #include "control/pi_ctrl.h"
 #include "drives/drive.h"
 #include "estimators/encoder_observer.h"
@@ -60,11 +61,10 @@ typedef struct {
     int32_t n_p;                   /* pole pairs */
     int32_t fs_hz;                 /* sample rate */
     mc_t ts_s;                     /* 1 / fs_hz */
-    mc_t L_d_H, L_q_H, psi_Wb;     /* decoupling: -w_e L_q i_q on d, w_e (L_d i_d + psi) on q */
     mc_t kt_Nm_per_A;              /* 3/2 n_p psi: torque per i_q (amplitude-invariant Clarke) */
     mc_t inv_kt_A_per_Nm;          /* 1 / kt: i_q per torque of the feedforward (no division per sample) */
     mc_t J_kgm2;                   /* the acceleration feedforward J a_ref */
-    pi_ctrl_config_t pi_d, pi_q;   /* current loops [V/A], [V/(A sample)] */
+    foc_current_config_t current;  /* current loops with decoupling (control/foc_current.h) */
     pi_ctrl_config_t pi_speed;     /* speed loop [A s/rad], [A/rad per sample] */
     mc_t pos_kp_per_s;             /* position loop: rad/s of speed per rad of error */
     encoder_observer_config_t obs;
@@ -81,7 +81,8 @@ typedef enum { SFOC_MODE_SPEED = 0, SFOC_MODE_POSITION = 1 } sfoc_mode_t;
 
 typedef struct {
     sensored_foc_config_t cfg;
-    pi_ctrl_t pi_d, pi_q, pi_speed;
+    foc_current_t current;
+    pi_ctrl_t pi_speed;
     encoder_observer_t obs;
     speed_profile_t profile;
     fault_monitor_t mon;
