@@ -271,6 +271,9 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     /* faults (docs/faults.md): the generic set, designed as the other
      * drives' are, and the loss of the estimate */
     fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, in->ts_s);
+    for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
+        cfg->reaction[f] = (uint8_t)FAULT_REACT_SAFE; /* no re-lock: an estimate lost stays lost */
+    }
     cfg->los_theta_rad = mc_from_double(P002_LOS_THETA_RAD);
     cfg->los_ticks = (int32_t)ceil(P002_LOS_S * fsr - 1e-9);
     cfg->stall_tol = mc_from_double(P002_STALL_TOL);

@@ -138,6 +138,9 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
         mc_from_double(SFOC_CMD_VOLTAGE_SHARE * in->v_bus_V / sqrt(3.0) / ((double)in->n_p * in->psi_Wb));
     cfg->accel_cmd_max_rad_s2 = mc_from_double(SFOC_CMD_ACCEL_SHARE * kt * in->i_max_A / in->J_kgm2);
     fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, ts);
+    for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
+        cfg->reaction[f] = (uint8_t)FAULT_REACT_SAFE; /* a sensor: nothing to re-lock */
+    }
     double bad_t = 0.0;
     if (!speed_profile_design(&cfg->profile, in->n_points, in->t_s, in->omega_rad_s, cfg->fs_hz, ts, &bad_t)) {
         return sfoc_fail(err, err_len, "profile", "corner times must start at 0 and increase", bad_t);

@@ -111,8 +111,8 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
     const double e_min = eig.eigenvalues().minCoeff();
     p_min_eig_ = std::min(p_min_eig_, e_min);
     spd_ok_ = spd_ok_ && drive_.ekf.spd_ok && e_min > 0.0;
-    if (drive_.fault != DRIVE_FAULT_NONE) {
-        fault_ = static_cast<std::int64_t>(drive_.fault);
+    if (drive_.sup.fault != DRIVE_FAULT_NONE) {
+        fault_ = static_cast<std::int64_t>(drive_.sup.fault);
     }
     watch_.on_period(p, fault_, plant_);
     if (!rows_.empty()) {
@@ -143,9 +143,9 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
         r[kP2Vc] = p.v_c_V;
         // drive_mode_t's numbers (plot_run.py reads them): closed loop from
         // the first sample (the encoder gives the angle), 2 in the safe state
-        r[kP2Mode] = drive_.fault != DRIVE_FAULT_NONE ? 2.0 : 1.0;
+        r[kP2Mode] = drive_.sup.fault != DRIVE_FAULT_NONE ? 2.0 : 1.0;
         r[kP2Sat] = l.saturated ? 1.0 : 0.0;
-        r[kP2Fault] = static_cast<double>(drive_.fault);
+        r[kP2Fault] = static_cast<double>(drive_.sup.fault);
     }
     n_ += 1;
 }

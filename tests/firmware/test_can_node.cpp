@@ -721,12 +721,12 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_TRUE(step_p002(&d, 11, &out));
     // a fault (a NaN sample), telemetry of it, then ClearFaults restarts
     EXPECT_FALSE(step_p002(&d, 12, &out, true));
-    EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_NON_FINITE);
     // latched: a good sample after it still gives 0 V and false
     out.v_V[0] = out.v_V[1] = out.v_V[2] = M(1.0);
     EXPECT_FALSE(step_p002(&d, 12, &out));
     for (int j = 0; j < 3; ++j) EXPECT_EQ(D(out.v_V[j]), 0.0);
-    EXPECT_EQ(d.fault, DRIVE_FAULT_NON_FINITE);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_NON_FINITE);
     telemetry_via<&paper002_drive_ops>(&d, M(48.0), M(3.0), &t);
     EXPECT_EQ(t.drive.mode, 2u);
     EXPECT_EQ(t.drive.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
@@ -737,7 +737,7 @@ TEST(CanNode, Paper002DriveCommands)
               CAN_REJECT_MODE);
     ASSERT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)frame(0x250, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
-    EXPECT_EQ(d.fault, DRIVE_FAULT_NONE);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_NONE);
     EXPECT_TRUE(step_p002(&d, 14, &out));
 #endif
 }

@@ -338,8 +338,8 @@ TEST(Paper002Drive, ReversesThroughZeroOnCommand)
     std::printf("reverse on command: RMSE %.4g rad/s (reversal %.4g, hold at -50 %.4g), max |w_d - w| after 50 ms "
                 "%.4g, min w %.4g, w at the stop %.4g, final w %.4g rad/s\n",
                 rmse, rmse_rev, rmse_neg, err_max, w_min, w_at_stop, tr.w);
-    EXPECT_EQ(fault_k, -1) << "fault " << d.fault << " at t = " << fault_k * kTs << " s";
-    EXPECT_EQ(d.fault, DRIVE_FAULT_NONE);
+    EXPECT_EQ(fault_k, -1) << "fault " << d.sup.fault << " at t = " << fault_k * kTs << " s";
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_NONE);
     EXPECT_NEAR(mc_to_double(d.last.w_d_rad_s), 0.0, 1e-6);
     EXPECT_LT(rmse, kRmseBound);
     EXPECT_LT(rmse_rev, kRmseBound);
@@ -383,10 +383,10 @@ TEST(Paper002Drive, GarbageEncoderIsALossOfSyncEitherWay)
             if (!loop_step(&d, &tr, &rng, k * kTs, &err, nullptr, k >= k_bad ? turn(garbage) : 0.0)) trip = k;
         }
         std::printf("w %+g rad/s: tripped %d samples after the encoder failed, fault %d\n", w_set, trip - k_bad,
-                    static_cast<int>(d.fault));
+                    static_cast<int>(d.sup.fault));
         // measured: 49 samples at +50 (the first los_ticks = 50 run), 97 at
         // -50; bound 4 runs (20 ms). The drive then holds 0 V.
-        EXPECT_EQ(d.fault, DRIVE_FAULT_LOSS_OF_SYNC) << "w " << w_set;
+        EXPECT_EQ(d.sup.fault, DRIVE_FAULT_LOSS_OF_SYNC) << "w " << w_set;
         EXPECT_GE(trip - k_bad, cfg.los_ticks - 1) << "w " << w_set;
         EXPECT_LE(trip - k_bad, 4 * cfg.los_ticks) << "w " << w_set;
         hal_sample_t in{};
@@ -397,6 +397,80 @@ TEST(Paper002Drive, GarbageEncoderIsALossOfSyncEitherWay)
         out.v_V[0] = out.v_V[1] = out.v_V[2] = M(1.0);
         EXPECT_FALSE(paper002_drive_step(&d, &in, &out));
         for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0);
+    }
+}
+
+// The drive runs under the guard every drive runs under (supervisor/
+// guard.h): with the design's reactions (SAFE) the loss of the estimate of
+// a garbage encoder latches the supervisor's FAULT, freezes the flight
+// recorder at the trip's sample with the samples before it, and the
+// interface's status and recorder show it; clear-faults restarts the
+// drive and is refused without a fault. With REPORT for that fault the
+// same loss is counted and frozen in the recorder while the drive goes on.
+TEST(Paper002Drive, FaultsGoThroughTheGuard)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    for (const bool report : {false, true}) {
+        static paper002_drive_t d;
+        paper002_config_t cfg = config(P002_SOSMC, true);
+        if (report) {
+            cfg.reaction[DRIVE_FAULT_LOSS_OF_SYNC] = static_cast<uint8_t>(FAULT_REACT_REPORT);
+        }
+        ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+        drive_t h{&paper002_drive_ops, &d};
+        EXPECT_EQ(d.sup.state, SUP_STATE_CLOSED_LOOP);
+        drive_cmd_t clear{};
+        clear.kind = DRIVE_CMD_CLEAR_FAULTS;
+        EXPECT_EQ(drive_command(&h, &clear), DRIVE_REFUSE_NO_FAULT);
+        Truth tr;
+        std::mt19937_64 rng(5), garbage(9);
+        std::uniform_real_distribution<double> turn(-kPi, kPi);
+        double err = 0.0;
+        const flight_recorder_t* r = drive_recorder(&h);
+        ASSERT_NE(r, nullptr);
+        ASSERT_TRUE(loop_step(&d, &tr, &rng, 0.0, &err));
+        // the drive's own refusal, under the interface's: a running drive is not restarted
+        EXPECT_FALSE(paper002_drive_clear_fault(&d));
+        EXPECT_EQ(d.tick, 1u);
+        const int k_bad = 3000;
+        int trip = -1, found = -1;
+        for (int k = 1; k < 6000 && trip < 0 && found < 0; ++k) {
+            const bool ok = loop_step(&d, &tr, &rng, k * kTs, &err, nullptr, k >= k_bad ? turn(garbage) : 0.0);
+            if (!ok) trip = k;
+            if (r->events > 0) found = k;
+        }
+        ASSERT_GE(found, k_bad) << (report ? "REPORT" : "SAFE");
+        EXPECT_TRUE(r->frozen);
+        EXPECT_EQ(r->fault, DRIVE_FAULT_LOSS_OF_SYNC);
+        EXPECT_EQ(r->fault_tick, static_cast<uint32_t>(found));
+        EXPECT_EQ(r->events, 1u);
+        // the ring holds the samples up to the one before the fault's
+        ASSERT_EQ(flight_recorder_count(r), FLIGHT_RECORDER_DEPTH);
+        EXPECT_EQ(flight_recorder_get(r, FLIGHT_RECORDER_DEPTH - 1u)->tick, static_cast<uint32_t>(found - 1));
+        EXPECT_EQ(flight_recorder_get(r, 0)->tick, static_cast<uint32_t>(found) - FLIGHT_RECORDER_DEPTH);
+        drive_status_t s{};
+        drive_status(&h, &s);
+        EXPECT_EQ(s.first_fault, static_cast<uint8_t>(DRIVE_FAULT_LOSS_OF_SYNC));
+        EXPECT_EQ(s.fault_events, 1u);
+        if (report) {
+            EXPECT_EQ(trip, -1) << "REPORT: the drive goes on";
+            EXPECT_EQ(d.sup.state, SUP_STATE_CLOSED_LOOP);
+            EXPECT_EQ(s.fault_code, static_cast<uint8_t>(DRIVE_FAULT_NONE));
+            EXPECT_EQ(drive_command(&h, &clear), DRIVE_REFUSE_NO_FAULT);
+        } else {
+            EXPECT_EQ(trip, found);
+            EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+            EXPECT_EQ(d.sup.fault, DRIVE_FAULT_LOSS_OF_SYNC);
+            EXPECT_EQ(s.state, static_cast<uint8_t>(SUP_STATE_FAULT));
+            EXPECT_EQ(s.mode, static_cast<uint8_t>(DRIVE_MODE_FAULT));
+            EXPECT_FALSE(s.enabled);
+            EXPECT_EQ(drive_command(&h, &clear), DRIVE_REFUSE_NONE);
+            EXPECT_EQ(d.sup.state, SUP_STATE_CLOSED_LOOP);
+            EXPECT_FALSE(r->frozen);
+            EXPECT_EQ(r->events, 0u);
+        }
     }
 }
 

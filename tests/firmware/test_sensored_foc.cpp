@@ -231,7 +231,7 @@ TEST(SensoredFocDrive, OutputAngleLeadsByHalfASamplePlusTheDelay)
         s.i_A[0] = M(1e-3 * std::sin(0.1 * k));  // not stuck
         s.i_A[1] = M(1e-3 * std::cos(0.1 * k));
         s.i_A[2] = mc_neg(mc_add(s.i_A[0], s.i_A[1]));
-        ASSERT_TRUE(sensored_foc_drive_step(&d, &s, &out)) << "sample " << k << " fault " << int(d.fault);
+        ASSERT_TRUE(sensored_foc_drive_step(&d, &s, &out)) << "sample " << k << " fault " << int(d.sup.fault);
     }
     ASSERT_NEAR(D(d.obs.omega_rad_s), w, 0.05);
     drive_status_t st;
@@ -270,7 +270,7 @@ TEST(SensoredFocDrive, RefusesWhatItCannotDo)
     s.has_angle = false;
     out.v_V[0] = M(1.0);
     EXPECT_FALSE(sensored_foc_drive_step(&d, &s, &out));
-    EXPECT_EQ(d.fault, DRIVE_FAULT_BAD_INPUT);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_BAD_INPUT);
     EXPECT_EQ(D(out.v_V[0]), 0.0);
     s.has_angle = true;
     EXPECT_FALSE(sensored_foc_drive_step(&d, &s, &out)) << "latched";

@@ -25,6 +25,7 @@
 #include <stddef.h>
 
 #include "control/delay_comp.h"
+#include "supervisor/guard.h"
 #include "mc_version.h"
 
 /* Samples between exact recomputations of the (f-g) frame rotation: in
@@ -92,26 +93,22 @@ static P000_OUT_OF_LINE mc_ab_t drive_delay_output(paper000_drive_t *d, mc_rot_t
 
 static void drive_zero_output(paper000_drive_t *d, hal_command_t *out)
 {
-    out->n_phases = (uint8_t)P000_N_PHASES;
-    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-        out->v_V[k] = MC_ZERO;
-    }
+    guard_zero(out, (uint8_t)P000_N_PHASES);
     d->last.v_a_V = MC_ZERO;
     d->last.v_b_V = MC_ZERO;
 }
 
-/* A fault was detected this sample: record it, then react as configured
- * (paper000_protection_config_t). Returns true when the drive is now in FAULT
- * (the caller outputs 0 V), false when it goes on (RELOCK, REPORT). */
+/* A fault was detected this sample: the guard records it and reacts as
+ * configured (paper000_protection_config_t, supervisor/guard.h); RELOCK
+ * is this drive's re-lock while its budget lasts and not in the
+ * alignment. Returns true when the drive is now in FAULT (the caller
+ * outputs 0 V), false when it goes on (RELOCK, REPORT). */
 static bool drive_react(paper000_drive_t *d, drive_fault_t f)
 {
-    flight_recorder_fault(&d->rec, f, d->tick);
     const paper000_protection_config_t *p = &d->cfg.prot;
-    const uint8_t react = p->reaction[(uint32_t)f < DRIVE_FAULT_COUNT ? (uint32_t)f : 0u];
-    if (react == (uint8_t)FAULT_REACT_REPORT) {
-        return false;
-    }
-    if (react == (uint8_t)FAULT_REACT_RELOCK && d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN) {
+    const bool can_relock = d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN;
+    const guard_action_t a = guard_react(&d->sup, &d->rec, p->reaction, f, d->tick, can_relock);
+    if (a == GUARD_RELOCK) {
         /* open loop from this sample on (the switch below is bumpless),
          * closed again after the hold if the estimate is trusted then */
         d->relocks += 1;
@@ -120,15 +117,13 @@ static bool drive_react(paper000_drive_t *d, drive_fault_t f)
         d->branch_kept = d->sup.state == SUP_STATE_CLOSED_LOOP;
         return false;
     }
-    supervisor_fault(&d->sup, f);
-    return true;
+    return a == GUARD_SAFE;
 }
 
 /* A fault that no reaction but the safe state can answer. */
 static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
 {
-    flight_recorder_fault(&d->rec, f, d->tick);
-    supervisor_fault(&d->sup, f);
+    guard_latch(&d->sup, &d->rec, f, d->tick);
     return true;
 }
 
@@ -142,21 +137,8 @@ static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_
     d->last.i_g_A = i_g;
     d->last.v_a_V = v_ab.alpha;
     d->last.v_b_V = v_ab.beta;
-    flight_record_t *r = flight_recorder_slot(&d->rec);
-    if (r != 0) {
-        r->tick = d->tick;
-        r->state = (uint8_t)d->sup.state;
-        r->i_A[0] = in->i_A[0];
-        r->i_A[1] = in->i_A[1];
-        r->i_A[2] = MC_ZERO; /* two phases */
-        r->v_V[0] = out->v_V[0];
-        r->v_V[1] = out->v_V[1];
-        r->v_V[2] = MC_ZERO;
-        r->ref = d->ref.theta_rad;
-        r->est = d->est.pos.theta_est_rad;
-        r->speed = d->est.mech.omega_est_rad_s;
-        flight_recorder_commit(&d->rec);
-    }
+    guard_record(&d->rec, d->tick, d->sup.state, in, out, d->ref.theta_rad,
+                 d->est.pos.theta_est_rad, d->est.mech.omega_est_rad_s);
     drive_fault_t f = fault_monitor_command(&d->mon, out, d->sup.sat_prev);
     if (f == DRIVE_FAULT_NONE &&
         (!mc_is_finite(d->est.pos.theta_est_rad) || !mc_is_finite(d->est.mech.omega_est_rad_s))) {
@@ -313,7 +295,7 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     hal_command_t unused;
     drive_zero_output(d, &unused);
     if (paper000_config_problem(cfg) != NULL || !traj_ok) {
-        supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
+        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
     trajectory_eval(&d->traj, 0, &d->ref);
@@ -337,7 +319,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
         return true;
     }
     if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {
-        supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
+        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         drive_zero_output(d, out);
         return false;
     }

@@ -18,6 +18,7 @@
 #include "drives/paper001/paper001_drive.h"
 
 #include "mc_version.h"
+#include "supervisor/guard.h"
 
 /* The probe's points are p = 8 (rho - rho(0)): det M of a through-origin
  * fit of points spread evenly along an arc is 1.3e-8 for an arc of 0.3 rad
@@ -28,24 +29,17 @@
 
 static void p001_zero_output(paper001_drive_t *d, hal_command_t *out)
 {
-    out->n_phases = d->cfg.n_phases;
-    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-        out->v_V[k] = MC_ZERO;
-    }
+    guard_zero(out, d->cfg.n_phases);
     d->last.v_ab_V.alpha = MC_ZERO;
     d->last.v_ab_V.beta = MC_ZERO;
 }
 
-/* A fault: recorded, then the configured reaction (the speed drive has no
- * re-lock: SAFE, or REPORT). Returns true when the drive is now in FAULT. */
+/* A fault: the guard records it and reacts as configured
+ * (supervisor/guard.h; the speed drive has no re-lock: SAFE, or REPORT).
+ * Returns true when the drive is now in FAULT. */
 static bool p001_react(paper001_drive_t *d, drive_fault_t f)
 {
-    flight_recorder_fault(&d->rec, f, d->tick);
-    if (d->cfg.reaction[(uint32_t)f < DRIVE_FAULT_COUNT ? (uint32_t)f : 0u] == (uint8_t)FAULT_REACT_REPORT) {
-        return false;
-    }
-    supervisor_fault(&d->sup, f);
-    return true;
+    return guard_react(&d->sup, &d->rec, d->cfg.reaction, f, d->tick, false) == GUARD_SAFE;
 }
 
 /* The end of a sample that output a voltage: the loss-of-estimate
@@ -74,19 +68,7 @@ static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command
             f = DRIVE_FAULT_LOSS_OF_SYNC;
         }
     }
-    flight_record_t *r = flight_recorder_slot(&d->rec);
-    if (r != 0) {
-        r->tick = d->tick;
-        r->state = (uint8_t)d->sup.state;
-        for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-            r->i_A[k] = in->i_A[k];
-            r->v_V[k] = out->v_V[k];
-        }
-        r->ref = d->ref.omega_rad_s;
-        r->est = e_hat;
-        r->speed = w_hat;
-        flight_recorder_commit(&d->rec);
-    }
+    guard_record(&d->rec, d->tick, d->sup.state, in, out, d->ref.omega_rad_s, e_hat, w_hat);
     d->tick += 1u;
     if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
         p001_zero_output(d, out);
@@ -157,7 +139,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
         d->stop_ramp_rad_s2 = mc_max(d->stop_ramp_rad_s2, mc_abs(cfg->profile.slope_rad_s2[k]));
     }
     if (!p001_config_ok(cfg) || !profile_ok) {
-        supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
+        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
     return true;
@@ -291,7 +273,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         return true;
     }
     if (!phase_adapter_accepts(in, c->n_phases) || !mc_gt(in->v_bus_V, c->v_bus_min_V)) {
-        supervisor_fault(&d->sup, DRIVE_FAULT_BAD_INPUT);
+        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         p001_zero_output(d, out);
         return false;
     }

@@ -1,6 +1,7 @@
 #include "drives/paper002/paper002_drive.h"
 
 #include "control/delay_comp.h"
+#include "supervisor/guard.h"
 
 #include "adapter/phase_adapter.h"
 #include "math/frame_fg.h"
@@ -12,8 +13,8 @@
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
-    d->fault = DRIVE_FAULT_NONE;
-    d->fault_tick = 0;
+    guard_start_closed_loop(&d->sup);
+    flight_recorder_init(&d->rec);
     d->tick = 0;
     d->los.run = 0;
     d->stall.run = 0;
@@ -40,31 +41,41 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
      * start's turn among the p is kept as an offset */
     d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, cfg->ekf.p));
     if (!ok) {
-        d->fault = DRIVE_FAULT_BAD_INPUT;
+        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
     }
     return ok;
 }
 
 static bool p002_zero(paper002_drive_t *d, hal_command_t *out)
 {
-    out->n_phases = 3u;
-    out->v_V[0] = out->v_V[1] = out->v_V[2] = MC_ZERO;
+    guard_zero(out, 3u);
     d->tick += 1u;
     return false;
 }
 
-/* A fault: latched with its sample, 0 V out. */
+/* A fault only the safe state answers: latched with its sample, 0 V out. */
 static bool p002_trip(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
 {
-    d->fault = f;
-    d->fault_tick = d->tick;
+    guard_latch(&d->sup, &d->rec, f, d->tick);
     return p002_zero(d, out);
+}
+
+/* A fault: recorded, then the reaction table (supervisor/guard.h; no
+ * re-lock). True when the drive is now in FAULT (0 V out, the sample
+ * counted); false: REPORT, the sample goes on. */
+static bool p002_fault(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
+{
+    if (guard_react(&d->sup, &d->rec, d->cfg.reaction, f, d->tick, false) != GUARD_SAFE) {
+        return false;
+    }
+    (void)p002_zero(d, out);
+    return true;
 }
 
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
-    if (d->fault != DRIVE_FAULT_NONE || d->disabled) {
+    if (d->sup.state == SUP_STATE_FAULT || d->disabled) {
         return p002_zero(d, out);
     }
     d->v_bus_V = in->v_bus_V;
@@ -73,8 +84,8 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
         return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
     }
     const drive_fault_t f_in = fault_monitor_sample(&d->mon, in, 3u);
-    if (f_in != DRIVE_FAULT_NONE) {
-        return p002_trip(d, f_in, out);
+    if (f_in != DRIVE_FAULT_NONE && p002_fault(d, f_in, out)) {
+        return false;
     }
     /* 1. d-q currents with the encoder's electrical angle, or the flux
      * observer's */
@@ -111,8 +122,8 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(w_d));
     const bool stalled =
         fault_persist_step(&d->stall, !mc_le(mc_abs(mc_sub(d->ekf.x[EKF_OMEGA], w_d)), stall_band), c->stall_ticks);
-    if (!corrected || lost || stalled) {
-        return p002_trip(d, DRIVE_FAULT_LOSS_OF_SYNC, out);
+    if ((!corrected || lost || stalled) && p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)) {
+        return false;
     }
     d->last.theta_meas_rad = theta_meas;
     const mc_t *x = d->ekf.x;
@@ -167,8 +178,10 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.u_q_V = u_q;
     d->last.saturated = d->ibcc.saturated;
     const drive_fault_t f_out = fault_monitor_command(&d->mon, out, d->ibcc.saturated);
-    if (f_out != DRIVE_FAULT_NONE) {
-        return p002_trip(d, f_out, out);
+    guard_record(&d->rec, d->tick, d->sup.state, in, out, w_d, mc_elec_angle(x[EKF_THETA], c->ekf.p),
+                 x[EKF_OMEGA]);
+    if (f_out != DRIVE_FAULT_NONE && p002_fault(d, f_out, out)) {
+        return false;
     }
     d->tick += 1u;
     return true;
@@ -176,7 +189,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
 
 bool paper002_drive_set_enabled(paper002_drive_t *d, bool on)
 {
-    if (d->fault != DRIVE_FAULT_NONE || on == !d->disabled) {
+    if (d->sup.state == SUP_STATE_FAULT || on == !d->disabled) {
         return false;
     }
     if (on) {
@@ -190,7 +203,7 @@ bool paper002_drive_set_enabled(paper002_drive_t *d, bool on)
 bool paper002_drive_set_speed(paper002_drive_t *d, mc_t omega_rad_s, mc_t ramp_rad_s2)
 {
     const paper002_config_t *c = &d->cfg;
-    if (d->disabled || d->fault != DRIVE_FAULT_NONE || !mc_gt(ramp_rad_s2, MC_ZERO)) {
+    if (d->disabled || d->sup.state == SUP_STATE_FAULT || !mc_gt(ramp_rad_s2, MC_ZERO)) {
         return false;
     }
     /* the back-EMF p psi |w| within a share of v_bus/sqrt(3) */
@@ -225,7 +238,7 @@ bool paper002_drive_stop(paper002_drive_t *d) { return paper002_drive_set_speed(
 
 bool paper002_drive_clear_fault(paper002_drive_t *d)
 {
-    if (d->fault == DRIVE_FAULT_NONE) {
+    if (d->sup.state != SUP_STATE_FAULT) {
         return false;
     }
     const paper002_config_t cfg = d->cfg;

@@ -18,8 +18,12 @@
  *   7. the EKF's prediction (38)-(39) with the voltage the motor sees
  *      over the coming sample: with d > 0 the last command for d Ts and
  *      this one after, their mean in the frame of the sample's middle.
- * Faults (docs/faults.md), latched with their sample, 0 V from then on:
- * the generic set of supervisor/fault_monitor.h (over-current, I^2 t,
+ * Faults (docs/faults.md) run through the guard every drive runs under
+ * (supervisor/guard.h): counted in the flight recorder, then the reaction
+ * table's SAFE (latched in the supervisor, 0 V until cleared) or REPORT;
+ * the drive has no re-lock. The supervisor is in CLOSED_LOOP from the
+ * first sample (the angle is measured, or observed from a known start)
+ * until a fault. The set: the generic one of supervisor/fault_monitor.h (over-current, I^2 t,
  * voltage saturated too long, non-finite values, stuck or railed samples,
  * converter and hardware trips, overruns); a sample of the wrong phase
  * count or, with the encoder, without its angle (BAD_INPUT); and the loss
@@ -61,6 +65,7 @@
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
 #include "supervisor/fault_monitor.h"
+#include "supervisor/flight_recorder.h"
 #include "supervisor/supervisor.h"
 #include "trajectory/speed_poly.h"
 
@@ -95,6 +100,7 @@ typedef struct {
     int32_t stall_ticks;           /* ... for this many consecutive samples */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
+    uint8_t reaction[DRIVE_FAULT_COUNT]; /* fault_reaction_t per fault: SAFE or REPORT (RELOCK acts as SAFE) */
 } paper002_config_t;
 
 typedef struct {
@@ -114,8 +120,8 @@ typedef struct {
     mc_t v_bus_V;                  /* the last measured bus (the speed command's check) */
     mc_t stop_ramp_rad_s2;         /* the last commanded ramp */
     mc_t theta_ref_rad;            /* the integral of w_d, wrapped (telemetry) */
-    drive_fault_t fault;
-    uint32_t fault_tick;           /* the sample the fault was latched at */
+    supervisor_t sup;              /* CLOSED_LOOP, or FAULT latched (sup.fault) */
+    flight_recorder_t rec;         /* the last samples, frozen at the first fault (its tick) */
     uint32_t tick;
     /* the last step, for telemetry and logs */
     struct {

@@ -5,9 +5,10 @@
  * I1 = i_d, I2 = i_q measured, the MTPA references, the EKF's currents;
  * Emf2 = p psi w_hat the back-EMF along q; V1, V2 = u_d, u_q. ThetaRef is
  * the integral of w_d and ThetaEst the EKF's angle, both wrapped into
- * [-pi, pi); LoadEst is the EKF's lumped disturbance M_0. The drive has no
- * supervisor yet: its state is closed loop (the angle is measured or
- * observed from the first sample) or FAULT, and it has no flight recorder.
+ * [-pi, pi); LoadEst is the EKF's lumped disturbance M_0. The state is the
+ * supervisor's: closed loop from the first sample (the angle is measured
+ * or observed), or FAULT; the fault counts and the first fault are the
+ * flight recorder's (supervisor/guard.h).
  */
 #include "drives/paper002/paper002_drive.h"
 #include "comm/generated/drive_can.h"
@@ -31,7 +32,7 @@ static drive_refusal_t p002_command(void *self, const drive_cmd_t *cmd)
     case DRIVE_CMD_SPEED: ok = paper002_drive_set_speed(d, cmd->omega_ref_rad_s, cmd->ramp_rad_s2); break;
     case DRIVE_CMD_STOP: ok = paper002_drive_stop(d); break;
     case DRIVE_CMD_CLEAR_FAULTS:
-        if (d->fault == DRIVE_FAULT_NONE) {
+        if (d->sup.state != SUP_STATE_FAULT) {
             return DRIVE_REFUSE_NO_FAULT;
         }
         ok = paper002_drive_clear_fault(d);
@@ -44,14 +45,14 @@ static drive_refusal_t p002_command(void *self, const drive_cmd_t *cmd)
 static void p002_status(const void *self, drive_status_t *s)
 {
     const paper002_drive_t *d = (const paper002_drive_t *)self;
-    const bool faulted = d->fault != DRIVE_FAULT_NONE;
-    s->mode = faulted ? (uint8_t)DRIVE_MODE_FAULT : (uint8_t)DRIVE_MODE_CLOSED_LOOP;
-    s->state = (uint8_t)(faulted ? SUP_STATE_FAULT : SUP_STATE_CLOSED_LOOP);
+    const bool faulted = d->sup.state == SUP_STATE_FAULT;
+    s->mode = (uint8_t)supervisor_mode(&d->sup);
+    s->state = (uint8_t)d->sup.state;
     s->enabled = !d->disabled && !faulted;
-    s->fault_code = (uint8_t)d->fault;
-    s->fault_events = faulted ? 1u : 0u; /* latched: one until cleared */
-    s->relocks = 0u;                     /* no re-lock */
-    s->first_fault = (uint8_t)d->fault;
+    s->fault_code = (uint8_t)d->sup.fault;
+    s->fault_events = (uint8_t)(d->rec.events & 0xFFu);
+    s->relocks = 0u; /* no re-lock */
+    s->first_fault = (uint8_t)d->rec.fault;
     s->overruns = (uint16_t)(d->mon.overruns & 0xFFFFu);
     s->saturated = d->last.saturated;
     s->theta_ref_rad = d->theta_ref_rad;
@@ -88,14 +89,12 @@ static void p002_estimate(const void *self, mc_estimate_t *e)
     e->omega_rad_s = d->last.w_hat_rad_s;
     e->accel_rad_s2 = ekf_ipmsm_accel(&d->ekf);
     e->load_Nm = d->last.M0_hat_Nm;
-    e->valid = d->fault == DRIVE_FAULT_NONE;
+    e->valid = d->sup.state != SUP_STATE_FAULT;
 }
 
-/* None yet: the drive latches its own fault (paper002_drive.h). */
 static const flight_recorder_t *p002_recorder(const void *self)
 {
-    (void)self;
-    return 0;
+    return &((const paper002_drive_t *)self)->rec;
 }
 
 const drive_ops_t paper002_drive_ops = {

@@ -14,6 +14,7 @@
 #include "drives/sensored_foc/sensored_foc_drive.h"
 
 #include "control/delay_comp.h"
+#include "supervisor/guard.h"
 #include "trajectory/trajectory.h"
 
 /* The largest phase voltage three legs give with the zero sequence the
@@ -32,14 +33,24 @@ static void sfoc_zero_output(sensored_foc_drive_t *d, hal_command_t *out)
     d->last.v_q_V = MC_ZERO;
 }
 
-/* A fault: recorded and latched (every fault of this drive is final: with
- * a sensor there is no estimate to re-lock). */
+/* A fault only the safe state answers: latched, 0 V out. */
 static bool sfoc_trip(sensored_foc_drive_t *d, drive_fault_t f, hal_command_t *out)
 {
-    flight_recorder_fault(&d->rec, f, d->tick);
-    d->fault = f;
+    guard_latch(&d->sup, &d->rec, f, d->tick);
     sfoc_zero_output(d, out);
     return false;
+}
+
+/* A fault: recorded, then the reaction table (supervisor/guard.h; with a
+ * sensor there is no estimate to re-lock). True when the drive is now in
+ * FAULT (0 V out); false: REPORT, the sample goes on. */
+static bool sfoc_fault(sensored_foc_drive_t *d, drive_fault_t f, hal_command_t *out)
+{
+    if (guard_react(&d->sup, &d->rec, d->cfg.reaction, f, d->tick, false) != GUARD_SAFE) {
+        return false;
+    }
+    sfoc_zero_output(d, out);
+    return true;
 }
 
 const char *sensored_foc_config_problem(const sensored_foc_config_t *c)
@@ -69,7 +80,7 @@ const char *sensored_foc_config_problem(const sensored_foc_config_t *c)
 bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_t *cfg)
 {
     d->cfg = *cfg;
-    d->fault = DRIVE_FAULT_NONE;
+    guard_start_closed_loop(&d->sup);
     d->disabled = false;
     d->started = false;
     d->mode = SFOC_MODE_SPEED;
@@ -98,7 +109,7 @@ bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_
                     pi_ctrl_init(&d->pi_speed, &cfg->pi_speed) &&
                     encoder_observer_init(&d->obs, &cfg->obs, MC_ZERO) && speed_profile_init(&d->profile, &cfg->profile);
     if (!ok) {
-        d->fault = DRIVE_FAULT_BAD_INPUT;
+        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
     return true;
@@ -134,7 +145,7 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
 {
     const sensored_foc_config_t *c = &d->cfg;
     /* 0. latch, enable, the sample's checks */
-    if (d->fault != DRIVE_FAULT_NONE) {
+    if (d->sup.state == SUP_STATE_FAULT) {
         sfoc_zero_output(d, out);
         return false;
     }
@@ -148,8 +159,8 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     }
     {
         const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)SFOC_N_PHASES);
-        if (f != DRIVE_FAULT_NONE) {
-            return sfoc_trip(d, f, out);
+        if (f != DRIVE_FAULT_NONE && sfoc_fault(d, f, out)) {
+            return false;
         }
     }
     /* 1. currents in the rotor frame of the encoder's angle */
@@ -198,29 +209,18 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     if (f == DRIVE_FAULT_NONE && (!mc_is_finite(d->obs.theta_rad) || !mc_is_finite(d->obs.omega_rad_s))) {
         f = DRIVE_FAULT_NON_FINITE;
     }
-    flight_record_t *r = flight_recorder_slot(&d->rec);
-    if (r != 0) {
-        r->tick = d->tick;
-        r->state = (uint8_t)SUP_STATE_CLOSED_LOOP;
-        for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-            r->i_A[k] = in->i_A[k];
-            r->v_V[k] = out->v_V[k];
-        }
-        r->ref = d->last.omega_ref_rad_s;
-        r->est = d->obs.theta_rad;
-        r->speed = d->obs.omega_rad_s;
-        flight_recorder_commit(&d->rec);
-    }
+    guard_record(&d->rec, d->tick, d->sup.state, in, out, d->last.omega_ref_rad_s,
+                 d->last.theta_e_rad, d->obs.omega_rad_s);
     d->tick += 1u;
-    if (f != DRIVE_FAULT_NONE) {
-        return sfoc_trip(d, f, out);
+    if (f != DRIVE_FAULT_NONE && sfoc_fault(d, f, out)) {
+        return false;
     }
     return true;
 }
 
 bool sensored_foc_set_enabled(sensored_foc_drive_t *d, bool on)
 {
-    if (d->fault != DRIVE_FAULT_NONE) {
+    if (d->sup.state == SUP_STATE_FAULT) {
         return false;
     }
     if (on && d->disabled) {
@@ -233,7 +233,7 @@ bool sensored_foc_set_enabled(sensored_foc_drive_t *d, bool on)
 bool sensored_foc_set_speed(sensored_foc_drive_t *d, mc_t omega_rad_s, mc_t ramp_rad_s2)
 {
     const sensored_foc_config_t *c = &d->cfg;
-    if (d->fault != DRIVE_FAULT_NONE || d->disabled || mc_gt(mc_abs(omega_rad_s), c->speed_cmd_max_rad_s) ||
+    if (d->sup.state == SUP_STATE_FAULT || d->disabled || mc_gt(mc_abs(omega_rad_s), c->speed_cmd_max_rad_s) ||
         !mc_gt(ramp_rad_s2, MC_ZERO) || mc_gt(ramp_rad_s2, c->accel_cmd_max_rad_s2)) {
         return false;
     }
@@ -251,7 +251,7 @@ bool sensored_foc_set_speed(sensored_foc_drive_t *d, mc_t omega_rad_s, mc_t ramp
 bool sensored_foc_move(sensored_foc_drive_t *d, mc_t theta_to_rad, mc_t duration_s)
 {
     const sensored_foc_config_t *c = &d->cfg;
-    if (d->fault != DRIVE_FAULT_NONE || d->disabled || !mc_gt(duration_s, MC_ZERO)) {
+    if (d->sup.state == SUP_STATE_FAULT || d->disabled || !mc_gt(duration_s, MC_ZERO)) {
         return false;
     }
     if (d->mode == SFOC_MODE_SPEED && mc_ne(d->last.omega_ref_rad_s, MC_ZERO)) {
@@ -284,7 +284,7 @@ bool sensored_foc_move(sensored_foc_drive_t *d, mc_t theta_to_rad, mc_t duration
 
 bool sensored_foc_stop(sensored_foc_drive_t *d)
 {
-    if (d->fault != DRIVE_FAULT_NONE) {
+    if (d->sup.state == SUP_STATE_FAULT) {
         return false;
     }
     if (d->mode == SFOC_MODE_POSITION) {

@@ -75,6 +75,7 @@ typedef struct {
     fault_monitor_config_t faults;
     mc_t speed_cmd_max_rad_s;      /* CmdSpeed: |w| above it refused */
     mc_t accel_cmd_max_rad_s2;     /* CmdSpeed ramp and CmdMove peak acceleration above it refused */
+    uint8_t reaction[DRIVE_FAULT_COUNT]; /* fault_reaction_t per fault: SAFE or REPORT (no re-lock: RELOCK acts as SAFE) */
 } sensored_foc_config_t;
 
 typedef enum { SFOC_MODE_SPEED = 0, SFOC_MODE_POSITION = 1 } sfoc_mode_t;
@@ -87,7 +88,7 @@ typedef struct {
     speed_profile_t profile;
     fault_monitor_t mon;
     flight_recorder_t rec;
-    drive_fault_t fault;           /* latched until cleared (rec.events counts them) */
+    supervisor_t sup;              /* CLOSED_LOOP, or FAULT latched until cleared (supervisor/guard.h) */
     bool disabled;
     bool started;                  /* the observer took the first angle */
     sfoc_mode_t mode;

@@ -4,7 +4,8 @@
  * I1 = i_d, I2 = i_q measured, I1Ref/I2Ref the loops' references, Emf2 =
  * w_e psi the back-EMF along q; the estimates are the encoder observer's
  * (estimators/encoder_observer.h). Mode is closed loop from the first
- * sample (the angle is measured), fault after one.
+ * sample (the angle is measured), the supervisor's FAULT after a fault
+ * (supervisor/guard.h).
  */
 #include "drives/sensored_foc/sensored_foc_drive.h"
 
@@ -35,7 +36,7 @@ static drive_refusal_t sfoc_op_command(void *self, const drive_cmd_t *cmd)
     case DRIVE_CMD_SPEED: ok = sensored_foc_set_speed(d, cmd->omega_ref_rad_s, cmd->ramp_rad_s2); break;
     case DRIVE_CMD_STOP: ok = sensored_foc_stop(d); break;
     case DRIVE_CMD_CLEAR_FAULTS:
-        if (d->fault == DRIVE_FAULT_NONE) {
+        if (d->sup.state != SUP_STATE_FAULT) {
             return DRIVE_REFUSE_NO_FAULT;
         }
         ok = sensored_foc_drive_init(d, &d->cfg);
@@ -48,10 +49,10 @@ static drive_refusal_t sfoc_op_command(void *self, const drive_cmd_t *cmd)
 static void sfoc_op_status(const void *self, drive_status_t *s)
 {
     const sensored_foc_drive_t *d = (const sensored_foc_drive_t *)self;
-    const bool faulted = d->fault != DRIVE_FAULT_NONE;
-    s->mode = faulted ? (uint8_t)DRIVE_MODE_FAULT : (uint8_t)DRIVE_MODE_CLOSED_LOOP;
-    s->state = (uint8_t)(faulted ? SUP_STATE_FAULT : SUP_STATE_CLOSED_LOOP);
-    s->fault_code = (uint8_t)d->fault;
+    const bool faulted = d->sup.state == SUP_STATE_FAULT;
+    s->mode = (uint8_t)supervisor_mode(&d->sup);
+    s->state = (uint8_t)d->sup.state;
+    s->fault_code = (uint8_t)d->sup.fault;
     s->first_fault = (uint8_t)d->rec.fault;
     s->fault_events = (uint8_t)(d->rec.events & 0xFFu);
     s->relocks = 0u;
@@ -86,7 +87,7 @@ static void sfoc_op_estimate(const void *self, mc_estimate_t *e)
 {
     const sensored_foc_drive_t *d = (const sensored_foc_drive_t *)self;
     encoder_observer_get(&d->obs, e);
-    e->valid = d->fault == DRIVE_FAULT_NONE && d->started;
+    e->valid = d->sup.state != SUP_STATE_FAULT && d->started;
 }
 
 static const flight_recorder_t *sfoc_op_recorder(const void *self)
