@@ -98,18 +98,18 @@ if want cppcheck; then
             -I sim -I hal/backends/sw_plant -I "$build/float/sim" sim hal/backends/sw_plant
     done
     # The Cortex-M images: 32-bit, the macros of each target (mc_num_fixed.h's
-    # assembly on the M3), each PIL main with the drive its CMake gives it.
+    # assembly on the M3); the PIL image (its pil_drive.h is generated per
+    # drive by CMake: not found here) and every drive's own PIL probe.
     m4f=(--std=c11 --platform=unix32 -I hal/backends/mcu -DMC_FIXED_POINT=0 -D__arm__ -D__ARM_ARCH_7EM__ -D__ARM_FP=4)
     m3=(--std=c11 --platform=unix32 -I hal/backends/mcu -DMC_FIXED_POINT=1 -D__arm__ -D__ARM_ARCH_7M__)
-    mcu=(hal/backends/mcu/mcu_rt.c hal/backends/mcu/mcu_semihost.c hal/backends/mcu/selftest.c hal/backends/mcu/pil_main.c)
+    mcu=(hal/backends/mcu/mcu_rt.c hal/backends/mcu/mcu_semihost.c hal/backends/mcu/selftest.c
+         hal/backends/mcu/pil_image.c hal/backends/mcu/pil_probe_none.c)
     run_cppcheck "hal/backends/mcu (C11, Cortex-M4F float)" "${m4f[@]}" "${mcu[@]}"
-    run_cppcheck "hal/backends/mcu/pil_paper001_main.c (C11, Cortex-M4F float)" "${m4f[@]}" \
-        -DMC_PIL_DRIVE_PAPER001=1 hal/backends/mcu/pil_paper001_main.c
+    run_cppcheck "tools/bench/pil_probes (C11, Cortex-M4F float)" "${m4f[@]}" tools/bench/pil_probes/*.c
     run_cppcheck "hal/backends/stm32f405 (C11, Cortex-M4F float)" "${m4f[@]}" -I hal/backends/stm32f405 \
-        -I hal/include -I firmware -DMC_PIL_DRIVE_PAPER001=1 hal/backends/stm32f405/*.c hal/backends/stm32f405/boards/*.c
+        -I hal/include -I firmware hal/backends/stm32f405/*.c hal/backends/stm32f405/boards/*.c
     run_cppcheck "hal/backends/mcu (C11, Cortex-M3 fixed point)" "${m3[@]}" "${mcu[@]}"
-    run_cppcheck "hal/backends/mcu/pil_paper001_main.c (C11, Cortex-M3 fixed point)" "${m3[@]}" \
-        -DMC_PIL_DRIVE_PAPER001=1 hal/backends/mcu/pil_paper001_main.c
+    run_cppcheck "tools/bench/pil_probes (C11, Cortex-M3 fixed point)" "${m3[@]}" tools/bench/pil_probes/*.c
     echo "---- cppcheck: $((SECONDS - tc)) s"
 fi
 

@@ -1,21 +1,33 @@
-# Regenerates each STM32F405 board's drive configuration from its scenario
-# (mc_pil_gen --board-config, run from the repository's root so the
-# recorded path is the same) and compares it with the committed file.
+# Regenerates every drive's configuration for an STM32F405 board from the
+# scenario beside it (firmware/drives/<drive>/boards/<board>.toml ->
+# <board>_config.c, mc_pil_gen --board-config --drive <drive>, run from the
+# repository's root so the recorded path is the same) and compares it with
+# the committed file.
 # -DGEN=mc_pil_gen -DSRC=<repository> -DWORK=<scratch folder>
 file(MAKE_DIRECTORY ${WORK})
-foreach(board vesc6)
-  set(committed ${SRC}/hal/backends/stm32f405/boards/${board}_drive_config.c)
-  set(fresh ${WORK}/${board}_drive_config.c)
-  execute_process(COMMAND ${GEN} --board-config hal/backends/stm32f405/boards/${board}_paper001.toml ${fresh}
+file(GLOB scenarios RELATIVE ${SRC} ${SRC}/firmware/drives/*/boards/*.toml)
+if(NOT scenarios)
+  message(FATAL_ERROR "no board configuration found (firmware/drives/*/boards/*.toml)")
+endif()
+foreach(toml ${scenarios})
+  string(REGEX MATCH "firmware/drives/([^/]+)/boards/([^/]+)\\.toml$" _m ${toml})
+  set(drive ${CMAKE_MATCH_1})
+  set(board ${CMAKE_MATCH_2})
+  set(committed ${SRC}/firmware/drives/${drive}/boards/${board}_config.c)
+  set(fresh ${WORK}/${drive}_${board}_config.c)
+  execute_process(COMMAND ${GEN} --board-config --drive ${drive} ${toml} ${fresh}
                   WORKING_DIRECTORY ${SRC} RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "mc_pil_gen --board-config failed for ${board} (${rc})")
+    message(FATAL_ERROR "mc_pil_gen --board-config failed for ${drive} on ${board} (${rc})")
+  endif()
+  if(NOT EXISTS ${committed})
+    message(FATAL_ERROR "${committed} missing: generate it from ${toml} (hal/backends/stm32f405/README.md)")
   endif()
   file(READ ${committed} a)
   file(READ ${fresh} b)
   if(NOT a STREQUAL b)
-    message(FATAL_ERROR "${committed} is not what the host designs now from boards/${board}_paper001.toml: "
+    message(FATAL_ERROR "${committed} is not what the host designs now from ${toml}: "
                         "regenerate it (hal/backends/stm32f405/README.md)")
   endif()
-  message(STATUS "${board}: drive configuration current")
+  message(STATUS "${drive} on ${board}: drive configuration current")
 endforeach()

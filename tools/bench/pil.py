@@ -81,7 +81,18 @@ PREFIX = {"float": "m4f_float", "fixed": "m3_fixed"}
 P001_TARGETS = {("flux", "float"): {"part_fo_ida_instr_mean": 600}}
 DEFAULT_SCENARIO = {"paper000": os.path.join(cb.ROOT, "sim", "scenarios", "paper000_ideal.toml"),
                     "paper001": os.path.join(cb.ROOT, "sim", "scenarios", "paper001_benchmark.toml")}
-P001_IO_WORDS = 7  # hal/backends/mcu/pil_vectors.h PIL_P001_IO_WORDS
+# the other drives' benchmarks (any drive of the registry runs: without an
+# entry here, the first scenario of sim/scenarios/ with [drive] kind = it)
+DEFAULT_SCENARIO.update({
+    "paper002": os.path.join(cb.ROOT, "sim", "scenarios", "paper002_reference.toml"),
+    "sensored_foc": os.path.join(cb.ROOT, "sim", "scenarios", "sensored_benchmark.toml")})
+# numeric types a drive runs in (default both): paper 002's design and
+# scenario are float only (docs/paper002.md)
+DRIVE_TYPES = {"paper002": ("float",)}
+# (drive, type) -> {key suffix: limit} of the other drives: paper 002's
+# budget of issue 14 (EKF + MTPA + current control + SOSMC <= 2,500 on the
+# M4F), here on its whole step
+DRIVE_TARGETS = {("paper002", "float"): {"instr_mean": 2500}}
 
 
 def host_generator(typ, given):
@@ -138,71 +149,146 @@ def parse_ci_stack(build_dir, root_fn="paper000_drive_step"):
             "dynamic_frames": sorted(dynamic)}
 
 
-def run_type(typ, args):
+def registry_drives():
+    """The drives of firmware/drives/registry.c (each `&<name>_drive_ops`), in its order."""
+    with open(os.path.join(cb.ROOT, "firmware", "drives", "registry.c")) as f:
+        return re.findall(r"&(\w+)_drive_ops", f.read())
+
+
+def default_scenario(drive):
+    """The drive's benchmark scenario: DEFAULT_SCENARIO's, else the first of
+    sim/scenarios/ with [drive] kind = "<drive>"."""
+    if drive in DEFAULT_SCENARIO:
+        return DEFAULT_SCENARIO[drive]
+    for path in sorted(glob.glob(os.path.join(cb.ROOT, "sim", "scenarios", "*.toml"))):
+        if re.search(r'^kind\s*=\s*"%s"' % re.escape(drive), open(path).read(), re.M):
+            return path
+    return None
+
+
+def vectors_row_words(vec):
+    m = re.search(r"pil_row_words = (\d+)u", open(vec).read())
+    return int(m.group(1)) if m else 0
+
+
+def run_image(drive, typ, args, scenario, vec_name, gen_extra=(), extra_targets=()):
+    """Records the vectors of drive on the host build of typ, builds the PIL
+    image for that drive (cmake -DMC_DRIVE) and runs it under qemu. Returns
+    (the image's output parsed, its build folder, its ELF, the vectors file)."""
     preset, machine, _ = cb.PRESETS[typ]
     gen = host_generator(typ, getattr(args, "gen_" + typ))
     os.makedirs(args.build_root, exist_ok=True)
-    vec = os.path.join(args.build_root, "pil_vectors_%s.c" % typ)
-    cmd = [gen, args.scenario_paper000, vec]
+    vec = os.path.join(args.build_root, vec_name)
+    cmd = [gen, "--drive", drive] + list(gen_extra) + [scenario, vec]
     if args.max_samples:
         cmd.append(str(args.max_samples))
     cb.run(cmd)
     bdir = os.path.join(args.build_root, preset)
-    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_QEMU_SHIFT": args.shift, "MC_PIL_DRIVE": "paper000"},
-                   targets=["mc_firmware", "mc_pil", "mc_selftest"])
+    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_QEMU_SHIFT": args.shift, "MC_DRIVE": drive,
+                                  "MC_PIL_STEP_CALL": args.step_call},
+                   targets=["mc_firmware", "mc_pil"] + list(extra_targets))
     elf = os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.elf")
     rc, out = cb.qemu(machine, elf, args.shift)
-    ticks, can_ticks, info = [], [], {}
+    run = {"rc": rc, "out": out, "ticks": [], "can": [], "states": "", "parts": [], "info": {}}
     for line in out.splitlines():
         if line.startswith("T "):
-            ticks += [int(t) for t in line.split()[1:]]
+            run["ticks"] += [int(t) for t in line.split()[1:]]
         elif line.startswith("C "):
-            can_ticks += [int(t) for t in line.split()[1:]]
+            run["can"] += [int(t) for t in line.split()[1:]]
+        elif line.startswith("S "):
+            run["states"] += line[2:].strip()
+        elif line.startswith("P "):
+            run["parts"].append([int(t) for t in line.split()[1:]])
         elif line.startswith("PIL "):
             for k, v in re.findall(r"(\w+)=(\S+)", line):
-                info[k] = v
+                run["info"][k] = v
+    return run, bdir, elf, vec
+
+
+def common_keys(p, run, args, bdir, elf, vec, drive, machine):
+    """The keys every drive's run has, prefixed p: the step's instructions
+    (all periods, and by supervisor state), the CAN node's, bit-exactness,
+    sizes, stack, the qemu line. Returns (keys, instr, to_instr, calib)."""
+    info = run["info"]
     scale = cb.TICK_NS / float(2 ** args.shift)
     to_instr = (lambda t: int(round(t * scale))) if args.shift >= 7 else (lambda t: t * scale)
     calib = to_instr(int(info.get("calib", 0)))
-    instr = [to_instr(t) - calib for t in ticks]
+    instr = [to_instr(t) - calib for t in run["ticks"]]
     # the CAN node's step after each control step (telemetry at the
     # default rates, the queue drained), timed apart
-    can_instr = [to_instr(t) - calib for t in can_ticks]
+    can_instr = [to_instr(t) - calib for t in run["can"]]
     n = int(info.get("n", "0"))
-    ok_run = (rc == 0 and "PIL PASS" in out and len(instr) == n and n > 0)
+    states = run["states"]
+    ok_run = (run["rc"] == 0 and "PIL PASS" in run["out"] and len(instr) == n and n > 0 and len(states) == n)
     res = {}
-    p = PREFIX[typ]
+    res.update(instr_stats(p, instr))
     if instr:
-        res[p + "_instr_mean"] = round(sum(instr) / len(instr), 1)
-        res[p + "_instr_min"] = min(instr)
-        res[p + "_instr_max"] = max(instr)
         res[p + "_instr_max_at_period"] = instr.index(max(instr))
-        srt = sorted(instr)
-        res[p + "_instr_p99"] = srt[min(len(srt) - 1, int(0.99 * len(srt)))]
     if can_instr:
         res[p + "_can_instr_mean"] = round(sum(can_instr) / len(can_instr), 1)
         res[p + "_can_instr_max"] = max(can_instr)
     res[p + "_periods"] = len(instr)
+    # by supervisor state: periods that start and end in the same state
+    # (state before period i = state after period i-1)
+    names = {"1": "open_loop", "2": "closed_loop"}
+    if len(states) == len(instr) and instr:
+        for code, name in names.items():
+            sel = [instr[i] for i in range(len(instr)) if states[i] == code and states[max(i - 1, 0)] == code]
+            res.update(instr_stats(p + "_" + name, sel))
+            res[p + "_" + name + "_periods"] = len(sel)
+        first_closed = states.find("2")
+        res[p + "_first_closed_loop_period"] = first_closed if first_closed >= 0 else None
+        res[p + "_transition_periods"] = sum(1 for i in range(1, len(states)) if states[i] != states[i - 1])
+        res[p + "_final_state"] = {"0": "identify", "1": "open_loop", "2": "closed_loop", "3": "fault"}.get(
+            states[-1:], states[-1:])
     res[p + "_bit_exact_vs_host"] = (info.get("mismatches") == "0" and ok_run)
     res[p + "_mismatches"] = int(info.get("mismatches", "-1"))
     res[p + "_image_ok"] = ok_run
+    res[p + "_step_call"] = "interface (drive_step)" if info.get("step_via_interface") == "1" else \
+        "direct (%s_drive_step)" % drive
     lib = os.path.join(bdir, "firmware", "libmc_firmware.a")
     sz_lib = cb.size_of([lib])
     sz_img = cb.size_of([elf])
     res[p + "_lib_flash_bytes"] = sz_lib["text"] + sz_lib["data"]
     res[p + "_lib_ram_static_bytes"] = sz_lib["data"] + sz_lib["bss"]
-    res[p + "_drive_state_ram_bytes"] = int(info.get("state_bytes", "0").split()[0]) if info.get("state_bytes") else None
-    # the image without the vectors: rodata of pil_io counted separately
-    vec_bytes = n * 16
+    res[p + "_drive_state_ram_bytes"] = int(info["state_bytes"]) if "state_bytes" in info else None
+    res[p + "_drive_config_bytes"] = int(info["cfg_bytes"]) if "cfg_bytes" in info else None
+    # the image without the vectors: the rows of pil_rows counted separately
+    vec_bytes = n * vectors_row_words(vec) * 4
     res[p + "_pil_image_flash_bytes"] = sz_img["text"] + sz_img["data"]
     res[p + "_pil_image_flash_bytes_without_vectors"] = sz_img["text"] + sz_img["data"] - vec_bytes
     res[p + "_pil_image_ram_bytes"] = sz_img["data"] + sz_img["bss"]
+    linked = linked_firmware_bytes(os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.map"))
+    if linked:
+        # the part of the library the drive pulls in
+        res[p + "_image_firmware_flash_bytes"] = linked["flash"]
+        res[p + "_image_firmware_ram_static_bytes"] = linked["ram"]
+    stack_and_qemu(res, p, parse_ci_stack(bdir, drive + "_drive_step"), info,
+                   "%s -icount shift=%d" % (machine, args.shift))
+    if not ok_run:
+        cb.log(run["out"][-3000:])
+    return res, instr, to_instr, calib
+
+
+def run_type(typ, args):
+    """Paper 000's position drive on type typ (keys m4f_float_* / m3_fixed_*)."""
+    preset, machine, _ = cb.PRESETS[typ]
+    run, bdir, elf, vec = run_image("paper000", typ, args, args.scenario_paper000, "pil_vectors_%s.c" % typ,
+                                    extra_targets=["mc_selftest"])
+    p = PREFIX[typ]
+    res, _, _, _ = common_keys(p, run, args, bdir, elf, vec, "paper000", machine)
     sz_st = cb.size_of([os.path.join(bdir, "hal", "backends", "mcu", "mc_selftest.elf")])
     res[p + "_selftest_image_flash_bytes"] = sz_st["text"] + sz_st["data"]
     res[p + "_selftest_image_ram_bytes"] = sz_st["data"] + sz_st["bss"]
-    stack_and_qemu(res, p, parse_ci_stack(bdir), info, "%s -icount shift=%d" % (machine, args.shift))
-    if not ok_run:
-        cb.log(out[-3000:])
+    return res
+
+
+def run_generic(drive, typ, args):
+    """Any other drive of the registry on type typ (keys <drive>_<m4f_float|m3_fixed>_*)."""
+    preset, machine, _ = cb.PRESETS[typ]
+    run, bdir, elf, vec = run_image(drive, typ, args, getattr(args, "scenario_" + drive),
+                                    "pil_vectors_%s_%s.c" % (drive, typ))
+    res, _, _, _ = common_keys("%s_%s" % (drive, PREFIX[typ]), run, args, bdir, elf, vec, drive, machine)
     return res
 
 
@@ -253,56 +339,15 @@ def linked_firmware_bytes(map_path):
 
 
 def run_p001(typ, est, args):
-    """The paper-001 speed drive with estimator est (flux | back_emf) on type typ."""
+    """The paper-001 speed drive with estimator est (flux | back_emf) on type
+    typ; its probe (tools/bench/pil_probes/paper001_probe.c) times the parts."""
     preset, machine, _ = cb.PRESETS[typ]
-    gen = host_generator(typ, getattr(args, "gen_" + typ))
-    os.makedirs(args.build_root, exist_ok=True)
-    vec = os.path.join(args.build_root, "pil_vectors_paper001_%s_%s.c" % (est, typ))
-    cmd = [gen, "--drive", "paper001", "--estimator", est, args.scenario_paper001, vec]
-    if args.max_samples:
-        cmd.append(str(args.max_samples))
-    cb.run(cmd)
-    bdir = os.path.join(args.build_root, preset)
-    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_QEMU_SHIFT": args.shift, "MC_PIL_DRIVE": "paper001"},
-                   targets=["mc_firmware", "mc_pil"])
-    elf = os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.elf")
-    rc, out = cb.qemu(machine, elf, args.shift)
-    ticks, states, parts, info = [], "", [], {}
-    for line in out.splitlines():
-        if line.startswith("T "):
-            ticks += [int(t) for t in line.split()[1:]]
-        elif line.startswith("S "):
-            states += line[2:].strip()
-        elif line.startswith("P "):
-            parts.append([int(t) for t in line.split()[1:]])
-        elif line.startswith("PIL "):
-            for k, v in re.findall(r"(\w+)=(\S+)", line):
-                info[k] = v
-    scale = cb.TICK_NS / float(2 ** args.shift)
-    to_instr = (lambda t: int(round(t * scale))) if args.shift >= 7 else (lambda t: t * scale)
-    calib = to_instr(int(info.get("calib", 0)))
-    instr = [to_instr(t) - calib for t in ticks]
-    n = int(info.get("n", "0"))
-    ok_run = (rc == 0 and "PIL PASS" in out and len(instr) == n and n > 0 and len(states) == n)
+    run, bdir, elf, vec = run_image("paper001", typ, args, args.scenario_paper001,
+                                    "pil_vectors_paper001_%s_%s.c" % (est, typ), gen_extra=["--estimator", est])
     p = "p001_%s_%s" % (est, PREFIX[typ])
-    res = {}
-    res.update(instr_stats(p, instr))
-    if instr:
-        res[p + "_instr_max_at_period"] = instr.index(max(instr))
-    res[p + "_periods"] = len(instr)
-    # by supervisor state: periods that start and end in the same state
-    # (state before period i = state after period i-1)
-    names = {"1": "open_loop", "2": "closed_loop"}
-    if len(states) == len(instr):
-        for code, name in names.items():
-            sel = [instr[i] for i in range(len(instr)) if states[i] == code and states[max(i - 1, 0)] == code]
-            res.update(instr_stats(p + "_" + name, sel))
-            res[p + "_" + name + "_periods"] = len(sel)
-        first_closed = states.find("2")
-        res[p + "_first_closed_loop_period"] = first_closed if first_closed >= 0 else None
-        res[p + "_transition_periods"] = sum(1 for i in range(1, len(states)) if states[i] != states[i - 1])
-        res[p + "_final_state"] = {"0": "identify", "1": "open_loop", "2": "closed_loop", "3": "fault"}.get(
-            states[-1:], states[-1:])
+    res, instr, to_instr, calib = common_keys(p, run, args, bdir, elf, vec, "paper001", machine)
+    parts, info = run["parts"], run["info"]
+    n = int(info.get("n", "0"))
     if parts:
         # P <period> <flux> <ii> <empty> <ida> <empty> <frames> <empty>: each
         # part's noipa wrapper minus its empty twin (same call sequence)
@@ -326,29 +371,6 @@ def run_p001(typ, est, args):
     res[p + "_part_mismatches"] = int(info.get("part_mismatches", "-1"))
     if parts:
         res[p + "_part_outputs_checked"] = int(info.get("part_outputs_checked", "0"))
-    res[p + "_bit_exact_vs_host"] = (info.get("mismatches") == "0" and ok_run)
-    res[p + "_mismatches"] = int(info.get("mismatches", "-1"))
-    res[p + "_image_ok"] = ok_run
-    lib = os.path.join(bdir, "firmware", "libmc_firmware.a")
-    sz_lib = cb.size_of([lib])
-    sz_img = cb.size_of([elf])
-    res[p + "_lib_flash_bytes"] = sz_lib["text"] + sz_lib["data"]
-    res[p + "_lib_ram_static_bytes"] = sz_lib["data"] + sz_lib["bss"]
-    res[p + "_drive_state_ram_bytes"] = int(info["state_bytes"]) if "state_bytes" in info else None
-    res[p + "_drive_config_bytes"] = int(info["cfg_bytes"]) if "cfg_bytes" in info else None
-    vec_bytes = n * P001_IO_WORDS * 4
-    res[p + "_pil_image_flash_bytes"] = sz_img["text"] + sz_img["data"]
-    res[p + "_pil_image_flash_bytes_without_vectors"] = sz_img["text"] + sz_img["data"] - vec_bytes
-    res[p + "_pil_image_ram_bytes"] = sz_img["data"] + sz_img["bss"]
-    linked = linked_firmware_bytes(os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.map"))
-    if linked:
-        # the part of the library the paper-001 drive pulls in (both estimators)
-        res[p + "_image_firmware_flash_bytes"] = linked["flash"]
-        res[p + "_image_firmware_ram_static_bytes"] = linked["ram"]
-    stack_and_qemu(res, p, parse_ci_stack(bdir, "paper001_drive_step"), info,
-                   "%s -icount shift=%d" % (machine, args.shift))
-    if not ok_run:
-        cb.log(out[-3000:])
     return res
 
 
@@ -402,12 +424,17 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--types", default="float,fixed", help="comma list of float,fixed")
     ap.add_argument("--drive", default="paper000",
-                    help="comma list of paper000 (paper000_drive_step, default), paper001 (paper001_drive_step)")
+                    help="comma list of drives of the registry (firmware/drives/registry.c): %s (default "
+                         "paper000)" % ", ".join(registry_drives()))
+    ap.add_argument("--step-call", choices=["direct", "interface"], default="direct",
+                    help="how the image calls the timed step (CMake MC_PIL_STEP_CALL): direct, the drive's "
+                         "<name>_drive_step as drive_ops_t.step calls it (default), or interface, drive_step()")
     ap.add_argument("--estimators", "--estimator", default="flux,back_emf",
                     help="paper001 only: comma list of flux, back_emf (default both)")
     ap.add_argument("--scenario", default=None,
                     help="scenario of the (one) drive of --drive (default: sim/scenarios/paper000_ideal.toml, "
-                         "paper001_benchmark.toml for paper001)")
+                         "paper001_benchmark.toml for paper001, paper002_reference.toml for paper002, "
+                         "sensored_benchmark.toml for sensored_foc)")
     ap.add_argument("--max-samples", type=int, default=0, help="record at most N periods (0 = whole scenario)")
     ap.add_argument("--gen-float", default=None, help="mc_pil_gen of a float host build (default: build/host)")
     ap.add_argument("--gen-fixed", default=None, help="mc_pil_gen of a fixed host build (default: build/host-fixed)")
@@ -428,14 +455,18 @@ def main():
     args.build_root = os.path.abspath(args.build_root)
     drives = [d.strip() for d in args.drive.split(",") if d.strip()]
     ests = [e.strip() for e in args.estimators.split(",") if e.strip()]
-    if not drives or any(d not in DEFAULT_SCENARIO for d in drives):
-        ap.error("--drive: comma list of paper000, paper001")
+    known = registry_drives()
+    if not drives or any(d not in known for d in drives):
+        ap.error("--drive: comma list of drives of the registry: %s" % ", ".join(known))
     if not ests or any(e not in ("flux", "back_emf") for e in ests):
         ap.error("--estimators: comma list of flux, back_emf")
     if args.scenario and len(drives) > 1:
         ap.error("--scenario: give one --drive with it")
-    for d in DEFAULT_SCENARIO:
-        setattr(args, "scenario_" + d, os.path.abspath(args.scenario) if args.scenario else DEFAULT_SCENARIO[d])
+    for d in drives:
+        sc = os.path.abspath(args.scenario) if args.scenario else default_scenario(d)
+        if sc is None:
+            ap.error("--drive %s: no scenario with [drive] kind = \"%s\" in sim/scenarios/: give --scenario" % (d, d))
+        setattr(args, "scenario_" + d, sc)
     miss = cb.missing_tools()
     if miss:
         print("SKIP: PIL needs %s (apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)"
@@ -462,6 +493,9 @@ def main():
     targets = {}
     if "paper000" in drives:
         targets.update({"m4f_float_instr_mean": 1000, "m4f_float_instr_max": 1200, "m3_fixed_instr_mean": 1500})
+    for (d, t), lims in DRIVE_TARGETS.items():
+        if d in drives:
+            targets.update({"%s_%s_%s" % (d, PREFIX[t], k): lim for k, lim in lims.items()})
     if "paper001" in drives:
         for (e, t), lims in P001_TARGETS.items():
             for k, lim in lims.items():
@@ -506,6 +540,26 @@ def main():
                         misses.append("%s: %s not measured (no closed-loop period recorded)" % (what, k))
                     elif v > lim:
                         misses.append("%s: %s %s > target %d" % (what, k, v, lim))
+    for d in drives:
+        if d in ("paper000", "paper001"):
+            continue
+        out[d + "_scenario"] = os.path.relpath(getattr(args, "scenario_" + d), cb.ROOT)
+        for t in types:
+            if t not in DRIVE_TYPES.get(d, ("float", "fixed")):
+                cb.log("%s: no %s run (its design is %s only)" % (d, t, "/".join(DRIVE_TYPES[d])))
+                continue
+            r = run_generic(d, t, args)
+            out.update(r)
+            p = "%s_%s" % (d, PREFIX[t])
+            what = "%s %s" % (d, t)
+            if not r.get(p + "_image_ok"):
+                failures.append("%s: image did not run to PIL PASS" % what)
+            if r.get(p + "_mismatches", -1) != 0:
+                failures.append("%s: %s outputs differ from the host build" % (what, r.get(p + "_mismatches")))
+            for k, lim in DRIVE_TARGETS.get((d, t), {}).items():
+                v = r.get("%s_%s" % (p, k))
+                if v is None or v > lim:
+                    misses.append("%s: %s %s > target %d" % (what, k, v, lim))
     out["failures"] = failures
     out["target_misses"] = misses
     text = json.dumps(out, indent=2)

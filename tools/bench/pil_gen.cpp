@@ -1,31 +1,32 @@
 // pil_gen.cpp - records a processor-in-the-loop vector file from the host
-// build: runs a scenario with a drive in closed loop with the software
-// plant, and writes a C source with
+// build, for any drive of the registry (firmware/drives/registry.h): runs a
+// scenario with the drive in closed loop with the software plant, through
+// the drive interface (drives/drive.h), and writes a C source
+// (hal/backends/mcu/pil_vectors.h says what it defines) with
 //   - the drive's configuration made on the host, as raw words (the layout
 //     is the same on the Cortex-M targets: 4-byte fields, 32-bit enums,
-//     checked by a _Static_assert on sizeof in the generated file),
-//   - for every period: what the drive got and what it returned, as raw
-//     mc_t bits.
-// Two drives (--drive):
-//   paper000  paper000_config_t from drive_design() (default scenario
-//             sim/scenarios/paper000_ideal.toml); per period the two phase
-//             currents and the two voltages: pil_io[n][4] = ia, ib, va, vb.
-//             The image is hal/backends/mcu/pil_main.c.
-//   paper001  paper001_config_t from p001_design() ([speed] scenarios, e.g.
-//             sim/scenarios/paper001_benchmark.toml), as motorsim makes it
-//             (design_and_init_speed_drive); per period the three phase
-//             currents, the bus voltage and the three phase voltages:
-//             pil_io[n][7] = ia, ib, ic, vbus, va, vb, vc. The image is
-//             hal/backends/mcu/pil_paper001_main.c. --estimator flux|back_emf
-//             overrides the scenario's [speed] estimator.
-//   default: paper001 for a [speed] scenario, paper000 otherwise.
-// The bare-metal image replays the inputs through the drive's init/step and
-// compares its outputs with these bits.
-// Usage: mc_pil_gen [--drive paper000|paper001] [--estimator flux|back_emf]
-//                   SCENARIO.toml OUT.c [MAX_SAMPLES]
-//        mc_pil_gen --board-config SCENARIO.toml OUT.c   (an MCU board's drive
-//                   configuration only, see write_board_config)
+//     checked by a _Static_assert on the size of <drive>_config_t in the
+//     generated file and by the image against the drive's config_bytes),
+//   - for every period: the fields of the hal_sample_t the drive got and of
+//     the hal_command_t it returned, as raw words; a field that is the same
+//     in every period is written once.
+// The bare-metal image (hal/backends/mcu/pil_image.c, built for the same
+// drive with CMake MC_DRIVE) replays the samples through the drive's step
+// and compares its commands with these bits.
+//
+// The configuration comes from the drive's host part (sim/host_drives/, the
+// design motorsim runs for [drive] kind = "<name>"); the drives of papers
+// 000-002, which have none yet (issue 28), from the design motorsim runs for
+// their scenario tables ([trajectory], [speed], [paper002]).
+// --drive defaults to the scenario's drive. --estimator flux|back_emf
+// overrides a [speed] scenario's estimator (paper 001's drive).
+//
+// Usage: mc_pil_gen [--drive NAME] [--estimator flux|back_emf] SCENARIO.toml OUT.c [MAX_SAMPLES]
+//        mc_pil_gen --board-config [--drive NAME] [--estimator ...] SCENARIO.toml OUT.c
+//                   (an MCU board's drive configuration only, see write_board_config)
+#include <array>
 #include <cinttypes>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -34,25 +35,25 @@
 #include <string>
 #include <vector>
 
-#include "drives/paper000/paper000_drive.h"
-#include "drives/paper001/paper001_drive.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
-#include "scenario/rig.h"
-#include "model/amplifier.h"
-#include "model/current_sensor.h"
-#include "model/pm_plant.h"
+#include "host_drives/host_drive.h"
+#include "model/encoder.h"
+#include "model/fault_injection.h"
 #include "scenario/design_input.h"
+#include "scenario/rig.h"
 #include "scenario/scenario.h"
+
+extern "C" {
+#include "drives/registry.h"
+}
 
 namespace {
 
-struct Rec {
-    paper000_drive_t* drive = nullptr;
-    std::vector<std::uint32_t> io;  // ia, ib, va, vb per period
-    std::uint32_t max_samples = 0;
-    bool faulted = false;
-};
+// hal/backends/mcu/pil_vectors.h: PIL_IN_* and PIL_OUT_* fields
+constexpr std::size_t kInFields = 7;   // i_a, i_b, i_c, v_bus, angle, meta, status
+constexpr std::size_t kOutFields = 4;  // v_a, v_b, v_c, n_phases
+constexpr std::uint32_t kMetaHasAngle = 1u << 8;
 
 std::uint32_t bits(mc_t v)
 {
@@ -62,64 +63,105 @@ std::uint32_t bits(mc_t v)
     return u;
 }
 
-void callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
+struct Options {
+    std::string drive;      // registry name; empty: the scenario's
+    std::string estimator;  // paper 001: flux | back_emf; empty: the scenario's
+};
+
+// The scenario's own drive.
+std::string scenario_drive(const mcsim::Scenario& sc)
 {
-    Rec* r = static_cast<Rec*>(ctx);
-    const bool ok = paper000_drive_step(r->drive, in, out);
-    if (r->io.size() / 4 < r->max_samples) {
-        r->io.insert(r->io.end(), {bits(in->i_A[0]), bits(in->i_A[1]), bits(out->v_V[0]), bits(out->v_V[1])});
+    if (!sc.drive_kind.empty()) return sc.drive_kind;
+    if (sc.paper002_drive) return "paper002";
+    if (sc.speed_drive) return "paper001";
+    return "paper000";
+}
+
+// The configuration of drive name for scenario sc, as motorsim designs it.
+// paper000's design sets sc.pre_ticks (its rotor alignment before t = 0).
+void design(const std::string& name, const Options& opt, mcsim::Scenario& sc, drive_config_storage_t* cfg)
+{
+    std::memset(cfg, 0, sizeof *cfg);
+    if (!opt.estimator.empty() && name != "paper001") {
+        throw std::runtime_error("--estimator applies to --drive paper001 only");
     }
-    if (!ok) {
-        r->faulted = true;
-        hal_safe_state();
+    if (name == "paper000") {
+        if (!sc.position_drive()) throw std::runtime_error(sc.path + ": --drive paper000 needs a [trajectory] scenario");
+        auto d = std::make_unique<paper000_drive_t>();
+        mcsim::design_and_init_drive(sc, d.get());
+        cfg->paper000 = d->cfg;  // what paper000_drive_init got
+    } else if (name == "paper001") {
+        if (!sc.speed_drive) throw std::runtime_error(sc.path + ": --drive paper001 needs a [speed] scenario");
+        if (sc.speed_gains.identify) {
+            // motorsim would replace the drive model by the commissioning's
+            // R, L, Phi first; not reproduced here
+            throw std::runtime_error(sc.path + ": [speed] identify = true is not supported by mc_pil_gen");
+        }
+        if (!opt.estimator.empty()) sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
+        auto d = std::make_unique<paper001_drive_t>();
+        p001_design_report_t rep{};
+        mcsim::design_and_init_speed_drive(sc, d.get(), &rep);
+        cfg->paper001 = d->cfg;
+    } else if (name == "paper002") {
+        if (!sc.paper002_drive) throw std::runtime_error(sc.path + ": --drive paper002 needs a [paper002] scenario");
+        auto d = std::make_unique<paper002_drive_t>();
+        mcsim::design_and_init_paper002_drive(sc, d.get());
+        cfg->paper002 = d->cfg;
+    } else {
+        const mcsim::HostDrive* host = mcsim::host_drive_find(name);
+        if (host == nullptr) throw std::runtime_error("--drive " + name + ": no host part designs this drive");
+        if (sc.drive_kind != name) {
+            throw std::runtime_error(sc.path + ": --drive " + name + " needs a scenario with [drive] kind = \"" + name +
+                                     "\" (its table's keys)");
+        }
+        host->design(sc, cfg);
     }
 }
 
-// paper 001: the image rebuilds each sample from the recorded currents and
-// bus voltage with tick = period, n_phases = pil_n_phases, no angle sensor,
-// status 0; anything else the software plant sent is refused here.
-constexpr std::size_t kP001Words = 7;  // ia, ib, ic, vbus, va, vb, vc
+std::string estimator_note(const std::string& name, const drive_config_storage_t& cfg)
+{
+    if (name != "paper001") return "";
+    return std::string(", estimator ") + (cfg.paper001.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux");
+}
 
-struct Rec001 {
-    paper001_drive_t* drive = nullptr;
-    std::vector<std::uint32_t> io;
+void write_cfg_words(FILE* f, const drive_config_storage_t& cfg, std::uint32_t bytes, const char* name)
+{
+    const std::size_t nw = (bytes + 3u) / 4u;
+    std::vector<std::uint32_t> w(nw, 0u);
+    std::memcpy(w.data(), &cfg, bytes);
+    std::fprintf(f, "const uint32_t %s[%zu] = {", name, nw);
+    for (std::size_t i = 0; i < nw; ++i) std::fprintf(f, "%s0x%08" PRIx32 "u,", (i % 8) ? "" : "\n  ", w[i]);
+    std::fprintf(f, "\n};\n");
+}
+
+struct Rec {
+    drive_t drive{};
+    std::vector<std::array<std::uint32_t, kInFields>> in;
+    std::vector<std::array<std::uint32_t, kOutFields>> out;
     std::uint32_t max_samples = 0;
-    std::uint8_t n_phases = 0;
     bool faulted = false;
     std::string bad_sample;  // why a sample cannot be rebuilt on the target
 };
 
-void callback001(void* ctx, const hal_sample_t* in, hal_command_t* out)
+void callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
 {
-    Rec001* r = static_cast<Rec001*>(ctx);
-    const std::size_t k = r->io.size() / kP001Words;
-    const bool ok = paper001_drive_step(r->drive, in, out);
+    Rec* r = static_cast<Rec*>(ctx);
+    const std::size_t k = r->in.size();
+    const bool ok = drive_step(&r->drive, in, out);
     if (k < r->max_samples) {
-        if (r->bad_sample.empty()) {
-            if (k == 0) r->n_phases = in->n_phases;
-            if (in->tick != k || in->n_phases != r->n_phases || in->has_angle || in->status != 0u) {
-                r->bad_sample = "period " + std::to_string(k) + ": tick/n_phases/has_angle/status not as the image "
-                                "rebuilds them";
-            }
+        if (in->tick != k && r->bad_sample.empty()) {
+            r->bad_sample = "period " + std::to_string(k) + ": tick " + std::to_string(in->tick) +
+                            " is not the period's index, as the image rebuilds it";
         }
-        r->io.insert(r->io.end(), {bits(in->i_A[0]), bits(in->i_A[1]), bits(in->i_A[2]), bits(in->v_bus_V),
-                                   bits(out->v_V[0]), bits(out->v_V[1]), bits(out->v_V[2])});
+        r->in.push_back({bits(in->i_A[0]), bits(in->i_A[1]), bits(in->i_A[2]), bits(in->v_bus_V), bits(in->angle_rad),
+                         static_cast<std::uint32_t>(in->n_phases) | (in->has_angle ? kMetaHasAngle : 0u), in->status});
+        r->out.push_back({bits(out->v_V[0]), bits(out->v_V[1]), bits(out->v_V[2]),
+                          static_cast<std::uint32_t>(out->n_phases)});
     }
     if (!ok) {
         r->faulted = true;
         hal_safe_state();
     }
-}
-
-template <typename Cfg>
-void write_cfg_words(FILE* f, const Cfg& cfg, const char* name = "pil_cfg_words")
-{
-    const std::size_t nw = (sizeof(Cfg) + 3) / 4;
-    std::vector<std::uint32_t> w(nw, 0u);
-    std::memcpy(w.data(), &cfg, sizeof(Cfg));
-    std::fprintf(f, "const uint32_t %s[%zu] = {", name, nw);
-    for (std::size_t i = 0; i < nw; ++i) std::fprintf(f, "%s0x%08" PRIx32 "u,", (i % 8) ? "" : "\n  ", w[i]);
-    std::fprintf(f, "\n};\n");
 }
 
 std::uint32_t sample_limit(const mcsim::Scenario& sc, const char* arg)
@@ -132,141 +174,139 @@ std::uint32_t sample_limit(const mcsim::Scenario& sc, const char* arg)
     return n;
 }
 
-int record_paper000(const mcsim::Scenario& sc_in, const char* out_c, const char* max_arg)
+// Which fields vary over the rows (bit k), and each field's first value.
+template <std::size_t N>
+std::uint32_t varying(const std::vector<std::array<std::uint32_t, N>>& rows)
 {
-    mcsim::Scenario sc = sc_in;  // the design sets its pre_ticks (alignment)
-    auto drive = std::make_unique<paper000_drive_t>();
-    mcsim::design_and_init_drive(sc, drive.get());
-    const paper000_config_t cfg = drive->cfg;  // what paper000_drive_init got
-
-    mcsim::Rig rig(sc);
-    mcsim::PmPlant& plant = rig.plant;
-    mcsim::CurrentSensor& sensor = rig.sensor;
-    const mcsim::Amplifier& amp = rig.amp;
-
-    Rec rec;
-    rec.drive = drive.get();
-    rec.max_samples = sample_limit(sc, max_arg);
-    hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
-    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // the board's, as motorsim; validated at load
-    if (!hal_start(&callback, &rec)) {
-        throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
+    std::uint32_t m = 0;
+    for (const auto& r : rows) {
+        for (std::size_t j = 0; j < N; ++j) {
+            if (r[j] != rows[0][j]) m |= 1u << j;
+        }
     }
-    hal_sw_plant_run(rec.max_samples);
-    hal_sw_plant_detach();
-    const std::size_t n = rec.io.size() / 4;
-    if (n == 0) throw std::runtime_error("no period recorded");
-
-    FILE* f = std::fopen(out_c, "w");
-    if (!f) throw std::runtime_error(std::string("cannot write ") + out_c);
-    std::fprintf(f, "/* Generated by tools/bench/pil_gen.cpp from %s: do not edit. */\n", sc.path.c_str());
-    std::fprintf(f, "#include <stdint.h>\n#include \"drives/paper000/paper000_drive.h\"\n#include \"pil_vectors.h\"\n\n");
-    std::fprintf(f, "_Static_assert(sizeof(paper000_config_t) == %zu, \"paper000_config_t layout differs from the host's\");\n",
-                 sizeof(paper000_config_t));
-    std::fprintf(f, "_Static_assert(MC_FIXED == %d, \"vectors were made for the other numeric type\");\n\n",
-                 (int)MC_FIXED);
-    std::fprintf(f, "const char pil_source[] = \"%s (%s, %zu periods%s)\";\n", sc.stem.c_str(),
-                 MC_FIXED ? "fixed Q14.17" : "float32", n, rec.faulted ? ", drive FAULT" : "");
-    write_cfg_words(f, cfg);
-    std::fprintf(f, "const uint32_t pil_n = %zuu;\nconst uint32_t pil_io[%zu][4] = {\n", n, n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t* p = &rec.io[4 * i];
-        std::fprintf(f, "{0x%" PRIx32 "u,0x%" PRIx32 "u,0x%" PRIx32 "u,0x%" PRIx32 "u},\n", p[0], p[1], p[2], p[3]);
-    }
-    std::fprintf(f, "};\n");
-    std::fclose(f);
-    std::fprintf(stderr, "mc_pil_gen: %zu periods of %s (%s)%s -> %s\n", n, sc.stem.c_str(),
-                 MC_FIXED ? "fixed" : "float", rec.faulted ? " [drive faulted]" : "", out_c);
-    return 0;
+    return m;
 }
 
-int record_paper001(const mcsim::Scenario& sc, const char* out_c, const char* max_arg)
+template <std::size_t N>
+void write_consts(FILE* f, const char* name, const std::array<std::uint32_t, N>& first)
 {
-    if (sc.speed_gains.identify) {
-        // motorsim would replace the drive model by the commissioning's
-        // R, L, Phi first; not reproduced here
-        throw std::runtime_error(sc.path + ": [speed] identify = true is not supported by mc_pil_gen");
-    }
-    auto drive = std::make_unique<paper001_drive_t>();
-    p001_design_report_t rep{};
-    mcsim::design_and_init_speed_drive(sc, drive.get(), &rep);
-    const paper001_config_t cfg = drive->cfg;  // what paper001_drive_init got
+    std::fprintf(f, "const uint32_t %s[%zu] = {", name, N);
+    for (std::size_t j = 0; j < N; ++j) std::fprintf(f, "0x%" PRIx32 "u,", first[j]);
+    std::fprintf(f, "};\n");
+}
 
+int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const char* max_arg)
+{
+    const std::string name = opt.drive.empty() ? scenario_drive(sc) : opt.drive;
+    const drive_ops_t* ops = drive_find(name.c_str());
+    if (ops == nullptr) throw std::runtime_error("--drive " + name + ": not a drive of the registry");
+    auto cfg = std::make_unique<drive_config_storage_t>();
+    design(name, opt, sc, cfg.get());  // before the rig: paper000's alignment moves t = 0
+
+    auto storage = std::make_unique<drive_storage_t>();
+    Rec rec;
+    if (!drive_bind(&rec.drive, ops, storage.get())) throw std::runtime_error(name + ": drive_bind failed");
+    if (!drive_init(&rec.drive, cfg.get())) {
+        const char* why = ops->config_problem != nullptr ? ops->config_problem(cfg.get()) : nullptr;
+        throw std::runtime_error(sc.path + ": " + name + " refused its configuration" +
+                                 (why != nullptr ? std::string(": ") + why : std::string()));
+    }
+    rec.max_samples = sample_limit(sc, max_arg);
+
+    // the bench as motorsim builds it (rig, delay, encoder, injected faults)
     mcsim::Rig rig(sc);
     hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
-    Rec001 rec;
-    rec.drive = drive.get();
-    rec.max_samples = sample_limit(sc, max_arg);
-    if (!hal_start(&callback001, &rec)) {
+    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
+    std::unique_ptr<mcsim::Encoder> encoder;
+    if (sc.encoder.present()) {
+        encoder = std::make_unique<mcsim::Encoder>(sc.encoder, sc.seed);
+        hal_sw_plant_set_encoder(encoder.get());
+    }
+    mcsim::FaultInjector injector(sc.faults, sc.seed);
+    if (sc.faults.any()) hal_sw_plant_set_faults(&injector);
+    if (!hal_start(&callback, &rec)) {
+        hal_sw_plant_detach();
         throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
     }
     hal_sw_plant_run(rec.max_samples);
     hal_safe_state();
     hal_sw_plant_detach();
     if (!rec.bad_sample.empty()) throw std::runtime_error(rec.bad_sample);
-    const std::size_t n = rec.io.size() / kP001Words;
+    const std::size_t n = rec.in.size();
     if (n == 0) throw std::runtime_error("no period recorded");
-    const char* est = (cfg.estimator == P001_ESTIMATOR_BACK_EMF) ? "back_emf" : "flux";
 
+    const std::uint32_t in_var = varying(rec.in);
+    const std::uint32_t out_var = varying(rec.out);
+    const int words = __builtin_popcount(in_var) + __builtin_popcount(out_var);
+    const std::string note = estimator_note(name, *cfg);
     FILE* f = std::fopen(out_c, "w");
     if (!f) throw std::runtime_error(std::string("cannot write ") + out_c);
-    std::fprintf(f, "/* Generated by tools/bench/pil_gen.cpp (--drive paper001) from %s: do not edit. */\n",
+    std::fprintf(f, "/* Generated by tools/bench/pil_gen.cpp (--drive %s) from %s: do not edit. */\n", name.c_str(),
                  sc.path.c_str());
-    std::fprintf(f, "#include <stdint.h>\n#include \"drives/paper001/paper001_drive.h\"\n#include \"pil_vectors.h\"\n\n");
-    std::fprintf(f,
-                 "_Static_assert(sizeof(paper001_config_t) == %zu, \"paper001_config_t layout differs from the "
-                 "host's\");\n",
-                 sizeof(paper001_config_t));
-    std::fprintf(f, "_Static_assert(MC_FIXED == %d, \"vectors were made for the other numeric type\");\n",
+    std::fprintf(f, "#include <stdint.h>\n#include \"drives/%s/%s_drive.h\"\n#include \"pil_vectors.h\"\n\n",
+                 name.c_str(), name.c_str());
+    std::fprintf(f, "_Static_assert(sizeof(%s_config_t) == %u, \"%s_config_t layout differs from the host's\");\n",
+                 name.c_str(), static_cast<unsigned>(ops->config_bytes), name.c_str());
+    std::fprintf(f, "_Static_assert(MC_FIXED == %d, \"vectors were made for the other numeric type\");\n\n",
                  (int)MC_FIXED);
-    std::fprintf(f, "_Static_assert(PIL_P001_IO_WORDS == %zu, \"row layout differs from pil_vectors.h\");\n\n",
-                 kP001Words);
-    std::fprintf(f, "const char pil_source[] = \"%s (paper001, estimator %s, %s, %zu periods%s)\";\n",
-                 sc.stem.c_str(), est, MC_FIXED ? "fixed Q14.17" : "float32", n, rec.faulted ? ", drive FAULT" : "");
-    write_cfg_words(f, cfg);
-    std::fprintf(f, "const uint32_t pil_n_phases = %uu;\n", static_cast<unsigned>(rec.n_phases));
-    std::fprintf(f, "const uint32_t pil_n = %zuu;\nconst uint32_t pil_io[%zu][PIL_P001_IO_WORDS] = {\n", n, n);
+    std::fprintf(f, "const char pil_source[] = \"%s (%s%s, %s, %zu periods%s)\";\n", sc.stem.c_str(), name.c_str(),
+                 note.c_str(), MC_FIXED ? "fixed Q14.17" : "float32", n, rec.faulted ? ", drive FAULT" : "");
+    std::fprintf(f, "const char pil_drive[] = \"%s\";\n", name.c_str());
+    std::fprintf(f, "const uint32_t pil_control_hz = %luu;\n", std::lround(1.0 / sc.ts_s));
+    std::fprintf(f, "const uint32_t pil_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
+    write_cfg_words(f, *cfg, ops->config_bytes, "pil_cfg_words");
+    std::fprintf(f, "const uint32_t pil_n = %zuu;\n", n);
+    std::fprintf(f, "const uint32_t pil_in_varying = 0x%" PRIx32 "u, pil_out_varying = 0x%" PRIx32 "u;\n", in_var,
+                 out_var);
+    write_consts(f, "pil_in_const", rec.in[0]);
+    write_consts(f, "pil_out_const", rec.out[0]);
+    std::fprintf(f, "const uint32_t pil_row_words = %du;\n", words);
+    std::fprintf(f, "const uint32_t pil_rows[%zu] = {\n", n * static_cast<std::size_t>(words > 0 ? words : 1));
     for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t* p = &rec.io[kP001Words * i];
-        std::fprintf(f, "{0x%" PRIx32 "u,0x%" PRIx32 "u,0x%" PRIx32 "u,0x%" PRIx32 "u,0x%" PRIx32 "u,0x%" PRIx32
-                     "u,0x%" PRIx32 "u},\n",
-                     p[0], p[1], p[2], p[3], p[4], p[5], p[6]);
+        for (std::size_t j = 0; j < kInFields; ++j) {
+            if ((in_var >> j) & 1u) std::fprintf(f, "0x%" PRIx32 "u,", rec.in[i][j]);
+        }
+        for (std::size_t j = 0; j < kOutFields; ++j) {
+            if ((out_var >> j) & 1u) std::fprintf(f, "0x%" PRIx32 "u,", rec.out[i][j]);
+        }
+        std::fputc('\n', f);
     }
+    if (words == 0) std::fprintf(f, "0u\n");
     std::fprintf(f, "};\n");
-    std::fclose(f);
-    std::fprintf(stderr, "mc_pil_gen: %zu periods of %s (paper001, estimator %s, %s)%s -> %s\n", n, sc.stem.c_str(),
-                 est, MC_FIXED ? "fixed" : "float", rec.faulted ? " [drive faulted]" : "", out_c);
+    if (std::fclose(f) != 0) throw std::runtime_error(std::string("cannot write ") + out_c);
+    std::fprintf(stderr, "mc_pil_gen: %zu periods of %s (%s%s, %s)%s, %d words a period -> %s\n", n, sc.stem.c_str(),
+                 name.c_str(), note.c_str(), MC_FIXED ? "fixed" : "float", rec.faulted ? " [drive faulted]" : "",
+                 words, out_c);
     return 0;
 }
 
-// --board-config: only the paper-001 drive's configuration, as the words
-// of board_drive_cfg_words[] for an MCU image's board
-// (hal/backends/stm32f405/boards/board.h). The scenario path is written as
-// given (relative to the repository, so that the file does not depend on
-// where the repository is).
-int write_board_config(const mcsim::Scenario& sc, const char* given_path, const char* out_c)
+// --board-config: only the drive's configuration, as the words of
+// board_drive_cfg_words[] for an MCU image's board
+// (hal/backends/stm32f405/boards/board.h), written to the drive's own
+// folder (firmware/drives/<drive>/boards/<board>_config.c). The scenario
+// path is written as given (relative to the repository, so that the file
+// does not depend on where the repository is).
+int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* given_path, const char* out_c)
 {
-    if (sc.speed_gains.identify) {
-        throw std::runtime_error(sc.path + ": [speed] identify = true is not supported for a board configuration");
-    }
-    auto drive = std::make_unique<paper001_drive_t>();
-    p001_design_report_t rep{};
-    mcsim::design_and_init_speed_drive(sc, drive.get(), &rep);
-    const paper001_config_t cfg = drive->cfg;
+    const std::string name = opt.drive.empty() ? scenario_drive(sc) : opt.drive;
+    const drive_ops_t* ops = drive_find(name.c_str());
+    if (ops == nullptr) throw std::runtime_error("--drive " + name + ": not a drive of the registry");
+    auto cfg = std::make_unique<drive_config_storage_t>();
+    design(name, opt, sc, cfg.get());
     const std::string tmp = std::string(out_c) + ".tmp";
     FILE* f = std::fopen(tmp.c_str(), "w");
     if (!f) throw std::runtime_error(std::string("cannot write ") + tmp);
     std::fprintf(f, "/* Generated by tools/bench/pil_gen.cpp --board-config from %s: do not edit\n", given_path);
     std::fprintf(f, " * (ctest mcu.board_config_current regenerates it and compares). */\n");
-    std::fprintf(f, "#include <stdint.h>\n#include \"boards/board.h\"\n#include \"drives/paper001/paper001_drive.h\"\n\n");
-    std::fprintf(f,
-                 "_Static_assert(sizeof(paper001_config_t) == %zu, \"paper001_config_t layout differs from the "
-                 "host's\");\n",
-                 sizeof(paper001_config_t));
+    std::fprintf(f, "#include <stdint.h>\n#include \"boards/board.h\"\n#include \"drives/%s/%s_drive.h\"\n\n",
+                 name.c_str(), name.c_str());
+    std::fprintf(f, "_Static_assert(sizeof(%s_config_t) == %u, \"%s_config_t layout differs from the host's\");\n",
+                 name.c_str(), static_cast<unsigned>(ops->config_bytes), name.c_str());
     std::fprintf(f, "_Static_assert(MC_FIXED == %d, \"made for the other numeric type\");\n\n", (int)MC_FIXED);
-    std::fprintf(f, "const char board_drive_cfg_source[] = \"%s (paper001, estimator %s, %s)\";\n", given_path,
-                 cfg.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux", MC_FIXED ? "fixed Q14.17" : "float32");
-    write_cfg_words(f, cfg, "board_drive_cfg_words");
+    std::fprintf(f, "const char board_drive_cfg_source[] = \"%s (%s%s, %s)\";\n", given_path, name.c_str(),
+                 estimator_note(name, *cfg).c_str(), MC_FIXED ? "fixed Q14.17" : "float32");
+    std::fprintf(f, "const uint32_t board_drive_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
+    write_cfg_words(f, *cfg, ops->config_bytes, "board_drive_cfg_words");
     if (std::fclose(f) != 0 || std::rename(tmp.c_str(), out_c) != 0) {
         throw std::runtime_error(std::string("cannot write ") + out_c);
     }
@@ -278,46 +318,38 @@ int write_board_config(const mcsim::Scenario& sc, const char* given_path, const 
 int main(int argc, char** argv)
 {
     const char* usage =
-        "usage: %s [--drive paper000|paper001] [--estimator flux|back_emf] SCENARIO.toml OUT.c [MAX_SAMPLES]\n";
-    std::string drive_opt, est_opt;
+        "usage: %s [--drive NAME] [--estimator flux|back_emf] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
+        "       %s --board-config [--drive NAME] [--estimator flux|back_emf] SCENARIO.toml OUT.c\n"
+        "NAME: a drive of the registry (default: the scenario's):";
+    Options opt;
+    bool board = false;
     std::vector<const char*> pos;
-    if (argc == 4 && std::string(argv[1]) == "--board-config") {
-        try {
-            const mcsim::Scenario sc = mcsim::load_scenario(argv[2]);
-            if (!sc.speed_drive) throw std::runtime_error(std::string(argv[2]) + ": a board configuration needs a [speed] scenario");
-            return write_board_config(sc, argv[2], argv[3]);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "error: %s\n", e.what());
-            return 1;
-        }
-    }
     for (int a = 1; a < argc; ++a) {
         const std::string s = argv[a];
         if ((s == "--drive" || s == "--estimator") && a + 1 < argc) {
-            (s == "--drive" ? drive_opt : est_opt) = argv[++a];
+            (s == "--drive" ? opt.drive : opt.estimator) = argv[++a];
+        } else if (s == "--board-config") {
+            board = true;
         } else if (s.rfind("--", 0) == 0) {
-            std::fprintf(stderr, usage, argv[0]);
-            return 2;
+            pos.clear();
+            break;
         } else {
             pos.push_back(argv[a]);
         }
     }
-    if (pos.size() < 2 || pos.size() > 3 || (!drive_opt.empty() && drive_opt != "paper000" && drive_opt != "paper001") ||
-        (!est_opt.empty() && est_opt != "flux" && est_opt != "back_emf")) {
-        std::fprintf(stderr, usage, argv[0]);
+    const bool bad_drive = !opt.drive.empty() && drive_find(opt.drive.c_str()) == nullptr;
+    const bool bad_est = !opt.estimator.empty() && opt.estimator != "flux" && opt.estimator != "back_emf";
+    if (pos.size() < 2 || pos.size() > (board ? 2u : 3u) || bad_drive || bad_est) {
+        if (bad_drive) std::fprintf(stderr, "error: --drive %s: not a drive of the registry\n", opt.drive.c_str());
+        std::fprintf(stderr, usage, argv[0], argv[0]);
+        for (std::size_t k = 0; k < drive_registry_count; ++k) std::fprintf(stderr, " %s", drive_registry[k]->name);
+        std::fprintf(stderr, "\n");
         return 2;
     }
     try {
         mcsim::Scenario sc = mcsim::load_scenario(pos[0]);
-        const std::string drive = drive_opt.empty() ? (sc.speed_drive ? "paper001" : "paper000") : drive_opt;
-        const char* max_arg = pos.size() > 2 ? pos[2] : nullptr;
-        if (drive == "paper001") {
-            if (!sc.speed_drive) throw std::runtime_error(sc.path + ": --drive paper001 needs a [speed] scenario");
-            if (!est_opt.empty()) sc.speed_gains.estimator = (est_opt == "back_emf") ? 1 : 0;
-            return record_paper001(sc, pos[1], max_arg);
-        }
-        if (!est_opt.empty()) throw std::runtime_error("--estimator applies to --drive paper001 only");
-        return record_paper000(sc, pos[1], max_arg);
+        if (board) return write_board_config(sc, opt, pos[0], pos[1]);
+        return record(sc, opt, pos[1], pos.size() > 2 ? pos[2] : nullptr);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return 1;

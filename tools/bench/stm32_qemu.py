@@ -2,14 +2,15 @@
 """The STM32F405 image under QEMU (-M netduinoplus2), as far as QEMU models
 the chip (hal/backends/stm32f405/README.md): the image's own start-up,
 vector table and backend control path, with TIM2's interrupt handing it
-paper 001's recorded samples (PIL vectors from the host build's
-mc_pil_gen); the drive's voltages must equal the host's bit for bit.
+the recorded samples of the image's drive (--drive, CMake MC_DRIVE; default
+paper 001's, the stm32f405 preset's; PIL vectors from the host build's
+mc_pil_gen); the drive's command must equal the host's bit for bit.
 Costs, as tools/bench/pil.py counts them (SysTick under -icount, the
 empty timed region subtracted): the whole control interrupt's body (the
 backend around the step and the CAN-less application included) and the
 drive's step alone, in instructions.
 
-    tools/bench/stm32_qemu.py [--scenario FILE] [--max-samples N] [--shift S] [--build-root DIR]
+    tools/bench/stm32_qemu.py [--drive NAME] [--scenario FILE] [--max-samples N] [--shift S] [--build-root DIR]
 
 JSON on stdout; exit 0 PASS, 1 FAIL (a mismatch, a missed period, no
 PASS line), 77 no ARM toolchain or qemu-system-arm."""
@@ -31,7 +32,9 @@ SYSCLK_HZ = 168e6
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scenario", default=os.path.join(cb.ROOT, "sim", "scenarios", "paper001_benchmark.toml"))
+    ap.add_argument("--drive", default="paper001", help="a drive of the registry (default paper001)")
+    ap.add_argument("--scenario", default=None,
+                    help="default: the drive's benchmark (tools/bench/pil.py), paper001_benchmark.toml for paper001")
     ap.add_argument("--max-samples", type=int, default=12000,
                     help="periods replayed (default 12000: 1.2 s, through the start into closed loop)")
     ap.add_argument("--shift", type=int, default=3,
@@ -50,11 +53,16 @@ def main():
         cb.run(["cmake", "--preset", "host"], cwd=cb.ROOT)
         cb.run(["cmake", "--build", os.path.dirname(os.path.dirname(os.path.dirname(gen))), "--target", "mc_pil_gen"],
                cwd=cb.ROOT)
+    import pil  # noqa: E402  (the drives' default scenarios)
+    scenario = a.scenario or pil.default_scenario(a.drive)
+    if scenario is None:
+        ap.error("--drive %s: give --scenario" % a.drive)
     os.makedirs(a.build_root, exist_ok=True)
-    vec = os.path.join(a.build_root, "pil_vectors_paper001.c")
-    cb.run([gen, "--drive", "paper001", a.scenario, vec, str(a.max_samples)])
+    vec = os.path.join(a.build_root, "pil_vectors_%s.c" % a.drive)
+    cb.run([gen, "--drive", a.drive, scenario, vec, str(a.max_samples)])
     bdir = os.path.join(a.build_root, "stm32f405")
-    cb.cross_build("stm32f405", bdir, {"MC_PIL_VECTORS": vec}, targets=["stm32_qemu", "stm32_qemu_hse"])
+    cb.cross_build("stm32f405", bdir, {"MC_PIL_VECTORS": vec, "MC_DRIVE": a.drive},
+                   targets=["stm32_qemu", "stm32_qemu_hse"])
     elf = os.path.join(bdir, "stm32_qemu.elf")
     # sleep=off: while the core waits for the interrupt (wfi), virtual time
     # jumps to the next timer event instead of following the host's clock,
@@ -99,7 +107,7 @@ def main():
                  for k in ("period_min", "period_max")]
     clocks_ok = abs(nop_ratio - 1.0) < 0.01 and all(abs(p - 100.0) < 0.5 for p in period_us)
     ok = rc == 0 and "STM32QEMU PASS" in out and clocks_ok and hse_ok
-    res = {"machine": MACHINE, "icount_shift": a.shift, "scenario": os.path.relpath(a.scenario, cb.ROOT),
+    res = {"machine": MACHINE, "icount_shift": a.shift, "scenario": os.path.relpath(scenario, cb.ROOT), "drive": a.drive,
            "periods": int(info.get("periods", "0")), "steps": int(info.get("steps", "0")),
            "mismatches": int(info.get("mismatches", "-1")), "overruns": int(info.get("overruns", "-1")),
            "systick_hz_measured": round(systick_hz), "control_period_us_min": round(period_us[0], 2),
@@ -107,7 +115,7 @@ def main():
            "crystal_missing_gives_fault_1": hse_ok,
            "pass": ok}
     res.update(stats(isr, "isr"))
-    res.update(stats(step, "paper000_drive_step"))
+    res.update(stats(step, "drive_step"))
     if "isr_instr_mean" in res and "drive_step_instr_mean" in res:
         res["hal_around_step_instr_mean"] = round(res["isr_instr_mean"] - res["drive_step_instr_mean"], 1)
     sz = cb.size_of([os.path.join(bdir, "stm32_qemu.elf")])

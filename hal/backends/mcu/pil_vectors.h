@@ -1,22 +1,55 @@
-/* pil_vectors.h - what a generated PIL vector file (tools/bench/pil_gen.cpp) defines. */
+/*
+ * pil_vectors.h - what a generated PIL vector file (tools/bench/pil_gen.cpp)
+ * defines, for any drive of the registry: the drive's configuration as raw
+ * words (loaded into a drive_config_storage_t, drives/registry.h) and, per
+ * recorded period, the fields of the hal_sample_t the drive got and of the
+ * hal_command_t it returned (hal/hal_types.h), as raw 32-bit words.
+ *
+ * A field that has the same value in every period is stored once
+ * (pil_in_const / pil_out_const); the others are the columns of pil_rows,
+ * in the order of the PIL_IN_* then PIL_OUT_* indices below, inputs first
+ * (pil_in_varying / pil_out_varying: bit k set = field k is a column). So a
+ * two-phase drive's rows hold i_a, i_b, v_a, v_b and a three-phase drive's
+ * i_a, i_b, i_c (and v_bus, the angle if they vary), v_a, v_b, v_c, and the
+ * image rebuilds every field whichever way it was stored. The sample's tick
+ * is the period's index (pil_gen refuses a recording where it is not).
+ */
 #ifndef MCU_PIL_VECTORS_H
 #define MCU_PIL_VECTORS_H
 
 #include <stdint.h>
 
-/* words per period of the paper-001 vectors (mc_pil_gen --drive paper001) */
-#define PIL_P001_IO_WORDS 7
+/* the recorded hal_sample_t fields, one word each (mc_t bits or integers) */
+enum {
+    PIL_IN_I_A = 0,   /* i_A[0] */
+    PIL_IN_I_B = 1,   /* i_A[1] */
+    PIL_IN_I_C = 2,   /* i_A[2] */
+    PIL_IN_V_BUS = 3, /* v_bus_V */
+    PIL_IN_ANGLE = 4, /* angle_rad */
+    PIL_IN_META = 5,  /* n_phases | has_angle << 8 */
+    PIL_IN_STATUS = 6,/* status */
+    PIL_IN_FIELDS = 7
+};
+/* the recorded hal_command_t fields */
+enum {
+    PIL_OUT_V_A = 0,  /* v_V[0] */
+    PIL_OUT_V_B = 1,  /* v_V[1] */
+    PIL_OUT_V_C = 2,  /* v_V[2] */
+    PIL_OUT_META = 3, /* n_phases */
+    PIL_OUT_FIELDS = 4
+};
+#define PIL_META_HAS_ANGLE (1u << 8)
 
-extern const char pil_source[];
-extern const uint32_t pil_cfg_words[];
-extern const uint32_t pil_n;
-#if defined(MC_PIL_DRIVE_PAPER001) && MC_PIL_DRIVE_PAPER001
-/* paper001_drive_t (pil_paper001_main.c): i_a, i_b, i_c, v_bus, v_a, v_b, v_c
- * as raw mc_t bits; every sample has n_phases = pil_n_phases */
-extern const uint32_t pil_n_phases;
-extern const uint32_t pil_io[][PIL_P001_IO_WORDS];
-#else
-extern const uint32_t pil_io[][4]; /* paper000_drive_t (pil_main.c): i_a, i_b, v_a, v_b as raw mc_t bits */
-#endif
+extern const char pil_source[];          /* scenario, drive, numeric type, periods */
+extern const char pil_drive[];           /* the registry name the vectors were recorded from */
+extern const uint32_t pil_control_hz;    /* the control rate of the recording (1 / Ts) */
+extern const uint32_t pil_cfg_words[];   /* the drive's configuration, raw */
+extern const uint32_t pil_cfg_bytes;     /* its size on the host (the drive's config_bytes) */
+extern const uint32_t pil_n;             /* periods */
+extern const uint32_t pil_in_varying, pil_out_varying; /* bit k: field k is a column of pil_rows */
+extern const uint32_t pil_in_const[PIL_IN_FIELDS];     /* the value of each field that is not */
+extern const uint32_t pil_out_const[PIL_OUT_FIELDS];
+extern const uint32_t pil_row_words;     /* columns of pil_rows: popcount of both masks */
+extern const uint32_t pil_rows[];        /* pil_n rows of pil_row_words words */
 
 #endif

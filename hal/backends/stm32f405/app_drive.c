@@ -2,26 +2,41 @@
 
 #include <string.h>
 
-#include "drives/registry.h"
 #include "stm32f405_regs.h"
 
-bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint8_t node, bool can)
+#ifndef MC_DRIVE_NAME
+#error "MC_DRIVE_NAME: the image's drive, defined by CMakeLists.txt from MC_DRIVE"
+#endif
+
+const char *app_drive_name(void) { return MC_DRIVE_NAME; }
+
+bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint32_t cfg_bytes, uint32_t control_hz, uint8_t node,
+                    bool can)
 {
-    paper001_config_t cfg;
-    memcpy(&cfg, cfg_words, sizeof cfg);
+    const drive_ops_t *ops = drive_find(MC_DRIVE_NAME);
+    if (!drive_bind(&a->drive, ops, &a->storage)) {
+        return false;
+    }
+    /* the words were designed on the host for this drive's config type
+     * (firmware/drives/<drive>/boards/, the PIL vectors) */
+    drive_config_storage_t cfg;
+    if (cfg_bytes != ops->config_bytes || cfg_bytes > (uint32_t)sizeof cfg) {
+        return false;
+    }
+    memcpy(&cfg, cfg_words, cfg_bytes);
     can_tx_config_t tc;
-    can_tx_defaults(&tc, node, (int32_t)cfg.model.fs_hz);
+    can_tx_defaults(&tc, node, (int32_t)control_hz);
     can_node_init(&a->node, &tc);
     a->can = can;
     a->step_cycles = 0u;
-    return paper001_drive_init(&a->drive, &cfg);
+    return drive_init(&a->drive, &cfg);
 }
 
 void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
 {
     app_drive_t *a = (app_drive_t *)ctx;
     const uint32_t t0 = SYST_CVR;
-    const bool ok = paper001_drive_step(&a->drive, in, out);
+    const bool ok = drive_step(&a->drive, in, out);
     const uint32_t t1 = SYST_CVR;
     a->step_cycles = (t0 - t1) & 0x00FFFFFFu; /* SysTick counts down */
     if (!ok && !a->can) {
@@ -33,12 +48,11 @@ void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
     }
     /* on CAN a latched fault keeps the node alive (0 V from the drive):
      * the heartbeat reports it and CmdClearFaults can clear it */
-    drive_t d = {&paper001_drive_ops, &a->drive};
     hal_can_frame_t f;
     for (uint32_t k = 0; k < CAN_NODE_RX_PER_STEP && hal_can_receive(&f); ++k) {
-        (void)can_node_receive(&a->node, in->tick, &f, &can_node_apply_drive, &d);
+        (void)can_node_receive(&a->node, in->tick, &f, &can_node_apply_drive, &a->drive);
     }
-    can_node_step_drive(&a->node, &d, in->tick, in->v_bus_V, MC_ZERO);
+    can_node_step_drive(&a->node, &a->drive, in->tick, in->v_bus_V, MC_ZERO);
     while (can_node_peek(&a->node, &f) && hal_can_send(&f)) {
         can_node_pop(&a->node);
     }

@@ -1,6 +1,7 @@
 /*
- * main_board.c - the flashable image: the board's start-up, the drive of
- * its configuration (boards/<board>_drive_config.c), the control interrupt;
+ * main_board.c - the flashable image: the board's start-up, the image's
+ * drive (MC_DRIVE) with its configuration for this board
+ * (firmware/drives/<drive>/boards/<board>_config.c), the control interrupt;
  * the main loop only blinks the LEDs. Any start-up failure leaves the
  * bridges off and the fault code blinking (stm32_backend.h).
  */
@@ -18,7 +19,8 @@ int main(void)
     SYST_CVR = 0u;
     SYST_CSR = 5u;
     if (stm32_backend_init(&stm32_hw)) {
-        if (!app_drive_init(&app, board_drive_cfg_words, board.can_node, board.can_enable)) {
+        if (!app_drive_init(&app, board_drive_cfg_words, board_drive_cfg_bytes, board.control_hz, board.can_node,
+                            board.can_enable)) {
             stm32_backend_fault(STM32_FAULT_DRIVE);
         } else if (!hal_start(&app_drive_control, &app)) {
             stm32_backend_fault(STM32_FAULT_DRIVE);

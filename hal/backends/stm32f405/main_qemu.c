@@ -4,10 +4,12 @@
  * main_board.c, on the QEMU board (boards/qemu_netduinoplus2.c). TIM2's
  * update interrupt at 10 kHz plays the ADC's part: it hands the backend
  * the next sample recorded on the host (the PIL vectors of
- * tools/bench/pil_gen.cpp, paper 001's drive), and the voltages the drive
- * returns are compared with the host's, bit for bit. Timed with SysTick as
+ * tools/bench/pil_gen.cpp for the image's drive, MC_DRIVE), and the command
+ * the drive returns is compared with the host's, bit for bit
+ * (hal/backends/mcu/pil_replay.h). Timed with SysTick as
  * the PIL tool times: the whole interrupt body (the backend around the
- * step included) and the drive's step alone. Output by semihosting:
+ * step included; the replay's decoding and comparison are not) and the
+ * drive's step alone, called through the drive interface. Output by semihosting:
  *   "Q <isr cycles> ..." / "D <step cycles> ..." lines, then
  *   "STM32QEMU steps=.. mismatches=.. calib=.. boot=.." and PASS or FAIL.
  */
@@ -16,31 +18,20 @@
 #include "app_drive.h"
 #include "boards/board.h"
 #include "mcu_rt.h"
+#include "pil_replay.h"
 #include "pil_vectors.h"
 #include "stm32_backend.h"
 #include "stm32f405_regs.h"
 
 static app_drive_t app;
 static volatile uint32_t next;       /* the next recorded period */
+static hal_sample_t next_in;         /* its sample, decoded from the vectors */
 static volatile uint32_t mismatches;
 static volatile uint32_t first_mismatch = 0xFFFFFFFFu;
 static volatile bool done;
 static uint32_t isr_cycles[32], step_cycles[32];
 static uint32_t col;
 static uint32_t last_entry, period_min = 0xFFFFFFFFu, period_max;
-
-static mc_t from_bits(uint32_t u)
-{
-    mc_t v;
-    memcpy(&v, &u, sizeof v);
-    return v;
-}
-static uint32_t to_bits(mc_t v)
-{
-    uint32_t u;
-    memcpy(&u, &v, sizeof u);
-    return u;
-}
 
 /* the recorded output of period k, checked against what the drive returned */
 static hal_command_t last_out;
@@ -77,23 +68,20 @@ void TIM2_IRQHandler(void)
         done = true;
         return;
     }
-    hal_sample_t in;
-    memset(&in, 0, sizeof in);
-    in.n_phases = (uint8_t)pil_n_phases;
-    in.i_A[0] = from_bits(pil_io[k][0]);
-    in.i_A[1] = from_bits(pil_io[k][1]);
-    in.i_A[2] = from_bits(pil_io[k][2]);
-    in.v_bus_V = from_bits(pil_io[k][3]);
-    stm32_backend_control(&in);
-    for (uint32_t p = 0; p < 3u; ++p) {
-        if (to_bits(last_out.v_V[p]) != pil_io[k][4u + p]) {
-            if (mismatches == 0u) first_mismatch = k;
-            mismatches = mismatches + 1u;
-            break;
-        }
-    }
+    /* the sample decoded after the last interrupt's timed part (a board's
+     * ADC hands it over ready) */
+    hal_sample_t in = next_in;
+    stm32_backend_control(&in); /* the backend sets the tick (its own count, = k) */
     next = k + 1u;
     const uint32_t t1 = SYST_CVR;
+    /* not timed: the comparison with the host's command and the next sample */
+    if (!pil_command_matches(k, &last_out)) {
+        if (mismatches == 0u) first_mismatch = k;
+        mismatches = mismatches + 1u;
+    }
+    if (k + 1u < pil_n) {
+        pil_sample(k + 1u, &next_in);
+    }
     isr_cycles[col] = (t0 - t1) & 0x00FFFFFFu;
     step_cycles[col] = app.step_cycles;
     col += 1u;
@@ -127,9 +115,17 @@ int main(void)
     const uint32_t nop1000 = ((n0 - n1) & 0x00FFFFFFu) - calib;
     mcu_puts("STM32QEMU board=");
     mcu_puts(board.name);
+    mcu_puts(" drive=");
+    mcu_puts(app_drive_name());
     mcu_puts(" source=");
     mcu_puts(pil_source);
     mcu_puts("\n");
+    if (strcmp(pil_drive, app_drive_name()) != 0) {
+        mcu_puts("STM32QEMU the vectors were recorded from drive ");
+        mcu_puts(pil_drive);
+        mcu_puts(", not this image's (MC_DRIVE)\nSTM32QEMU FAIL\n");
+        mcu_exit(1);
+    }
     if (!stm32_backend_init(&stm32_hw)) {
         mcu_puts("STM32QEMU init failed: ");
         mcu_puts(hal_last_error());
@@ -137,7 +133,8 @@ int main(void)
         mcu_puts("\nSTM32QEMU FAIL\n");
         mcu_exit(1);
     }
-    if (!app_drive_init(&app, pil_cfg_words, 0u, false) || !hal_start(&checking_control, &app)) {
+    pil_sample(0u, &next_in);
+    if (!app_drive_init(&app, pil_cfg_words, pil_cfg_bytes, pil_control_hz, 0u, false) || !hal_start(&checking_control, &app)) {
         mcu_puts("STM32QEMU drive or hal_start failed\nSTM32QEMU FAIL\n");
         mcu_exit(1);
     }

@@ -2,9 +2,10 @@
  * board.h - what differs between boards with an STM32F405: one constant
  * table per board (boards/<name>.c), chosen at link time. Pins, the
  * current and bus-voltage signal chains, the power stage (topology, PWM
- * frequency, dead time, break input), CAN, the watchdog, and the drive
- * configuration (the generated words of boards/<name>_drive_config.c,
- * designed on the host from the board's scenario file).
+ * frequency, dead time, break input), CAN, the watchdog. The drive's
+ * configuration for the board is the drive's (the generated words of
+ * firmware/drives/<drive>/boards/<board>_config.c, designed on the host
+ * from the scenario file beside it), linked for the image's drive MC_DRIVE.
  */
 #ifndef STM32_BOARD_H
 #define STM32_BOARD_H
@@ -57,8 +58,11 @@ typedef struct {
 
 extern const board_t board;
 
-/* The drive's configuration for this board (paper001_config_t, float). */
+/* The image's drive's configuration for this board: its config type as raw
+ * words, board_drive_cfg_bytes long (checked against the drive's
+ * config_bytes when the image starts), and where it was designed from. */
 extern const uint32_t board_drive_cfg_words[];
+extern const uint32_t board_drive_cfg_bytes;
 extern const char board_drive_cfg_source[];
 
 #endif /* STM32_BOARD_H */
