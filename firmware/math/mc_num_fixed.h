@@ -95,6 +95,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mc_type.h" /* mc_t: int32_t (a struct of it in the strict build), MC_FIXED 1 */
+
 #if defined(MC_STRICT_TYPES) && MC_STRICT_TYPES
 #ifdef __cplusplus
 #error "MC_STRICT_TYPES is a C-only check build (compound literals): the C++ simulator and tests use the plain int32_t mc_t"
@@ -104,21 +106,16 @@
  * implicit conversion between mc_t and an integer, or a literal not written
  * through MC_C does not compile. It is a compile check only: nothing built
  * with it ships or runs (the values and the operations are the same). */
-typedef struct {
-    int32_t raw;
-} mc_t;
+/* mc_t is that struct (mc_type.h) */
 /* the mc_t of raw value r: a compound literal, so MC_C and the constants
  * below stay constant expressions (GCC and Clang accept a compound literal
  * with constant members as a static initializer) */
 #define MC__MK(r) ((mc_t){.raw = (int32_t)(r)})
 #define MC__RAW(x) ((x).raw)
 #else
-typedef int32_t mc_t;
 #define MC__MK(r) ((mc_t)(r))
 #define MC__RAW(x) (x)
 #endif
-
-#define MC_FIXED 1
 #define MC_FRAC_BITS 17
 #define MC_ONE_RAW ((int32_t)1 << MC_FRAC_BITS)
 #define MC_MAX MC__MK(INT32_MAX)

@@ -37,9 +37,8 @@
 #include <stdint.h>
 #include <string.h>
 
-typedef float mc_t;
+#include "mc_type.h" /* typedef float mc_t, MC_FIXED 0 */
 
-#define MC_FIXED 0
 #define MC_C(x) ((mc_t)(x))
 #define MC_ZERO ((mc_t)0.0f)
 #define MC_ONE ((mc_t)1.0f)

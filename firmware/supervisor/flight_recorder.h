@@ -25,9 +25,13 @@ extern "C" {
  * 64 x 48 bytes = 3 kB of RAM. A power of two: the ring index is a mask. */
 #define FLIGHT_RECORDER_DEPTH 64u
 
-/* One sample. ref/est/speed are the drive's: position reference, position
- * estimate and speed estimate for the position drive; speed reference,
- * electrical angle estimate and speed estimate for the speed drive. */
+/* One sample. ref/est/speed are the drive's reference, angle estimate and
+ * speed estimate, as each drive records them (supervisor/guard.h's
+ * guard_record): paper 000 the position reference, position estimate and
+ * speed; paper 001 the speed reference, the electrical angle and the
+ * speed; paper 002 the speed reference, the EKF's mechanical angle and
+ * speed; the sensored drive the speed reference, the encoder's electrical
+ * angle and the observer's speed. */
 typedef struct {
     uint32_t tick;
     uint8_t state;                 /* sup_state_t */

@@ -15,7 +15,8 @@
  * A fault no reaction can answer (a sample of the wrong phase count, a
  * configuration the drive refused) is latched the same way with
  * guard_latch. Every sample that outputs a voltage is recorded with
- * guard_record. No allocation; the state is the drive's own supervisor_t
+ * guard_record (inline: it runs every sample). The reactions are calls:
+ * they run only on a fault. No allocation; the state is the drive's own supervisor_t
  * and flight_recorder_t.
  */
 #ifndef SUPERVISOR_GUARD_H

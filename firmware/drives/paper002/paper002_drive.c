@@ -178,8 +178,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.u_q_V = u_q;
     d->last.saturated = d->ibcc.saturated;
     const drive_fault_t f_out = fault_monitor_command(&d->mon, out, d->ibcc.saturated);
-    guard_record(&d->rec, d->tick, d->sup.state, in, out, w_d, mc_elec_angle(x[EKF_THETA], c->ekf.p),
-                 x[EKF_OMEGA]);
+    guard_record(&d->rec, d->tick, d->sup.state, in, out, w_d, x[EKF_THETA], x[EKF_OMEGA]);
     if (f_out != DRIVE_FAULT_NONE && p002_fault(d, f_out, out)) {
         return false;
     }

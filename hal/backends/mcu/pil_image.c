@@ -4,8 +4,8 @@
  * core over a sequence recorded on the host (tools/bench/pil_gen.cpp).
  *
  * The drive is the one the build was configured with (CMake MC_DRIVE; the
- * generated pil_drive.h names it): the image finds it in the registry,
- * binds it to a drive_storage_t, loads the host-designed configuration
+ * generated pil_drive.h names it and its operations, checked against the
+ * registry at configure time): the image binds it to a drive_storage_t, loads the host-designed configuration
  * (raw words into a drive_config_storage_t) and initialises it through the
  * interface. For every recorded period the sample goes, as a backend hands
  * it to its control callback (hal.h: zeroed command, its phase count set),
@@ -75,9 +75,9 @@ int main(void)
     mcu_puts(pil_source);
     mcu_puts(" drive=");
     mcu_puts(PIL_DRIVE_NAME);
-    const drive_ops_t *ops = drive_find(PIL_DRIVE_NAME);
-    if (ops == 0 || !drive_bind(&drive, ops, &storage)) {
-        return fail("the drive of this build (MC_DRIVE) is not in the registry or does not fit drive_storage_t");
+    const drive_ops_t *ops = PIL_DRIVE_OPS;
+    if (!drive_bind(&drive, ops, &storage)) {
+        return fail("the drive of this build (MC_DRIVE) does not fit drive_storage_t");
     }
     if (strcmp(pil_drive, PIL_DRIVE_NAME) != 0) {
         mcu_puts("\nPIL the vectors were recorded from drive ");

@@ -4,16 +4,22 @@
 
 #include "stm32f405_regs.h"
 
-#ifndef MC_DRIVE_NAME
-#error "MC_DRIVE_NAME: the image's drive, defined by CMakeLists.txt from MC_DRIVE"
+#if !defined(MC_DRIVE_NAME) || !defined(MC_DRIVE_OPS)
+#error "MC_DRIVE_NAME, MC_DRIVE_OPS: the image's drive and its operations, defined by CMakeLists.txt from MC_DRIVE"
 #endif
+
+/* The drive's operations, bound directly rather than looked up with
+ * drive_find: the registry's table would keep every drive in the image
+ * (--gc-sections drops the others this way); MC_DRIVE was checked against
+ * the registry at configure time (cmake/mc_drive.cmake). */
+extern const drive_ops_t MC_DRIVE_OPS;
 
 const char *app_drive_name(void) { return MC_DRIVE_NAME; }
 
 bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint32_t cfg_bytes, uint32_t control_hz, uint8_t node,
                     bool can)
 {
-    const drive_ops_t *ops = drive_find(MC_DRIVE_NAME);
+    const drive_ops_t *ops = &MC_DRIVE_OPS;
     if (!drive_bind(&a->drive, ops, &a->storage)) {
         return false;
     }

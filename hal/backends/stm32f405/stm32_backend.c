@@ -10,6 +10,7 @@
 #include "iwdg.h"
 #include "pwm_tim1.h"
 #include "stm32f405_regs.h"
+#include "math/mc_num.h" /* the sample's conversion to mc_t */
 
 /* the chip's peripherals; host tests pass fake blocks to stm32_backend_init */
 const stm32_periph_t stm32_hw = {

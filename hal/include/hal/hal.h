@@ -19,7 +19,7 @@
 #include <stdint.h>
 
 #include "hal/hal_types.h"
-#include "math/mc_num.h"
+#include "math/mc_type.h"
 
 #ifdef __cplusplus
 extern "C" {

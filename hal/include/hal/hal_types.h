@@ -11,7 +11,8 @@
  * lower half: a new measurement is a new field with a flag or a status bit
  * saying whether the backend provides it; existing backends, which zero the
  * structs before filling them, keep working unchanged.
- * All values are SI (A, V, rad) in the firmware numeric type mc_t.
+ * All values are SI (A, V, rad) in the firmware numeric type mc_t: the
+ * type alone (math/mc_type.h), none of its operations.
  */
 #ifndef HAL_HAL_TYPES_H
 #define HAL_HAL_TYPES_H
@@ -19,7 +20,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "math/mc_num.h"
+#include "math/mc_type.h"
 
 #ifdef __cplusplus
 extern "C" {
