@@ -1,9 +1,10 @@
 // host_drive.h - a drive's host part: what motorsim needs to run a drive
 // of the firmware registry (firmware/drives/registry.h) from a scenario.
 // Each drive that is chosen by [drive] kind = "<name>" brings one: the
-// keys of its own scenario table [<name>] (parsed and validated with the
-// scenario's toml_view.h, errors naming file and key) and the design of
-// its configuration from the scenario. The programs look drives up here
+// keys of its own scenario table (parsed and validated with the scenario's
+// toml_view.h, errors naming file and key), the design of its
+// configuration from the scenario, and its answers to motorsim's
+// per-drive questions (its estimators, its reference's peak demand). The programs look drives up here
 // and never name one; a drive is added with its file in sim/host_drives/ and
 // one line in host_registry.cpp.
 #ifndef MCSIM_DRIVES_HOST_DRIVE_H
@@ -22,19 +23,37 @@ extern "C" {
 namespace mcsim {
 
 struct HostDrive {
-    const char* name;  // the firmware registry's name, and the scenario table's
-    // The keys of [<name>] (absent: t is nullptr): each validated into sc
-    // (sc->speed_points, sc->drive_params). Throws ScenarioError.
+    const char* name;   // the firmware registry's name, and [drive] kind's
+    // Its scenario table, [<table>]: the drive's name for a drive added
+    // with [drive] kind; for the papers' drives the table that chose them
+    // before [drive] kind existed ([trajectory], [speed], [paper002]),
+    // which still does (without [drive], the drive whose table is there).
+    const char* table;
+    // The keys of [<table>] (absent: t is nullptr): each validated into sc
+    // (sc->speed_points, sc->drive_params). Throws ScenarioError. nullptr:
+    // the table is parsed by scenario.cpp (the papers' drives, for now).
     void (*parse)(const View* t, Scenario* sc);
     // The configuration from the scenario (motor, limits, Ts, delay, the
-    // table's keys). Throws ScenarioError naming the scenario's field.
-    void (*design)(const Scenario& sc, drive_config_storage_t* cfg);
-    // The keys of [<name>], for sim/scenarios/README.md and the checks.
+    // table's keys), tried on the drive once so that a refusal names the
+    // scenario's field (throws ScenarioError "FILE: design: ..."). May set
+    // what the run takes from the design: sc->pre_ticks, the samples the
+    // drive runs before t = 0 (paper 000's rotor alignment).
+    void (*design)(Scenario& sc, drive_config_storage_t* cfg);
+    // The keys of [<table>], for sim/scenarios/README.md and the checks
+    // (nullptr with parse nullptr).
     std::vector<std::string> (*keys)();
+    // --estimator NAME (nullptr: the drive has one estimator): sets it in
+    // *sc, or throws std::invalid_argument naming the choices.
+    void (*select_estimator)(Scenario* sc, const std::string& name);
+    // The reference's peak speed [rad/s] and acceleration [rad/s^2], for
+    // motorsim's feasibility warning (nullptr: from sc.speed_points).
+    void (*peak_demand)(const Scenario& sc, double* w_pk_rad_s, double* a_pk_rad_s2);
 };
 
 // The drive of that name, or nullptr.
 const HostDrive* host_drive_find(const std::string& name);
+// The drive whose table is [table], or nullptr.
+const HostDrive* host_drive_of_table(const std::string& table);
 // Every registered host part.
 const std::vector<const HostDrive*>& host_drives();
 

@@ -4,11 +4,17 @@
 
 namespace mcsim {
 
+extern const HostDrive kPaper000Host;
+extern const HostDrive kPaper001Host;
+extern const HostDrive kPaper002Host;
 extern const HostDrive kSensoredFocHost;
 
 const std::vector<const HostDrive*>& host_drives()
 {
     static const std::vector<const HostDrive*> all = {
+        &kPaper000Host,
+        &kPaper001Host,
+        &kPaper002Host,
         &kSensoredFocHost,
     };
     return all;
@@ -18,6 +24,16 @@ const HostDrive* host_drive_find(const std::string& name)
 {
     for (const HostDrive* d : host_drives()) {
         if (name == d->name) {
+            return d;
+        }
+    }
+    return nullptr;
+}
+
+const HostDrive* host_drive_of_table(const std::string& table)
+{
+    for (const HostDrive* d : host_drives()) {
+        if (table == d->table) {
             return d;
         }
     }

@@ -57,7 +57,7 @@ void sfoc_parse(const View* t, Scenario* sc)
     }
 }
 
-void sfoc_design_from(const Scenario& sc, drive_config_storage_t* out)
+void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
 {
     sfoc_design_input_t in{};
     sfoc_design_defaults(&in);
@@ -96,6 +96,6 @@ void sfoc_design_from(const Scenario& sc, drive_config_storage_t* out)
 }  // namespace
 
 extern const HostDrive kSensoredFocHost;
-const HostDrive kSensoredFocHost = {"sensored_foc", &sfoc_parse, &sfoc_design_from, &sfoc_keys};
+const HostDrive kSensoredFocHost = {"sensored_foc", "sensored_foc", &sfoc_parse, &sfoc_design_from, &sfoc_keys, nullptr, nullptr};
 
 }  // namespace mcsim

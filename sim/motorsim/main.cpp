@@ -1,5 +1,10 @@
-// motorsim - closed-loop simulation of the paper-000 sensorless drive on the
-// software plant: scenario in, CSV log + metrics (+ PNG plot) out.
+// motorsim - closed-loop simulation of a drive of the registry on the
+// software plant: scenario in, CSV log + metrics (+ PNG plot) out. The
+// drive is the scenario's [drive] kind, or the drive whose table the
+// scenario has ([trajectory]: paper 000, [speed]: paper 001, [paper002]);
+// it is designed by its host part (sim/host_drives/), run through the drive
+// interface (firmware/drives/drive.h) and recorded by the one recorder with
+// its probe (run_recorder.h). Nothing here names a drive.
 //
 //   motorsim --scenario FILE [--out DIR] [--metrics-out FILE.json]
 //            [--seed N] [--no-plot] [--no-csv] [--quiet]
@@ -42,27 +47,21 @@
 
 #include "drives/registry.h"
 #include "host_drives/host_drive.h"
-#include "drives/paper000/paper000_drive.h"
-#include "drives/paper001/paper001_drive.h"
-#include "motorsim/commission.h"
+#include "motorsim/drive_runs/drive_runs.h"
+#include "motorsim/run_recorder.h"
 #include "motorsim/run_watch.h"
-#include "motorsim/speed_recorder.h"
-#include "motorsim/paper002_recorder.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "scenario/rig.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
-#include "model/reference.h"
 #include "model/pm_plant.h"
 #include "motorsim/drive_glue.h"
 #include "motorsim/can_glue.h"
 #include "can/socketcan.h"
 #include "motorsim/outputs.h"
-#include "motorsim/recorder.h"
 #include "motorsim_config.h"
 #include "mc_version.h"
-#include "scenario/design_input.h"
 #include "scenario/scenario.h"
 
 namespace fs = std::filesystem;
@@ -214,33 +213,23 @@ double run_loop(std::uint32_t n_total, bool quiet, const mcsim::RunWatch& watch,
 // supply and the current limit can give: a motor turning at w needs K_e w
 // of back-EMF plus R i within the voltage the drive has, and an
 // acceleration a needs J a / K_t of current (plus the load) within i_max.
-// The peak speed and acceleration of paper 000's eq. (70) are
-// 2.1875 d/T and 7.5132 d/T^2 for a move d over T.
-void warn_feasibility(const mcsim::Scenario& sc)
+// The reference's peak speed and acceleration are the drive's host part's
+// (its peak_demand), else those of the speed profile's corners.
+void warn_feasibility(const mcsim::Scenario& sc, const mcsim::HostDrive& host)
 {
     const mcsim::MotorParams& m = sc.motor;
     const double Ke = m.K_Nm_per_A;
     const double Kt = m.torque_scale() * Ke;
     double w_pk = 0.0, a_pk = 0.0;
-    if (sc.paper002_drive) {
-        // the C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0)
-        w_pk = std::max(std::fabs(sc.p002.omega_start_rad_s), std::fabs(sc.p002.omega_final_rad_s));
-        a_pk = 1.875 * std::fabs(sc.p002.omega_final_rad_s - sc.p002.omega_start_rad_s) / (sc.p002.t1_s - sc.p002.t0_s);
-    } else if (!sc.position_drive()) {  // the speed profile of [speed] or of the [drive]'s table
+    if (host.peak_demand != nullptr) {
+        host.peak_demand(sc, &w_pk, &a_pk);
+    } else {  // the speed profile's corners ([speed] or the drive's table)
         for (std::size_t k = 0; k < sc.speed_points.size(); ++k) {
             w_pk = std::max(w_pk, std::fabs(sc.speed_points[k].second));
             if (k + 1 < sc.speed_points.size()) {
                 const double dt = sc.speed_points[k + 1].first - sc.speed_points[k].first;
                 a_pk = std::max(a_pk, std::fabs(sc.speed_points[k + 1].second - sc.speed_points[k].second) / dt);
             }
-        }
-    } else {
-        double from = 0.0;
-        for (const auto& g : sc.segments) {
-            const double d = std::fabs(g.theta_to_rad - from);
-            w_pk = std::max(w_pk, 2.1875 * d / g.duration_s);
-            a_pk = std::max(a_pk, 7.5132 * d / (g.duration_s * g.duration_s));
-            from = g.theta_to_rad;
         }
     }
     double load_pk = m.coulomb_Nm + m.fv_Nms_per_rad * w_pk;
@@ -367,22 +356,18 @@ int run(const Options& opt)
         }
         sc.theta0_rad = opt.theta0_rad;
     }
+    // The drive of the scenario, in both registries (the firmware's and
+    // the host parts': sim/host_drives/)
+    const mcsim::HostDrive* host = mcsim::host_drive_find(sc.drive_kind);
+    const drive_ops_t* ops = drive_find(sc.drive_kind.c_str());
+    if (host == nullptr || ops == nullptr) {
+        throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" is not in this build");
+    }
     if (!opt.estimator.empty()) {
-        if (!sc.drive_kind.empty()) {
-            throw std::invalid_argument("--estimator: the " + sc.drive_kind + " drive ([drive] kind) has one estimator");
-        } else if (sc.paper002_drive) {
-            if (opt.estimator == "back_emf") {
-                throw std::invalid_argument("--estimator: back_emf: paper 002's drive takes encoder or flux");
-            }
-            sc.p002.estimator = (opt.estimator == "flux") ? 1 : 0;
-        } else if (!sc.speed_drive) {
-            throw std::invalid_argument("--estimator: " + sc.path +
-                                        " has no [speed] or [paper002] table (the estimator choice is the speed drives')");
-        } else if (opt.estimator == "encoder") {
-            throw std::invalid_argument("--estimator: encoder: paper 001's drive is sensorless (flux or back_emf)");
-        } else {
-            sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
+        if (host->select_estimator == nullptr) {
+            throw std::invalid_argument("--estimator: the " + sc.drive_kind + " drive has one estimator");
         }
+        host->select_estimator(&sc, opt.estimator);
     }
     if (opt.out_given && opt.out_dir.empty()) {
         throw std::invalid_argument("--out: empty path");
@@ -440,34 +425,35 @@ int run(const Options& opt)
         sc.expect.clear();
     }
 
-    // Commissioning ([speed] identify): the motor's R, L and Phi measured by
-    // the firmware on the same plant before the run replace the drive model's.
-    mcsim::CommissionResult commission;
-    if (sc.speed_drive && sc.speed_gains.identify) {
-        commission = mcsim::commission_pmsm(sc);
-        if (!commission.ok) {
-            throw std::runtime_error(sc.path + ": identification failed after " +
-                                     std::to_string(commission.duration_s) + " s: " + commission.why);
-        }
-        sc.drive_model.R_ohm = commission.R_ohm;
-        sc.drive_model.L_H = commission.L_H;
-        sc.drive_model.L_q_H = commission.L_H;
-        sc.drive_model.K_Nm_per_A = commission.Phi_Wb * static_cast<double>(sc.drive_model.n_p);
+    // A commissioning run before the design (the drive's part in
+    // motorsim/drive_runs/: paper 001's [speed] identify measures R, L and
+    // Phi on the same plant), then the design by the drive's host part,
+    // which also says what the run starts with: the samples before t = 0
+    // (paper 000's rotor alignment, sc.pre_ticks), which the rig's start
+    // time and the run's length take from it.
+    const mcsim::DriveRun* drive_run = mcsim::drive_run_find(sc.drive_kind);
+    mcsim::MetricList commission_metrics;
+    if (drive_run != nullptr && drive_run->commission != nullptr) {
+        drive_run->commission(&sc, &commission_metrics);
     }
-
-    // The position drive is designed first: its rotor alignment runs before
-    // t = 0 (sc.pre_ticks), which the rig's start time and the run's length
-    // take from it.
-    std::unique_ptr<paper000_drive_t> drive;
-    if (sc.position_drive()) {
-        drive = std::make_unique<paper000_drive_t>();
-        mcsim::design_and_init_drive(sc, drive.get());  // sets sc.pre_ticks
-        if (write_csv && sc.n_ticks() > kMaxLoggedSamples) {
-            throw std::invalid_argument(sc.path + ": run.duration_s: with the rotor alignment, " +
-                                        std::to_string(sc.n_ticks()) + " samples exceed the in-memory log limit of " +
-                                        std::to_string(kMaxLoggedSamples) +
-                                        "; run it without a CSV (--no-csv, or --metrics-out without --out)");
-        }
+    // a few kB: heap, not stack
+    auto storage = std::make_unique<drive_storage_t>();
+    auto cfg = std::make_unique<drive_config_storage_t>();
+    drive_t drive{};
+    if (!drive_bind(&drive, ops, storage.get())) {
+        throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" does not fit drive_storage_t");
+    }
+    host->design(sc, cfg.get());
+    if (!drive_init(&drive, cfg.get())) {
+        const char* why = (ops->config_problem != nullptr) ? ops->config_problem(cfg.get()) : nullptr;
+        throw mcsim::ScenarioError(sc.path + ": design: " + sc.drive_kind + ": the drive refused its configuration" +
+                                   (why != nullptr ? std::string(": ") + why : std::string()));
+    }
+    if (sc.pre_ticks > 0 && write_csv && sc.n_ticks() > kMaxLoggedSamples) {
+        throw std::invalid_argument(sc.path + ": run.duration_s: with the rotor alignment, " +
+                                    std::to_string(sc.n_ticks()) + " samples exceed the in-memory log limit of " +
+                                    std::to_string(kMaxLoggedSamples) +
+                                    "; run it without a CSV (--no-csv, or --metrics-out without --out)");
     }
     mcsim::Rig rig(sc);
     mcsim::PmPlant& plant = rig.plant;
@@ -500,94 +486,31 @@ int run(const Options& opt)
         hal_sw_plant_set_faults(&injector);
     }
 
-    // The drive of the scenario: the speed drive of paper 001 ([speed]) or
-    // the position drive of paper 000 ([trajectory]). Both are a few kB:
-    // heap, not stack.
-    std::unique_ptr<paper001_drive_t> speed_drive;
-    std::unique_ptr<mcsim::Recorder> rec;
-    std::unique_ptr<mcsim::SpeedRecorder> speed_rec;
-    std::unique_ptr<paper002_drive_t> p002_drive;
-    std::unique_ptr<mcsim::Paper002Recorder> p002_rec;
-    const mcsim::Reference ref(sc.segments, 0.0);
-    // [drive] kind: a drive of the registry, designed by its host part
-    // (sim/host_drives/) and run through the drive interface
-    std::unique_ptr<drive_storage_t> any_storage;
-    drive_t any_drive{};
-    if (!sc.drive_kind.empty()) {
-        const mcsim::HostDrive* host = mcsim::host_drive_find(sc.drive_kind);
-        const drive_ops_t* ops = drive_find(sc.drive_kind.c_str());
-        any_storage = std::make_unique<drive_storage_t>();
-        auto cfg = std::make_unique<drive_config_storage_t>();
-        try {
-            if (host == nullptr || !drive_bind(&any_drive, ops, any_storage.get())) {
-                throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" is not in this build");
-            }
-            if (ops->kind != DRIVE_KIND_SPEED) {  // the recorder of [drive] kind runs speed drives (issue 28: one recorder)
-                throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind +
-                                           "\" is a position drive; motorsim records speed drives by [drive] kind");
-            }
-            host->design(sc, cfg.get());
-            if (!drive_init(&any_drive, cfg.get())) {
-                const char* why = (ops->config_problem != nullptr) ? ops->config_problem(cfg.get()) : nullptr;
-                throw mcsim::ScenarioError(sc.path + ": design: " + sc.drive_kind + ": the drive refused its configuration" +
-                                           (why != nullptr ? std::string(": ") + why : std::string()));
-            }
-        } catch (...) {
-            hal_sw_plant_detach();
-            throw;
-        }
-        speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, any_drive, /*record_rows=*/write_csv);
-        hal_sw_plant_set_monitor(&mcsim::SpeedRecorder::monitor, speed_rec.get());
-    } else if (sc.paper002_drive) {
-        p002_drive = std::make_unique<paper002_drive_t>();
-        try {
-            mcsim::design_and_init_paper002_drive(sc, p002_drive.get());
-        } catch (...) {
-            hal_sw_plant_detach();
-            throw;
-        }
-        p002_rec = std::make_unique<mcsim::Paper002Recorder>(sc, plant, *p002_drive, /*record_rows=*/write_csv);
-        hal_sw_plant_set_monitor(&mcsim::Paper002Recorder::monitor, p002_rec.get());
-    } else if (sc.speed_drive) {
-        speed_drive = std::make_unique<paper001_drive_t>();
-        p001_design_report_t rep{};
-        mcsim::design_and_init_speed_drive(sc, speed_drive.get(), &rep);
-        speed_rec = std::make_unique<mcsim::SpeedRecorder>(sc, plant, drive_t{&paper001_drive_ops, speed_drive.get()},
-                                                            /*record_rows=*/write_csv);
-        hal_sw_plant_set_monitor(&mcsim::SpeedRecorder::monitor, speed_rec.get());
-    } else {
-        rec = std::make_unique<mcsim::Recorder>(sc, plant, *drive, ref, /*record_rows=*/write_csv);
-        hal_sw_plant_set_monitor(&mcsim::Recorder::monitor, rec.get());
-    }
+    // The log: the one recorder with the drive's probe
+    // (motorsim/run_recorder.h; a drive's own in motorsim/drive_runs/, else
+    // the speed probe)
+    const std::unique_ptr<mcsim::RunRecorder> rec = mcsim::make_recorder(sc, plant, drive, /*record_rows=*/write_csv);
+    hal_sw_plant_set_monitor(&mcsim::RunRecorder::monitor, rec.get());
     // The reference against the supply and the current limit: a warning
     // with the numbers, once the drive has accepted the scenario (a refused
     // scenario gets its one error line and nothing else).
-    warn_feasibility(sc);
-    // The drive of the scenario as the programs hold any drive
-    // (drives/drive.h); on CAN the callback is the drive's node (motorsim/can_glue.h); else
-    // the drive alone.
-    drive_t active = !sc.drive_kind.empty() ? any_drive
-                     : sc.paper002_drive   ? drive_t{&paper002_drive_ops, p002_drive.get()}
-                     : sc.speed_drive      ? drive_t{&paper001_drive_ops, speed_drive.get()}
-                                           : drive_t{&paper000_drive_ops, drive.get()};
+    warn_feasibility(sc, *host);
+    // On CAN the callback is the drive's node (motorsim/can_glue.h); else
+    // the drive alone (drive_glue.h).
     std::unique_ptr<mcsim::CanDriveContext> can_ctx;
     bool started = false;
     if (can) {
         can_ctx = std::make_unique<mcsim::CanDriveContext>();
-        can_ctx->drive = active;
+        can_ctx->drive = drive;
         can_ctx->ts_s = sc.ts_s;
         can_ctx->t_start_s = sc.t_start_s();
         can_ctx->log = opt.quiet ? nullptr : stderr;
         mcsim::can_glue_init(can_ctx.get(), opt.can_node, hal_control_rate_hz());
-        if (rec) {
-            rec->score_against_drive_reference(true);
-        } else if (speed_rec) {
-            speed_rec->score_against_drive_reference(true);
-        }  // paper 002's recorder always scores against the drive's w_d
+        rec->score_against_drive_reference(true);  // paper 002's probe always does
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
     } else {
-        started = hal_start(&mcsim::drive_control_callback, &active);
+        started = hal_start(&mcsim::drive_control_callback, &drive);
     }
     if (!started) {
         throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
@@ -596,8 +519,7 @@ int run(const Options& opt)
     // ---- the loop: plant + drive + metrics only --------------------------
     // [expect] names must be metrics of this drive: checked before the run
     {
-        const mcsim::MetricList names =
-            p002_rec ? p002_rec->metrics(0.0) : (speed_rec ? speed_rec->metrics(0.0) : rec->metrics(0.0));
+        const mcsim::MetricList names = rec->metrics(0.0);
         for (const mcsim::Expectation& e : sc.expect) {
             bool known = false;
             std::string all;
@@ -607,26 +529,20 @@ int run(const Options& opt)
             }
             if (!known) {
                 throw mcsim::ScenarioError(sc.path + ": expect." + e.metric + ": not a metric of the " +
-                                           (p002_rec ? "paper-002" : (!sc.drive_kind.empty() ? sc.drive_kind.c_str() : (sc.speed_drive ? "speed" : "position"))) +
-                                           " drive (its metrics: " + all +
-                                           ")");
+                                           sc.drive_kind + " drive (its metrics: " + all + ")");
             }
         }
     }
-    const mcsim::RunWatch& watch = p002_rec ? p002_rec->watch() : (speed_rec ? speed_rec->watch() : rec->watch());
+    const mcsim::RunWatch& watch = rec->watch();
     if (can && !opt.quiet) {
         std::fprintf(stderr, "motorsim: on CAN %s as node %u (%s), %s\n", can->iface().c_str(), opt.can_node,
-                     !sc.drive_kind.empty() ? sc.drive_kind.c_str()
-                     : sc.paper002_drive    ? "paper-002 speed drive"
-                                            : (sc.speed_drive ? "paper-001 speed drive" : "paper-000 position drive"),
-                     opt.realtime ? "in real time" : "as fast as it runs");
+                     ops->title, opt.realtime ? "in real time" : "as fast as it runs");
     }
     const double wall_s = run_loop(sc.n_ticks(), opt.quiet, watch, opt.realtime, sc.ts_s);
 
     hal_safe_state();
     hal_sw_plant_detach();
-    mcsim::MetricList metrics =
-        p002_rec ? p002_rec->metrics(wall_s) : (speed_rec ? speed_rec->metrics(wall_s) : rec->metrics(wall_s));
+    mcsim::MetricList metrics = rec->metrics(wall_s);
     if (board) {
         // the calibration against the emulated sensors' true offsets, and
         // the A/D converter's step
@@ -645,15 +561,7 @@ int run(const Options& opt)
         metrics.emplace_back("can_commands_accepted", static_cast<std::int64_t>(nd.accepted));
         metrics.emplace_back("can_commands_refused", static_cast<std::int64_t>(nd.rejected));
     }
-    if (commission.ok) {
-        metrics.emplace_back("id_R_ohm", commission.R_ohm);
-        metrics.emplace_back("id_L_H", commission.L_H);
-        metrics.emplace_back("id_Phi_Wb", commission.Phi_Wb);
-        metrics.emplace_back("id_R_err_pct", 100.0 * (commission.R_ohm / sc.motor.R_ohm - 1.0));
-        metrics.emplace_back("id_L_err_pct", 100.0 * (commission.L_H / sc.motor.L_H - 1.0));
-        metrics.emplace_back("id_Phi_err_pct", 100.0 * (commission.Phi_Wb / sc.motor.Phi_Wb() - 1.0));
-        metrics.emplace_back("id_time_s", commission.duration_s);
-    }
+    metrics.insert(metrics.end(), commission_metrics.begin(), commission_metrics.end());
 
     // ---- outputs ----------------------------------------------------------
     if (write_csv) {
@@ -663,15 +571,7 @@ int run(const Options& opt)
         fs::create_directories(fs::path(json_path).parent_path());
     }
     if (write_csv) {
-        if (p002_rec) {
-            mcsim::write_table_csv_atomic(csv_path, mcsim::kPaper002ColumnNames, mcsim::kP2NumColumns,
-                                          p002_rec->data(), p002_rec->size());
-        } else if (speed_rec) {
-            mcsim::write_table_csv_atomic(csv_path, mcsim::kSpeedColumnNames, mcsim::kSpNumColumns, speed_rec->data(),
-                                          speed_rec->size());
-        } else {
-            mcsim::write_csv_atomic(csv_path, rec->data(), rec->size());
-        }
+        rec->write_csv(csv_path);
     }
     mcsim::write_metrics_json_atomic(json_path, metrics);
     if (!opt.quiet && json_path != "-") {
@@ -704,7 +604,9 @@ int run(const Options& opt)
 // NOLINTNEXTLINE(bugprone-exception-escape)
 int main(int argc, char** argv)
 {
-    CLI::App app{"motorsim: closed-loop simulation of the sensorless drives (paper 000 position drive on a stepper, paper 001 speed drive on a PMSM or a stepper) on a model motor", "motorsim"};
+    CLI::App app{"motorsim: closed-loop simulation of a drive of the registry on a model motor (the scenario's [drive] "
+                 "kind, or the drive whose table it has; the drives: see --help's footer)",
+                 "motorsim"};
     Options opt;
     app.set_version_flag("--version", std::string("motorsim ") + MOTORSIM_VERSION +
                                           " (sensorless_drive; firmware " + MC_VERSION_STRING + ", " +
@@ -744,9 +646,9 @@ int main(int argc, char** argv)
                                             "computation delay in samples [0, 1], overrides [run] compute_delay_samples")
                                  ->type_name("D");
     app.add_option("--estimator", opt.estimator,
-                   "speed drive's estimator, overrides [speed] estimator: flux (paper 001's flux and I&I "
-                   "observers) or back_emf (paper 000's back-EMF chain); for paper 002's drive, overrides "
-                   "[paper002] estimator: encoder or flux (paper 001's flux observer, sensorless)")
+                   "the drive's estimator, overrides its table's: paper 001's speed drive flux (its flux and I&I "
+                   "observers) or back_emf (paper 000's back-EMF chain); paper 002's drive encoder or flux (paper "
+                   "001's flux observer, sensorless); a drive with one estimator refuses it")
         ->check(CLI::IsMember({"flux", "back_emf", "encoder"}))
         ->type_name("NAME");
     app.add_flag("--no-expect", opt.no_expect,
@@ -773,6 +675,12 @@ int main(int argc, char** argv)
     std::string footer = std::string(kOutputModes) + "\n" + kExitStatusHelp + "\nDrive fault codes (metrics key \"fault\"):";
     for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
         footer += "\n  " + std::to_string(f) + "  " + drive_fault_name(static_cast<drive_fault_t>(f));
+    }
+    footer += "\nDrives (firmware/drives/registry.c; [drive] kind = \"NAME\", or the drive whose table the scenario has):";
+    for (std::size_t k = 0; k < drive_registry_count; ++k) {
+        const mcsim::HostDrive* h = mcsim::host_drive_find(drive_registry[k]->name);
+        footer += std::string("\n  ") + drive_registry[k]->name + "  [" + (h != nullptr ? h->table : "-") + "]  " +
+                  drive_registry[k]->title;
     }
     app.footer(footer);
     try {

@@ -203,11 +203,6 @@ void write_table_csv_atomic(const std::string& path, const char* const* names, i
     });
 }
 
-void write_csv_atomic(const std::string& path, const Row* rows, std::size_t n_rows)
-{
-    write_table_csv_atomic(path, kColumnNames, kNumColumns, n_rows > 0 ? rows[0].data() : nullptr, n_rows);
-}
-
 static void fmt_value(char* buf, std::size_t n, const MetricValue& v, bool json)
 {
     if (const auto* i = std::get_if<std::int64_t>(&v)) {

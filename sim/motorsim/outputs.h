@@ -8,12 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "motorsim/recorder.h"
+#include "motorsim/metrics.h"
 
 namespace mcsim {
 
 // Throw std::runtime_error("PATH: reason") on any I/O failure.
-void write_csv_atomic(const std::string& path, const Row* rows, std::size_t n_rows);
 // Any table of doubles, row-major, n_cols names.
 void write_table_csv_atomic(const std::string& path, const char* const* names, int n_cols, const double* data,
                             std::size_t n_rows);

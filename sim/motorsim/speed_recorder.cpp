@@ -30,9 +30,8 @@ const char* const kSpeedColumnNames[kSpNumColumns] = {
     "i_c_A",      "i_d_A",       "i_q_A",        "i_q_ref_A",   "v_alpha_V",    "v_beta_V",
     "v_a_V",      "v_b_V",       "v_c_V",        "rho2",        "estimate_valid", "fault"};
 
-SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive,
-                             bool record_rows)
-    : sc_(sc), plant_(plant), drive_(drive), n_max_(sc.n_ticks()), watch_(sc)
+SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, bool record_rows)
+    : RunRecorder(sc, plant, kSpeedColumnNames, kSpNumColumns, record_rows), drive_(drive)
 {
     for (const auto& p : sc.speed_points) {
         events_.push_back(p.first);
@@ -44,9 +43,6 @@ SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const dri
         }
     }
     std::sort(events_.begin(), events_.end());
-    if (record_rows) {
-        rows_.assign(static_cast<std::size_t>(n_max_) * kSpNumColumns, 0.0);
-    }
 }
 
 double SpeedRecorder::omega_ref(double t_s, double* slope) const
@@ -65,22 +61,14 @@ double SpeedRecorder::omega_ref(double t_s, double* slope) const
     return p.back().second;
 }
 
-void SpeedRecorder::monitor(void* ctx, const hal_sw_plant_period_t* p)
+std::int64_t SpeedRecorder::on_period(const hal_sw_plant_period_t& p, double* r)
 {
-    static_cast<SpeedRecorder*>(ctx)->on_period(*p);
-}
-
-void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
-{
-    if (n_ >= n_max_) {
-        return;
-    }
     drive_status_t tm;
     drive_status(&drive_, &tm);
     const double t = p.t_s;
     double slope = 0.0;
     double w_ref = omega_ref(t, &slope);
-    if (drive_ref_) {
+    if (drive_ref()) {
         w_ref = to_double(tm.omega_ref_rad_s);
         slope = to_double(tm.accel_ref_rad_s2);
     }
@@ -151,9 +139,7 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
     if (tm.fault_code != DRIVE_FAULT_NONE) {
         fault_ = static_cast<std::int64_t>(tm.fault_code);
     }
-    watch_.on_period(p, static_cast<std::int64_t>(tm.fault_code), plant_);
-    if (!rows_.empty()) {
-        double* r = &rows_[static_cast<std::size_t>(n_) * kSpNumColumns];
+    if (r != nullptr) {
         r[kSpT] = t;
         r[kSpMode] = static_cast<double>(tm.mode);
         r[kSpOmegaRef] = w_ref;
@@ -179,24 +165,24 @@ void SpeedRecorder::on_period(const hal_sw_plant_period_t& p)
         r[kSpValid] = valid ? 1.0 : 0.0;
         r[kSpFault] = static_cast<double>(tm.fault_code);
     }
-    n_ += 1;
+    return static_cast<std::int64_t>(tm.fault_code);
 }
 
 MetricList SpeedRecorder::metrics(double wall_loop_s) const
 {
-    const double sim_s = static_cast<double>(n_) * sc_.ts_s;
+    const std::uint64_t n_rec = index();  // every period recorded
     const bool locked = lock_t_ >= 0.0;
     MetricList m;
     m.emplace_back("speed_err_settled_max_rpm", settled_max_);
     m.emplace_back("speed_err_settled_moving_max_rpm", settled_moving_max_);
     m.emplace_back("speed_err_ramp_max_rpm", ramp_max_);
-    m.emplace_back("speed_err_rms_rpm", n_ > 0 ? std::sqrt(err_ss_ / static_cast<double>(n_)) : NAN);
+    m.emplace_back("speed_err_rms_rpm", n_rec > 0 ? std::sqrt(err_ss_ / static_cast<double>(n_rec)) : NAN);
     m.emplace_back("speed_err_max_rpm", err_max_);
     m.emplace_back("load_est_err_settled_nm", load_settled_max_);
     m.emplace_back("lock_time_s", locked ? lock_t_ : NAN);
     m.emplace_back("theta_est_max_deg_e", locked ? theta_max_deg_ : NAN);
     m.emplace_back("first_closed_loop_t_s", first_closed_t_);
-    m.emplace_back("closed_loop_fraction", n_ > 0 ? static_cast<double>(n_closed_) / static_cast<double>(n_) : 0.0);
+    m.emplace_back("closed_loop_fraction", n_rec > 0 ? static_cast<double>(n_closed_) / static_cast<double>(n_rec) : 0.0);
     m.emplace_back("max_abs_current_A", i_max_);
     m.emplace_back("max_abs_voltage_V", v_max_);
     m.emplace_back("i_max_A", sc_.i_max_A);
@@ -213,11 +199,7 @@ MetricList SpeedRecorder::metrics(double wall_loop_s) const
         m.emplace_back("fault_events", static_cast<std::int64_t>(fault_ != 0 ? 1 : 0));
     }
     m.emplace_back("relocks", static_cast<std::int64_t>(0));  // the speed drive has no re-lock
-    m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
-    m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));
-    m.emplace_back("sim_time_s", sim_s);
-    m.emplace_back("wall_time_s", wall_loop_s);
-    m.emplace_back("realtime_factor", wall_loop_s > 0.0 ? sim_s / wall_loop_s : NAN);
+    append_run_tail(&m, wall_loop_s, false);
     return m;
 }
 

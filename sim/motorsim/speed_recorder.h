@@ -1,4 +1,5 @@
-// speed_recorder.h - per-sample log and metrics of a speed-drive run
+// speed_recorder.h - the speed drives' probe of the one recorder
+// (run_recorder.h): per-sample log and metrics of a speed-drive run
 // (paper 001's benchmark, section 5.1): the true plant against the drive's
 // reference and estimates, one preallocated row per period. Any speed
 // drive: it reads the drive through its operations (drives/drive.h:
@@ -30,8 +31,7 @@
 #include "drives/drive.h"
 #include "hal_sw_plant.h"
 #include "model/pm_plant.h"
-#include "motorsim/run_watch.h"
-#include "motorsim/recorder.h"
+#include "motorsim/run_recorder.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -65,40 +65,25 @@ enum SpeedColumn : int {
 };
 extern const char* const kSpeedColumnNames[kSpNumColumns];
 
-class SpeedRecorder {
+class SpeedRecorder : public RunRecorder {
 public:
     SpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, bool record_rows);
-    static void monitor(void* ctx, const hal_sw_plant_period_t* p);
-    const double* data() const { return rows_.data(); }
-    std::size_t size() const { return rows_.empty() ? 0 : static_cast<std::size_t>(n_); }
-    MetricList metrics(double wall_loop_s) const;
-    const RunWatch& watch() const { return watch_; }
+    MetricList metrics(double wall_loop_s) const override;
 
     // reference speed of the scenario at t (double, independent of the drive's)
     double omega_ref(double t_s, double* slope) const;
 
-    // Scores against the drive's own speed reference instead of the
-    // scenario's (a drive commanded over CAN; the settling windows still
-    // follow the scenario's corners).
-    void score_against_drive_reference(bool on) { drive_ref_ = on; }
-
 private:
-    bool drive_ref_ = false;
-    void on_period(const hal_sw_plant_period_t& p);
+    std::int64_t on_period(const hal_sw_plant_period_t& p, double* row) override;
 
-    const Scenario& sc_;
-    const PmPlant& plant_;
     const drive_t drive_;
     std::vector<double> events_;  // reference corners and load changes, sorted
-    std::uint64_t n_max_;
-    std::vector<double> rows_;
 
-    std::uint64_t n_ = 0, n_closed_ = 0, lock_run_ = 0;
+    std::uint64_t n_closed_ = 0, lock_run_ = 0;
     double settled_max_ = 0.0, settled_moving_max_ = 0.0, ramp_max_ = 0.0, err_max_ = 0.0, err_ss_ = 0.0;
     double load_settled_max_ = 0.0, theta_max_deg_ = 0.0, i_max_ = 0.0, v_max_ = 0.0;
     double lock_t_ = -1.0, lock_run_start_ = 0.0, first_closed_t_ = -1.0;
     std::int64_t fault_ = 0;
-    RunWatch watch_;
 };
 
 }  // namespace mcsim

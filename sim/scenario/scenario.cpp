@@ -549,7 +549,9 @@ Scenario load_scenario(const std::string& path)
     std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
                "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder", "paper002", "drive"};
     for (const HostDrive* d : host_drives()) {
-        top.emplace_back(d->name);  // each registered drive's own table
+        if (std::find(top.begin(), top.end(), d->table) == top.end()) {
+            top.emplace_back(d->table);  // each registered drive's own table
+        }
     }
     root.only(top);
     // [speed] makes it the speed drive (paper 001), [paper002] paper 002's
@@ -562,8 +564,10 @@ Scenario load_scenario(const std::string& path)
                   "a scenario has one of [trajectory] (position drive), [speed] (paper-001 speed drive) or "
                   "[paper002] (paper-002 speed drive)");
     }
-    // [drive] kind: a drive of the host registry (sim/host_drives/), its table
-    // [<kind>] parsed by its host part below
+    // The drive: [drive] kind, a drive of the host registry
+    // (sim/host_drives/) with its table; without it, the drive whose table
+    // the scenario has ([trajectory] if none: the position drive's, which
+    // its parser below then requires).
     const HostDrive* host = nullptr;
     if (const auto v = root.table("drive")) {
         v->only({"kind"});
@@ -577,19 +581,34 @@ Scenario load_scenario(const std::string& path)
             for (const HostDrive* d : host_drives()) {
                 known += (known.empty() ? "" : ", ") + std::string("\"") + d->name + "\"";
             }
-            v->fail("kind", "\"" + *k + "\" is not a drive of the registry (known: " + known +
-                                "; papers 000, 001 and 002 are chosen by [trajectory], [speed] and [paper002])");
+            v->fail("kind", "\"" + *k + "\" is not a drive of the registry (known: " + known + ")");
         }
-        if (sc.speed_drive || sc.paper002_drive || root.has("trajectory")) {
-            v->fail("kind", "a scenario with [drive] kind has no [trajectory], [speed] or [paper002]");
+        for (const HostDrive* d : host_drives()) {
+            if (d != host && root.has(d->table)) {
+                v->fail("kind", "\"" + *k + "\" reads [" + host->table + "]; [" + d->table + "] is the table of \"" +
+                                    d->name + "\"");
+            }
         }
-        sc.drive_kind = *k;
+    } else {
+        for (const HostDrive* d : host_drives()) {
+            if (d->parse != nullptr && root.has(d->table)) {
+                root.fail(d->table, std::string("only with [drive] kind = \"") + d->name + "\"");
+            }
+        }
+        for (const HostDrive* d : host_drives()) {
+            if (host == nullptr && root.has(d->table)) {
+                host = d;
+            }
+        }
+        if (host == nullptr) {
+            host = host_drive_of_table("trajectory");
+        }
     }
-    for (const HostDrive* d : host_drives()) {
-        if (root.has(d->name) && sc.drive_kind != d->name) {
-            root.fail(d->name, std::string("only with [drive] kind = \"") + d->name + "\"");
-        }
+    if (host == nullptr) {
+        root.fail("drive", "no drive of the registry reads [trajectory], and the scenario names none");
     }
+    sc.drive_kind = host->name;
+    sc.drive_table = host->table;
     sc.description = root.string("description").value_or("");
 
     auto required_table = [&](const char* k) {
@@ -1167,9 +1186,10 @@ Scenario load_scenario(const std::string& path)
         ge(*v, "noise_rad", sc.encoder.noise_rad, 0.0);
     }
 
-    // the [drive] kind's own table (after every shared table it may read)
-    if (host != nullptr) {
-        const auto t = root.table(host->name);
+    // the drive's own table, when its host part parses it (after every
+    // shared table it may read)
+    if (host->parse != nullptr) {
+        const auto t = root.table(host->table);
         host->parse(t ? &*t : nullptr, &sc);
     }
 

@@ -145,13 +145,16 @@ struct Scenario {
         double ekf_r[3] = {0, 0, 0};        // its R diagonal (all 0: the design's)
     } p002;
 
-    // [drive] kind: a drive of the host registry (sim/host_drives/host_drive.h),
-    // run through the drive interface; its own table [<kind>] is parsed by
-    // its host part into speed_points and drive_params. Empty: the drive is
-    // chosen by [trajectory] (paper 000), [speed] (paper 001) or [paper002].
+    // The drive: [drive] kind, or the drive whose table the scenario has
+    // ([trajectory], [speed], [paper002]); a name of the host registry
+    // (sim/host_drives/host_drive.h) and of the firmware's. drive_table is
+    // the table its keys are in; a host part that parses its own table
+    // puts them into speed_points and drive_params.
     std::string drive_kind;
+    std::string drive_table;
     std::vector<std::pair<std::string, double>> drive_params;  // (key, value) of [<kind>], in file order
-    bool position_drive() const { return !speed_drive && !paper002_drive && drive_kind.empty(); }
+    // The drive reads [trajectory] (paper 000's position drive).
+    bool position_drive() const { return drive_table == "trajectory"; }
 
     std::vector<Expectation> expect;  // [expect], in file order
 

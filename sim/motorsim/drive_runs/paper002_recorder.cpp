@@ -1,4 +1,4 @@
-#include "motorsim/paper002_recorder.h"
+#include "motorsim/drive_runs/paper002_recorder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,26 +34,15 @@ const char* const kPaper002ColumnNames[kP2NumColumns] = {
 
 Paper002Recorder::Paper002Recorder(const Scenario& sc, const PmPlant& plant, const paper002_drive_t& drive,
                                    bool record_rows)
-    : sc_(sc), plant_(plant), drive_(drive), n_max_(sc.n_ticks()), watch_(sc)
+    : RunRecorder(sc, plant, kPaper002ColumnNames, kP2NumColumns, record_rows), drive_(drive)
 {
-    if (record_rows) {
-        rows_.assign(static_cast<std::size_t>(n_max_) * kP2NumColumns, 0.0);
-    }
-    const std::size_t n_win = static_cast<std::size_t>(static_cast<double>(n_max_) * (1.0 - kP002SteadyFrom)) + 1;
+    const std::size_t n_win = static_cast<std::size_t>(static_cast<double>(n_max()) * (1.0 - kP002SteadyFrom)) + 1;
     ud_.reserve(n_win);
     uq_.reserve(n_win);
 }
 
-void Paper002Recorder::monitor(void* ctx, const hal_sw_plant_period_t* p)
+std::int64_t Paper002Recorder::on_period(const hal_sw_plant_period_t& p, double* r)
 {
-    static_cast<Paper002Recorder*>(ctx)->on_period(*p);
-}
-
-void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
-{
-    if (n_ >= n_max_) {
-        return;
-    }
     const auto& l = drive_.last;
     const double t = p.t_s;
     const double w_d = to_double(l.w_d_rad_s);
@@ -95,7 +84,7 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
         n_sat_ += 1;
     }
     const double u_d = to_double(l.u_d_V), u_q = to_double(l.u_q_V);
-    if (static_cast<double>(n_) >= kP002SteadyFrom * static_cast<double>(n_max_)) {
+    if (static_cast<double>(index()) >= kP002SteadyFrom * static_cast<double>(n_max())) {
         ud_.push_back(u_d);
         uq_.push_back(u_q);
     }
@@ -114,9 +103,7 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
     if (drive_.sup.fault != DRIVE_FAULT_NONE) {
         fault_ = static_cast<std::int64_t>(drive_.sup.fault);
     }
-    watch_.on_period(p, fault_, plant_);
-    if (!rows_.empty()) {
-        double* r = &rows_[static_cast<std::size_t>(n_) * kP2NumColumns];
+    if (r != nullptr) {
         r[kP2T] = t;
         r[kP2OmegaD] = w_d;
         r[kP2Omega] = w;
@@ -147,13 +134,13 @@ void Paper002Recorder::on_period(const hal_sw_plant_period_t& p)
         r[kP2Sat] = l.saturated ? 1.0 : 0.0;
         r[kP2Fault] = static_cast<double>(drive_.sup.fault);
     }
-    n_ += 1;
+    return fault_;
 }
 
 MetricList Paper002Recorder::metrics(double wall_loop_s) const
 {
-    const double sim_s = static_cast<double>(n_) * sc_.ts_s;
-    const double n = static_cast<double>(n_);
+    const std::uint64_t n_rec = index();  // every period recorded
+    const double n = static_cast<double>(n_rec);
     auto rms = [](double ss, std::uint64_t k) { return k > 0 ? std::sqrt(ss / static_cast<double>(k)) : NAN; };
     const double hf_d = hf_rms(ud_, sc_.ts_s, kP002HfCutoff_Hz), hf_q = hf_rms(uq_, sc_.ts_s, kP002HfCutoff_Hz);
     double u_ss = 0.0;
@@ -164,10 +151,10 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
     m.emplace_back("speed_rmse_rad_s", rms(ss_, n_rmse_));
     m.emplace_back("speed_rmse_after_50ms_rad_s", rms(ss50_, n_rmse50_));
     m.emplace_back("speed_err_max_rad_s", err_max_);
-    m.emplace_back("omega_est_rmse_rad_s", rms(est_ss_, n_));
-    m.emplace_back("M0_est_rmse_Nm", rms(m0_ss_, n_));
-    m.emplace_back("theta_est_rmse_rad", rms(th_ss_, n_));
-    m.emplace_back("theta_meas_rmse_rad", rms(thm_ss_, n_));
+    m.emplace_back("omega_est_rmse_rad_s", rms(est_ss_, n_rec));
+    m.emplace_back("M0_est_rmse_Nm", rms(m0_ss_, n_rec));
+    m.emplace_back("theta_est_rmse_rad", rms(th_ss_, n_rec));
+    m.emplace_back("theta_meas_rmse_rad", rms(thm_ss_, n_rec));
     m.emplace_back("angle_source", static_cast<std::int64_t>(drive_.cfg.angle_source));
     m.emplace_back("voltage_hf_rms_V", std::sqrt(hf_d * hf_d + hf_q * hf_q));
     m.emplace_back("voltage_rms_V", ud_.empty() ? 0.0 : std::sqrt(u_ss / static_cast<double>(ud_.size())));
@@ -189,11 +176,7 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
     m.emplace_back("i_max_A", sc_.i_max_A);
     m.emplace_back("final_omega_rad_s", plant_.omega_rad_s());
     m.emplace_back("fault", fault_);
-    m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
-    m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));
-    m.emplace_back("sim_time_s", sim_s);
-    m.emplace_back("wall_time_s", wall_loop_s);
-    m.emplace_back("realtime_factor", wall_loop_s > 0.0 ? sim_s / wall_loop_s : NAN);
+    append_run_tail(&m, wall_loop_s, false);
     return m;
 }
 

@@ -1,4 +1,5 @@
-// paper002_recorder.h - per-sample log and metrics of a paper-002 run
+// paper002_recorder.h - paper 002's probe of the one recorder
+// (motorsim/run_recorder.h): per-sample log and metrics of a paper-002 run
 // (section 5's study): the true plant against the drive's reference and
 // its EKF, one preallocated row per period.
 //
@@ -24,8 +25,8 @@
 //   ekf_spd_ok                    1 if every correction found S positive
 //                                 definite and P stayed SPD, else 0
 //   max_abs_current_A, voltage_saturated_fraction, fault, ...
-#ifndef MCSIM_MOTORSIM_PAPER002_RECORDER_H
-#define MCSIM_MOTORSIM_PAPER002_RECORDER_H
+#ifndef MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H
+#define MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H
 
 #include <cstdint>
 #include <vector>
@@ -33,8 +34,7 @@
 #include "drives/paper002/paper002_drive.h"
 #include "hal_sw_plant.h"
 #include "model/pm_plant.h"
-#include "motorsim/recorder.h"
-#include "motorsim/run_watch.h"
+#include "motorsim/run_recorder.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
@@ -76,33 +76,24 @@ extern const char* const kPaper002ColumnNames[kP2NumColumns];
 constexpr double kP002HfCutoff_Hz = 1000.0;
 constexpr double kP002SteadyFrom = 0.5;
 
-class Paper002Recorder {
+class Paper002Recorder : public RunRecorder {
 public:
     Paper002Recorder(const Scenario& sc, const PmPlant& plant, const paper002_drive_t& drive, bool record_rows);
-    static void monitor(void* ctx, const hal_sw_plant_period_t* p);
-    const double* data() const { return rows_.data(); }
-    std::size_t size() const { return rows_.empty() ? 0 : static_cast<std::size_t>(n_); }
-    MetricList metrics(double wall_loop_s) const;
-    const RunWatch& watch() const { return watch_; }
+    MetricList metrics(double wall_loop_s) const override;
 
 private:
-    void on_period(const hal_sw_plant_period_t& p);
+    std::int64_t on_period(const hal_sw_plant_period_t& p, double* row) override;
 
-    const Scenario& sc_;
-    const PmPlant& plant_;
     const paper002_drive_t& drive_;
-    std::uint64_t n_max_;
-    std::vector<double> rows_;
     std::vector<double> ud_, uq_;  // the steady-state window, for the spectrum
 
-    std::uint64_t n_ = 0, n_rmse_ = 0, n_rmse50_ = 0, n_sat_ = 0;
+    std::uint64_t n_rmse_ = 0, n_rmse50_ = 0, n_sat_ = 0;
     double ss_ = 0.0, ss50_ = 0.0, err_max_ = 0.0, est_ss_ = 0.0, m0_ss_ = 0.0, i_max_ = 0.0, th_ss_ = 0.0, thm_ss_ = 0.0;
     double p_min_eig_ = 1e300, p_asym_ = 0.0;
     bool spd_ok_ = true;
     std::int64_t fault_ = 0;
-    RunWatch watch_;
 };
 
 }  // namespace mcsim
 
-#endif  // MCSIM_MOTORSIM_PAPER002_RECORDER_H
+#endif  // MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H

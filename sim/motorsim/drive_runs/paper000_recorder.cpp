@@ -1,4 +1,4 @@
-#include "motorsim/recorder.h"
+#include "motorsim/drive_runs/paper000_recorder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,29 +23,19 @@ const char* const kColumnNames[kNumColumns] = {
     "v_g",       "delta_theta_est", "jump_count", "delta_theta", "i_f_ref",   "i_g_ref",   "fault",
 };
 
-Recorder::Recorder(const Scenario& sc, const PmPlant& plant, const paper000_drive_t& drive, const Reference& ref,
-                   bool record_rows)
-    : sc_(sc),
-      plant_(plant),
+Paper000Recorder::Paper000Recorder(const Scenario& sc, const PmPlant& plant, const paper000_drive_t& drive,
+                                   bool record_rows)
+    : RunRecorder(sc, plant, kColumnNames, kNumColumns, record_rows),
       drive_(drive),
-      ref_(ref),
+      ref_(sc.segments, 0.0),
       n_p_(static_cast<double>(plant.motor().n_p)),
       K_over_L_(plant.motor().K_Nm_per_A / plant.motor().L_H),
       inv_L_drive_(1.0 / sc.drive_model.L_H),
-      omega_lim_rad_s_(sc.omega_lim_rad_s),
-      n_max_(sc.n_ticks()),
-      watch_(sc)
+      omega_lim_rad_s_(sc.omega_lim_rad_s)
 {
-    // One row per period, allocated and touched (zeroed) here: the loop
-    // itself neither allocates nor takes first-touch page faults.
-    if (record_rows) {
-        rows_.resize(static_cast<std::size_t>(n_max_));
-    }
 }
 
-void Recorder::monitor(void* ctx, const hal_sw_plant_period_t* p) { static_cast<Recorder*>(ctx)->on_period(*p); }
-
-void Recorder::on_period(const hal_sw_plant_period_t& p)
+std::int64_t Paper000Recorder::on_period(const hal_sw_plant_period_t& p, double* r)
 {
     paper000_telemetry_t tl;
     paper000_drive_get_telemetry(&drive_, &tl);
@@ -62,9 +52,13 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
             const double th0 = ref_.eval(0.0).theta_rad;
             offset_rad_ = std::round((x[PmPlant::kTheta] - th0) / pitch) * pitch;
             align_residual_rad_ = x[PmPlant::kTheta] - offset_rad_ - th0;
-            for (std::uint64_t k = 0; k < n_ && k < rows_.size(); ++k) {
-                rows_[k][kColTheta] -= offset_rad_;
-                rows_[k][kColDeltaTheta] -= offset_rad_;
+            for (std::uint64_t k = 0; k < index(); ++k) {
+                double* earlier = row_at(k);
+                if (earlier == nullptr) {
+                    break;  // no log
+                }
+                earlier[kColTheta] -= offset_rad_;
+                earlier[kColDeltaTheta] -= offset_rad_;
             }
         }
     }
@@ -95,11 +89,7 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     const double i_f_hat = to_double(tl.i_f_hat_A);
     const double i_g_hat = to_double(tl.i_g_hat_A);
 
-    if (n_ >= n_max_) {
-        return;  // more periods than the scenario asked for: keep the log bounded
-    }
-    if (!rows_.empty()) {
-        Row& r = rows_[n_];
+    if (r != nullptr) {
         r[kColT] = p.t_s;
         r[kColMode] = static_cast<double>(tl.mode);
         r[kColThetaRef] = theta_ref;
@@ -140,7 +130,6 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     // --- metrics: scored against the scenario's own reference -----------
     // The alignment before t = 0 counts for the current, voltage and fault
     // only: the reference holds then, and the rotor is being moved onto it.
-    ++n_;
     max_abs_current_ = std::max(max_abs_current_, std::max(std::fabs(i_a), std::fabs(i_b)));
     max_abs_voltage_ = std::max(max_abs_voltage_, std::max(std::fabs(p.v_a_V), std::fabs(p.v_b_V)));
     if (tl.fault != DRIVE_FAULT_NONE) {
@@ -148,11 +137,10 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     }
     if (before_start) {
         ++n_pre_;
-        watch_.on_period(p, static_cast<std::int64_t>(tl.fault), plant_);
-        return;
+        return static_cast<std::int64_t>(tl.fault);
     }
     RefPoint ref = ref_.eval(p.t_s);
-    if (drive_ref_) {
+    if (drive_ref()) {
         ref.theta_rad = theta_ref;
         ref.omega_rad_s = to_double(tl.omega_ref_rad_s);
     }
@@ -176,7 +164,6 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
         ++mode_switches_;
     }
     last_mode_ = mode;
-    watch_.on_period(p, static_cast<std::int64_t>(tl.fault), plant_);
     // [load] changes complete by now (a step at t_s, a ramp at t_s + ramp_s);
     // settled: kLoadSettleS after the last one, and the next not begun
     while (load_next_ < sc_.load.size() && sc_.load[load_next_].t_s + sc_.load[load_next_].ramp_s <= p.t_s) {
@@ -211,13 +198,13 @@ void Recorder::on_period(const hal_sw_plant_period_t& p)
     if (!std::isfinite(theta) || !std::isfinite(theta_est) || !std::isfinite(i_f_hat)) {
         theta_track_max_ = theta_est_max_ = current_obs_max_ = theta_track_load_settled_max_ = NAN;
     }
+    return static_cast<std::int64_t>(tl.fault);
 }
 
-MetricList Recorder::metrics(double wall_loop_s) const
+MetricList Paper000Recorder::metrics(double wall_loop_s) const
 {
-    const double sim_s = static_cast<double>(n_) * sc_.ts_s;
     const double nc = static_cast<double>(n_closed_);
-    const double n_run = static_cast<double>(n_ - n_pre_);  // samples from t = 0
+    const double n_run = static_cast<double>(index() - n_pre_);  // samples from t = 0
     auto rms = [nc](double ss) { return nc > 0.0 ? std::sqrt(ss / nc) : 0.0; };
     MetricList m;
     m.emplace_back("theta_track_max_rad", theta_track_max_);
@@ -228,7 +215,7 @@ MetricList Recorder::metrics(double wall_loop_s) const
     m.emplace_back("omega_est_peak_max_rad_s", n_peak_ > 0 ? omega_est_peak_max_ : NAN);
     m.emplace_back("omega_est_max_rad_s", omega_est_max_);
     m.emplace_back("omega_est_rms_rad_s", rms(omega_est_ss_));
-    const double theta_end = drive_ref_ ? drive_theta_ref_last_ : ref_.final_theta_rad();
+    const double theta_end = drive_ref() ? drive_theta_ref_last_ : ref_.final_theta_rad();
     m.emplace_back("final_theta_err_rad", std::fabs(plant_.theta_rad() - offset_rad_ - theta_end));
     m.emplace_back("final_theta_rad", plant_.theta_rad() - offset_rad_);
     {
@@ -261,12 +248,7 @@ MetricList Recorder::metrics(double wall_loop_s) const
                    fr->frozen ? sc_.t_start_s() + static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);
     m.emplace_back("fault_events", static_cast<std::int64_t>(fr->events));
     m.emplace_back("relocks", static_cast<std::int64_t>(drive_.relocks));
-    m.emplace_back("n_samples", static_cast<std::int64_t>(n_));
-    m.emplace_back("seed", static_cast<std::int64_t>(sc_.seed));
-    m.emplace_back("substeps", static_cast<std::int64_t>(plant_.substeps()));
-    m.emplace_back("sim_time_s", sim_s);
-    m.emplace_back("wall_time_s", wall_loop_s);
-    m.emplace_back("realtime_factor", wall_loop_s > 0.0 ? sim_s / wall_loop_s : NAN);
+    append_run_tail(&m, wall_loop_s, true);
     return m;
 }
 
