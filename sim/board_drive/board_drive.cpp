@@ -15,11 +15,10 @@
 #include <memory>
 #include <string>
 
-#include "drives/paper000/paper000_drive.h"
-#include "drives/paper001/paper001_drive.h"
+#include "drives/registry.h"
 #include "hal_board.h"
 #include "motorsim/drive_glue.h"
-#include "scenario/design_input.h"
+#include "host_drives/host_drive.h"
 #include "scenario/scenario.h"
 
 namespace {
@@ -56,18 +55,12 @@ int main(int argc, char** argv)
         return 2;
     }
     mcsim::Scenario sc;
-    std::unique_ptr<paper000_drive_t> pos;
-    std::unique_ptr<paper001_drive_t> spd;
+    auto storage = std::make_unique<drive_storage_t>();  // a few kB: heap, not stack
+    auto cfg = std::make_unique<drive_config_storage_t>();
+    drive_t drive{};
     try {
         sc = mcsim::load_scenario(scenario);
-        if (sc.speed_drive) {
-            spd = std::make_unique<paper001_drive_t>();
-            p001_design_report_t rep{};
-            mcsim::design_and_init_speed_drive(sc, spd.get(), &rep);
-        } else {
-            pos = std::make_unique<paper000_drive_t>();
-            mcsim::design_and_init_drive(sc, pos.get());
-        }
+        drive = mcsim::design_scenario_drive(sc, storage.get(), cfg.get());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "board_drive: %s\n", e.what());
         return 2;
@@ -78,8 +71,7 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "board_drive: %s: not starting, nothing driven\n", err);
         return 1;
     }
-    drive_t active = spd ? drive_t{&paper001_drive_ops, spd.get()} : drive_t{&paper000_drive_ops, pos.get()};
-    const bool started = hal_start(&mcsim::drive_control_callback, &active);
+    const bool started = hal_start(&mcsim::drive_control_callback, &drive);
     if (!started) {
         std::fprintf(stderr, "board_drive: %s\n", hal_last_error());
         hal_board_close();
@@ -103,16 +95,9 @@ int main(int argc, char** argv)
         if (chunk.periods < n) break;  // the safe state or an I/O error
     }
     const board_chain_t& ch = *hal_board_chain();
-    int fault = 0;
-    if (pos) {
-        paper000_telemetry_t t;
-        paper000_drive_get_telemetry(pos.get(), &t);
-        fault = static_cast<int>(t.fault);
-    } else {
-        paper001_telemetry_t t;
-        paper001_drive_get_telemetry(spd.get(), &t);
-        fault = static_cast<int>(t.fault);
-    }
+    drive_status_t status{};
+    drive_status(&drive, &status);
+    const int fault = static_cast<int>(status.fault_code);
     const std::string io_error = hal_last_error();
     hal_board_close();
     std::printf("{\"device\": \"%s\", \"periods\": %llu, \"overruns\": %llu, \"jitter_p999_us_max\": %.1f, "

@@ -54,6 +54,13 @@ struct HostDrive {
 const HostDrive* host_drive_find(const std::string& name);
 // The drive whose table is [table], or nullptr.
 const HostDrive* host_drive_of_table(const std::string& table);
+
+// The scenario's drive (sc.drive_kind), designed by its host part into
+// *cfg and initialised through the drive interface in *storage: its
+// handle. Throws ScenarioError naming the file ("FILE: drive.kind: ..."
+// when this build lacks the drive, "FILE: design: ..." when the design or
+// the drive refuses). The design may set sc.pre_ticks.
+drive_t design_scenario_drive(Scenario& sc, drive_storage_t* storage, drive_config_storage_t* cfg);
 // Every registered host part.
 const std::vector<const HostDrive*>& host_drives();
 

@@ -40,4 +40,21 @@ const HostDrive* host_drive_of_table(const std::string& table)
     return nullptr;
 }
 
+drive_t design_scenario_drive(Scenario& sc, drive_storage_t* storage, drive_config_storage_t* cfg)
+{
+    const HostDrive* host = host_drive_find(sc.drive_kind);
+    const drive_ops_t* ops = drive_find(sc.drive_kind.c_str());
+    drive_t d{};
+    if (host == nullptr || ops == nullptr || !drive_bind(&d, ops, storage)) {
+        throw ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" is not in this build");
+    }
+    host->design(sc, cfg);
+    if (!drive_init(&d, cfg)) {
+        const char* why = (ops->config_problem != nullptr) ? ops->config_problem(cfg) : nullptr;
+        throw ScenarioError(sc.path + ": design: " + sc.drive_kind + ": the drive refused its configuration" +
+                            (why != nullptr ? std::string(": ") + why : std::string()));
+    }
+    return d;
+}
+
 }  // namespace mcsim

@@ -439,16 +439,7 @@ int run(const Options& opt)
     // a few kB: heap, not stack
     auto storage = std::make_unique<drive_storage_t>();
     auto cfg = std::make_unique<drive_config_storage_t>();
-    drive_t drive{};
-    if (!drive_bind(&drive, ops, storage.get())) {
-        throw mcsim::ScenarioError(sc.path + ": drive.kind: \"" + sc.drive_kind + "\" does not fit drive_storage_t");
-    }
-    host->design(sc, cfg.get());
-    if (!drive_init(&drive, cfg.get())) {
-        const char* why = (ops->config_problem != nullptr) ? ops->config_problem(cfg.get()) : nullptr;
-        throw mcsim::ScenarioError(sc.path + ": design: " + sc.drive_kind + ": the drive refused its configuration" +
-                                   (why != nullptr ? std::string(": ") + why : std::string()));
-    }
+    drive_t drive = mcsim::design_scenario_drive(sc, storage.get(), cfg.get());
     if (sc.pre_ticks > 0 && write_csv && sc.n_ticks() > kMaxLoggedSamples) {
         throw std::invalid_argument(sc.path + ": run.duration_s: with the rotor alignment, " +
                                     std::to_string(sc.n_ticks()) + " samples exceed the in-memory log limit of " +

@@ -1,24 +1,24 @@
 // rtloop - the drive on the emulated DAC/ADC board in real time: each
 // 100 us period of the Linux real-time loop (hal/backends/board/rt_loop.h)
-// runs one period of the rig (the board's A/D, the paper-000 drive, its
+// runs one period of the rig (the board's A/D, the scenario's drive, its
 // D/A and amplifiers, the plant) and keeps to the wall clock; at the end
 // JSON with the overruns, the wake-up jitter (mean, 99.9th percentile,
 // max), the step time (mean, max) and whether real-time scheduling was
 // granted. tools/bench/rtloop.py runs it.
-//   usage: rtloop [--seconds N] [--scenario FILE] [--priority P]
+//   usage: rtloop --scenario FILE [--seconds N] [--priority P]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
 
-#include "drives/paper000/paper000_drive.h"
+#include "drives/registry.h"
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "model/board_emulation.h"
 #include "motorsim/drive_glue.h"
 #include "rt_loop.h"
-#include "scenario/design_input.h"
+#include "host_drives/host_drive.h"
 #include "scenario/rig.h"
 #include "scenario/scenario.h"
 
@@ -30,7 +30,7 @@ int main(int argc, char** argv)
 {
     double seconds = 10.0;
     int priority = 80;
-    std::string scenario = std::string(MC_SOURCE_DIR) + "/sim/scenarios/paper000_experiment.toml";
+    std::string scenario;  // required (tools/bench/rtloop.py gives the README's main scenario by default)
     for (int a = 1; a < argc; ++a) {
         const std::string s = argv[a];
         char* end = nullptr;
@@ -43,27 +43,26 @@ int main(int argc, char** argv)
             const long p = std::strtol(argv[++a], &end, 10);
             priority = (end == argv[a] || *end != '\0' || p < 1 || p > 99) ? -1 : static_cast<int>(p);
         } else {
-            std::fprintf(stderr, "usage: rtloop [--seconds N] [--scenario FILE] [--priority 1-99]\n");
+            std::fprintf(stderr, "usage: rtloop --scenario FILE [--seconds N] [--priority 1-99]\n");
             return 2;
         }
     }
-    if (!(seconds > 0.0) || seconds > 3600.0 || priority < 1 || priority > 99) {
-        std::fprintf(stderr, "rtloop: --seconds must be in (0, 3600], --priority in 1-99\n");
+    if (scenario.empty() || !(seconds > 0.0) || seconds > 3600.0 || priority < 1 || priority > 99) {
+        std::fprintf(stderr, "rtloop: --scenario is required, --seconds must be in (0, 3600], --priority in 1-99\n");
         return 2;
     }
     try {
         mcsim::Scenario sc = mcsim::load_scenario(scenario);
-        if (sc.speed_drive) throw std::runtime_error(scenario + ": a paper-000 position scenario");
-        auto drive = std::make_unique<paper000_drive_t>();
-        mcsim::design_and_init_drive(sc, drive.get());
+        static drive_storage_t storage;  // outlives the loop; a few kB: not on the stack
+        static drive_config_storage_t drive_cfg;
+        static drive_t active;
+        active = mcsim::design_scenario_drive(sc, &storage, &drive_cfg);
         mcsim::Rig rig(sc);
         hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
         mcsim::BoardEmulation board(sc.board, sc.seed);
         std::string why;
         if (!board.calibrate(&why)) throw std::runtime_error("board calibration: " + why);
         hal_sw_plant_set_board(&board);
-        static drive_t active;  // outlives the loop
-        active = drive_t{&paper000_drive_ops, drive.get()};
         if (!hal_start(&mcsim::drive_control_callback, &active)) throw std::runtime_error(hal_last_error());
         rt_loop_config_t cfg{static_cast<std::uint32_t>(std::lround(sc.ts_s * 1e9)), priority};
         static rt_loop_stats_t st;

@@ -19,7 +19,7 @@ struct Rig {
     {
         PmPlant::State x0 = PmPlant::State::Zero();
         x0[PmPlant::kTheta] = sc.theta0_rad;
-        x0[PmPlant::kOmega] = sc.paper002_drive ? sc.p002.omega0_rad_s : 0.0;  // paper 002's w(0)
+        x0[PmPlant::kOmega] = sc.omega0_rad_s;  // the rotor's speed at the start (0 unless the scenario says)
         plant.reset(x0, sc.t_start_s());  // t = 0 is the move command, after pre_ticks
         amp.v_max_V = sc.v_max_V;
     }

@@ -1119,6 +1119,7 @@ Scenario load_scenario(const std::string& path)
         sc.p002.omega_final_rad_s = v->number("omega_final_rad_s").value_or(sc.p002.omega_final_rad_s);
         sc.p002.omega_start_rad_s = v->number("omega_start_rad_s").value_or(0.0);
         sc.p002.omega0_rad_s = v->number("omega0_rad_s").value_or(0.0);
+        sc.omega0_rad_s = sc.p002.omega0_rad_s;
         if (sc.motor.type != MotorType::kPmsm3) {
             root.fail("motor.file", "paper 002's drive needs a pmsm3 motor (this one is a stepper2)");
         }

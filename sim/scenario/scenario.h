@@ -86,6 +86,7 @@ struct Scenario {
     int substeps = kDefaultSubsteps;
     bool substeps_given = false;  // [run] substeps was in the file
     double theta0_rad = 0.0;  // initial rotor angle; the drive assumes 0
+    double omega0_rad_s = 0.0;  // initial rotor speed (a drive's table may set it: [paper002] omega0_rad_s)
     // computation delay of the drive, fraction of Ts in [0, 1]: its voltage
     // acts that much after the currents were sampled (hal_sw_plant.h)
     double compute_delay_samples = 0.0;

@@ -35,14 +35,15 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--rtloop", default=os.path.join(ROOT, "build", "host", "sim", "rtloop"))
-    ap.add_argument("--scenario")
+    ap.add_argument("--scenario", default=os.path.join(ROOT, "sim", "scenarios", "paper000_experiment.toml"),
+                    help="scenario (default: the README's main job, paper 000's experiment)")
     a = ap.parse_args()
     if not (a.seconds > 0):
         ap.error("--seconds must be > 0")
     if not os.path.exists(a.rtloop):
         print(f"rtloop.py: {a.rtloop} not built (cmake --build --preset host)", file=sys.stderr)
         return 1
-    cmd = [a.rtloop, "--seconds", str(a.seconds)] + (["--scenario", a.scenario] if a.scenario else [])
+    cmd = [a.rtloop, "--seconds", str(a.seconds), "--scenario", a.scenario]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         print(r.stderr, file=sys.stderr)
