@@ -29,9 +29,13 @@ struct HostDrive {
     // before [drive] kind existed ([trajectory], [speed], [paper002]),
     // which still does (without [drive], the drive whose table is there).
     const char* table;
+    // Its table needs [drive] kind (a drive added since [drive] kind
+    // exists); false: the table alone chooses the drive (the papers').
+    bool needs_kind;
     // The keys of [<table>] (absent: t is nullptr): each validated into sc
-    // (sc->speed_points, sc->drive_params). Throws ScenarioError. nullptr:
-    // the table is parsed by scenario.cpp (the papers' drives, for now).
+    // (sc->speed_points, sc->drive_params, the drive's fields of Scenario),
+    // after every shared table. Throws ScenarioError. nullptr: the table is
+    // parsed by scenario.cpp (paper 000's [trajectory], for now).
     void (*parse)(const View* t, Scenario* sc);
     // The configuration from the scenario (motor, limits, Ts, delay, the
     // table's keys), tried on the drive once so that a refusal names the

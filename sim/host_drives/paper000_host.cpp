@@ -38,6 +38,6 @@ void p000_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 }  // namespace
 
 extern const HostDrive kPaper000Host;
-const HostDrive kPaper000Host = {"paper000", "trajectory", nullptr, &p000_design, nullptr, nullptr, &p000_peak_demand};
+const HostDrive kPaper000Host = {"paper000", "trajectory", false, nullptr, &p000_design, nullptr, nullptr, &p000_peak_demand};
 
 }  // namespace mcsim

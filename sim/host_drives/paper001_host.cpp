@@ -1,5 +1,5 @@
 // paper001_host.cpp - paper 001's speed drive's host part: its table is
-// [speed] (parsed by scenario.cpp: sim/scenarios/README.md), its design is
+// [speed] (its keys: sim/scenarios/README.md), its design is
 // design/paper001_design.h's through scenario/design_input.h, and
 // --estimator chooses paper 001's flux and I&I observers (flux) or paper
 // 000's back-EMF chain (back_emf).
@@ -7,10 +7,61 @@
 #include <stdexcept>
 
 #include "host_drives/host_drive.h"
+#include "scenario/toml_view.h"
 #include "scenario/design_input.h"
 
 namespace mcsim {
 namespace {
+
+std::vector<std::string> p001_keys()
+{
+    return {
+        "profile_rpm", "gamma", "a1", "a2", "r_ohm", "handover_sweep_rad", "fit_det_min", "blend_tau_s",
+        "probe_s", "identify", "estimator"
+    };
+}
+
+// [speed]: the speed drive's reference and design choices
+void p001_parse(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        throw ScenarioError(sc->path + ": speed: missing required table (profile_rpm, the speed reference)");
+    }
+    v->only(p001_keys());
+    read_speed_profile(*v, sc);
+    auto opt = [&](const char* k, double* dst) {
+        if (const auto x = v->number(k)) {
+            gt(*v, k, *x, 0.0);
+            *dst = *x;
+        }
+    };
+    opt("gamma", &sc->speed_gains.gamma);
+    opt("a1", &sc->speed_gains.a1);
+    opt("a2", &sc->speed_gains.a2);
+    opt("r_ohm", &sc->speed_gains.r_ohm);
+    opt("handover_sweep_rad", &sc->speed_gains.handover_sweep_rad);
+    opt("fit_det_min", &sc->speed_gains.fit_det_min);
+    opt("blend_tau_s", &sc->speed_gains.blend_tau_s);
+    if (const auto e = v->string("estimator")) {
+        if (*e == "flux") {
+            sc->speed_gains.estimator = 0;
+        } else if (*e == "back_emf") {
+            sc->speed_gains.estimator = 1;
+        } else {
+            v->fail("estimator", "must be \"flux\" (paper 001) or \"back_emf\" (paper 000) (got \"" + *e + "\")");
+        }
+    }
+    if (const auto b = v->boolean("identify")) {
+        sc->speed_gains.identify = *b;
+    }
+    if (const auto x = v->number("probe_s")) {
+        ge(*v, "probe_s", *x, 0.0);
+        if (*x > 10.0) {
+            v->fail("probe_s", "must be <= 10 s (got " + fmt_num(*x) + ")");
+        }
+        sc->speed_gains.probe_s = *x;
+    }
+}
 
 void p001_design(Scenario& sc, drive_config_storage_t* out)
 {
@@ -32,6 +83,6 @@ void p001_select_estimator(Scenario* sc, const std::string& name)
 }  // namespace
 
 extern const HostDrive kPaper001Host;
-const HostDrive kPaper001Host = {"paper001", "speed", nullptr, &p001_design, nullptr, &p001_select_estimator, nullptr};
+const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, &p001_select_estimator, nullptr};
 
 }  // namespace mcsim

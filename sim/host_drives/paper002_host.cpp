@@ -1,5 +1,5 @@
 // paper002_host.cpp - paper 002's IPMSM speed drive's host part: its table
-// is [paper002] (parsed by scenario.cpp: sim/scenarios/README.md), its
+// is [paper002] (its keys: sim/scenarios/README.md), its
 // design is design/paper002_design.h's through scenario/design_input.h,
 // --estimator chooses the encoder (the paper) or paper 001's flux observer
 // (sensorless), and its reference is a C^2 polynomial from w0 to w1.
@@ -9,10 +9,75 @@
 #include <stdexcept>
 
 #include "host_drives/host_drive.h"
+#include "scenario/toml_view.h"
 #include "scenario/design_input.h"
 
 namespace mcsim {
 namespace {
+
+std::vector<std::string> p002_keys()
+{
+    return {
+        "controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega_start_rad_s",
+        "omega0_rad_s", "estimator", "ekf_q", "ekf_r"
+    };
+}
+
+// [paper002]: paper 002's drive (sim/scenarios/README.md)
+void p002_parse(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        throw ScenarioError(sc->path + ": paper002: missing required table (paper 002's reference and design choices)");
+    }
+    v->only(p002_keys());
+    // the EKF's Q and R diagonals instead of the design's: positive
+    // definite, so every entry > 0
+    const auto positive = [](double x) { return x > 0.0; };
+    if (const auto q = v->numbers("ekf_q", std::size(sc->ipmsm.ekf_q), positive, "must be > 0 (Q positive definite)")) {
+        std::copy(q->begin(), q->end(), sc->ipmsm.ekf_q);
+    }
+    if (const auto r = v->numbers("ekf_r", std::size(sc->ipmsm.ekf_r), positive, "must be > 0 (R positive definite)")) {
+        std::copy(r->begin(), r->end(), sc->ipmsm.ekf_r);
+    }
+    if (const auto e = v->string("estimator")) {
+        if (*e == "encoder") {
+            sc->ipmsm.estimator = 0;
+        } else if (*e == "flux") {
+            sc->ipmsm.estimator = 1;
+        } else {
+            v->fail("estimator", "must be \"encoder\" or \"flux\" (got \"" + *e + "\")");
+        }
+    }
+    if (const auto c = v->string("controller")) {
+        if (*c == "sosmc") {
+            sc->ipmsm.controller = 0;
+        } else if (*c == "htsmc") {
+            sc->ipmsm.controller = 1;
+        } else {
+            v->fail("controller", "must be \"sosmc\" or \"htsmc\" (got \"" + *c + "\")");
+        }
+    }
+    if (const auto b = v->boolean("compensation")) {
+        sc->ipmsm.compensate = *b;
+    }
+    sc->ipmsm.t0_s = v->number("t0_s").value_or(sc->ipmsm.t0_s);
+    ge(*v, "t0_s", sc->ipmsm.t0_s, 0.0);
+    sc->ipmsm.t1_s = v->number("t1_s").value_or(sc->ipmsm.t1_s);
+    if (!(sc->ipmsm.t1_s >= sc->ipmsm.t0_s + sc->ts_s)) {
+        v->fail("t1_s", "must be at least Ts_s after t0_s (got " + fmt_num(sc->ipmsm.t1_s) + ")");
+    }
+    sc->ipmsm.omega_final_rad_s = v->number("omega_final_rad_s").value_or(sc->ipmsm.omega_final_rad_s);
+    sc->ipmsm.omega_start_rad_s = v->number("omega_start_rad_s").value_or(0.0);
+    sc->ipmsm.omega0_rad_s = v->number("omega0_rad_s").value_or(0.0);
+    sc->omega0_rad_s = sc->ipmsm.omega0_rad_s;
+    if (sc->motor.type != MotorType::kPmsm3) {
+        throw ScenarioError(sc->path + ": motor.file: paper 002's drive needs a pmsm3 motor (this one is a stepper2)");
+    }
+    if (sc->ipmsm.estimator == 0 && !sc->encoder.present()) {
+        throw ScenarioError(sc->path + ": encoder: missing required table: paper 002's drive reads an encoder (or set "
+                            "paper002.estimator = \"flux\")");
+    }
+}
 
 void p002_design(Scenario& sc, drive_config_storage_t* out)
 {
@@ -24,7 +89,7 @@ void p002_design(Scenario& sc, drive_config_storage_t* out)
 void p002_select_estimator(Scenario* sc, const std::string& name)
 {
     if (name == "encoder" || name == "flux") {
-        sc->p002.estimator = (name == "flux") ? 1 : 0;
+        sc->ipmsm.estimator = (name == "flux") ? 1 : 0;
         return;
     }
     throw std::invalid_argument("--estimator: " + name + ": paper 002's drive takes encoder or flux");
@@ -33,14 +98,14 @@ void p002_select_estimator(Scenario* sc, const std::string& name)
 // The C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0).
 void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 {
-    *w_pk = std::max(std::fabs(sc.p002.omega_start_rad_s), std::fabs(sc.p002.omega_final_rad_s));
-    *a_pk = 1.875 * std::fabs(sc.p002.omega_final_rad_s - sc.p002.omega_start_rad_s) / (sc.p002.t1_s - sc.p002.t0_s);
+    *w_pk = std::max(std::fabs(sc.ipmsm.omega_start_rad_s), std::fabs(sc.ipmsm.omega_final_rad_s));
+    *a_pk = 1.875 * std::fabs(sc.ipmsm.omega_final_rad_s - sc.ipmsm.omega_start_rad_s) / (sc.ipmsm.t1_s - sc.ipmsm.t0_s);
 }
 
 }  // namespace
 
 extern const HostDrive kPaper002Host;
-const HostDrive kPaper002Host = {"paper002", "paper002", nullptr, &p002_design, nullptr, &p002_select_estimator,
+const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, &p002_select_estimator,
                                  &p002_peak_demand};
 
 }  // namespace mcsim

@@ -259,17 +259,17 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     }
     in->encoder_counts = static_cast<long>(sc.encoder.counts_per_turn);
     in->sigma_theta_rad = sc.encoder.noise_rad;
-    in->controller = sc.p002.controller;
-    in->compensate = sc.p002.compensate;
-    in->t0_s = sc.p002.t0_s;
-    in->t1_s = sc.p002.t1_s;
-    in->w0_rad_s = sc.p002.omega_start_rad_s;
-    in->w1_rad_s = sc.p002.omega_final_rad_s;
-    in->angle_source = sc.p002.estimator;
+    in->controller = sc.ipmsm.controller;
+    in->compensate = sc.ipmsm.compensate;
+    in->t0_s = sc.ipmsm.t0_s;
+    in->t1_s = sc.ipmsm.t1_s;
+    in->w0_rad_s = sc.ipmsm.omega_start_rad_s;
+    in->w1_rad_s = sc.ipmsm.omega_final_rad_s;
+    in->angle_source = sc.ipmsm.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
     in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
-    std::copy(std::begin(sc.p002.ekf_q), std::end(sc.p002.ekf_q), in->ekf_q);
-    std::copy(std::begin(sc.p002.ekf_r), std::end(sc.p002.ekf_r), in->ekf_r);
+    std::copy(std::begin(sc.ipmsm.ekf_q), std::end(sc.ipmsm.ekf_q), in->ekf_q);
+    std::copy(std::begin(sc.ipmsm.ekf_r), std::end(sc.ipmsm.ekf_r), in->ekf_r);
 }
 
 void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)

@@ -547,22 +547,28 @@ Scenario load_scenario(const std::string& path)
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
     std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
-               "trajectory", "gains", "bounds", "speed", "expect", "faults", "board", "encoder", "paper002", "drive"};
+               "gains", "bounds", "expect", "faults", "board", "encoder", "drive"};
     for (const HostDrive* d : host_drives()) {
         if (std::find(top.begin(), top.end(), d->table) == top.end()) {
             top.emplace_back(d->table);  // each registered drive's own table
         }
     }
     root.only(top);
-    // [speed] makes it the speed drive (paper 001), [paper002] paper 002's
-    // speed drive; else the position drive of paper 000 with its
-    // [trajectory].
-    sc.speed_drive = root.has("speed");
-    sc.paper002_drive = root.has("paper002");
-    if (static_cast<int>(sc.speed_drive) + static_cast<int>(sc.paper002_drive) + static_cast<int>(root.has("trajectory")) > 1) {
-        root.fail(sc.paper002_drive ? "paper002" : "speed",
-                  "a scenario has one of [trajectory] (position drive), [speed] (paper-001 speed drive) or "
-                  "[paper002] (paper-002 speed drive)");
+    // One drive's table: the papers' tables choose their drive without
+    // [drive] (so two of them are a mistake)
+    {
+        std::string tables, second;
+        int n_tables = 0;
+        for (const HostDrive* d : host_drives()) {
+            tables += (tables.empty() ? "" : ", ") + std::string("[") + d->table + "] (" + d->name + ")";
+            if (!d->needs_kind && root.has(d->table)) {
+                n_tables += 1;
+                second = d->table;
+            }
+        }
+        if (n_tables > 1) {
+            root.fail(second, "a scenario has one of " + tables);
+        }
     }
     // The drive: [drive] kind, a drive of the host registry
     // (sim/host_drives/) with its table; without it, the drive whose table
@@ -591,7 +597,7 @@ Scenario load_scenario(const std::string& path)
         }
     } else {
         for (const HostDrive* d : host_drives()) {
-            if (d->parse != nullptr && root.has(d->table)) {
+            if (d->needs_kind && root.has(d->table)) {
                 root.fail(d->table, std::string("only with [drive] kind = \"") + d->name + "\"");
             }
         }
@@ -609,6 +615,7 @@ Scenario load_scenario(const std::string& path)
     }
     sc.drive_kind = host->name;
     sc.drive_table = host->table;
+    sc.speed_drive = sc.drive_table == "speed";
     sc.description = root.string("description").value_or("");
 
     auto required_table = [&](const char* k) {
@@ -1008,45 +1015,6 @@ Scenario load_scenario(const std::string& path)
         }
     }
 
-    // [speed]: the speed drive's reference and design choices
-    if (const auto v = root.table("speed")) {
-        v->only({"profile_rpm", "gamma", "a1", "a2", "r_ohm", "handover_sweep_rad", "fit_det_min",
-                 "blend_tau_s", "probe_s", "identify", "estimator"});
-        read_speed_profile(*v, &sc);
-        auto opt = [&](const char* k, double* dst) {
-            if (const auto x = v->number(k)) {
-                gt(*v, k, *x, 0.0);
-                *dst = *x;
-            }
-        };
-        opt("gamma", &sc.speed_gains.gamma);
-        opt("a1", &sc.speed_gains.a1);
-        opt("a2", &sc.speed_gains.a2);
-        opt("r_ohm", &sc.speed_gains.r_ohm);
-        opt("handover_sweep_rad", &sc.speed_gains.handover_sweep_rad);
-        opt("fit_det_min", &sc.speed_gains.fit_det_min);
-        opt("blend_tau_s", &sc.speed_gains.blend_tau_s);
-        if (const auto e = v->string("estimator")) {
-            if (*e == "flux") {
-                sc.speed_gains.estimator = 0;
-            } else if (*e == "back_emf") {
-                sc.speed_gains.estimator = 1;
-            } else {
-                v->fail("estimator", "must be \"flux\" (paper 001) or \"back_emf\" (paper 000) (got \"" + *e + "\")");
-            }
-        }
-        if (const auto b = v->boolean("identify")) {
-            sc.speed_gains.identify = *b;
-        }
-        if (const auto x = v->number("probe_s")) {
-            ge(*v, "probe_s", *x, 0.0);
-            if (*x > 10.0) {
-                v->fail("probe_s", "must be <= 10 s (got " + fmt_num(*x) + ")");
-            }
-            sc.speed_gains.probe_s = *x;
-        }
-    }
-
     // [expect]: bounds on the run's metrics; names are checked against the
     // drive's metrics before the run (motorsim), values here
     if (const auto v = root.table("expect")) {
@@ -1073,58 +1041,6 @@ Scenario load_scenario(const std::string& path)
                 v->fail(k, "min must be <= max (got min " + fmt_num(x.min) + ", max " + fmt_num(x.max) + ")");
             }
             sc.expect.push_back(x);
-        }
-    }
-
-    // [paper002]: paper 002's drive (sim/scenarios/README.md)
-    if (const auto v = root.table("paper002")) {
-        v->only({"controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega_start_rad_s", "omega0_rad_s", "estimator", "ekf_q",
-                 "ekf_r"});
-        // the EKF's Q and R diagonals instead of the design's: positive
-        // definite, so every entry > 0
-        const auto positive = [](double x) { return x > 0.0; };
-        if (const auto q = v->numbers("ekf_q", std::size(sc.p002.ekf_q), positive, "must be > 0 (Q positive definite)")) {
-            std::copy(q->begin(), q->end(), sc.p002.ekf_q);
-        }
-        if (const auto r = v->numbers("ekf_r", std::size(sc.p002.ekf_r), positive, "must be > 0 (R positive definite)")) {
-            std::copy(r->begin(), r->end(), sc.p002.ekf_r);
-        }
-        if (const auto e = v->string("estimator")) {
-            if (*e == "encoder") {
-                sc.p002.estimator = 0;
-            } else if (*e == "flux") {
-                sc.p002.estimator = 1;
-            } else {
-                v->fail("estimator", "must be \"encoder\" or \"flux\" (got \"" + *e + "\")");
-            }
-        }
-        if (const auto c = v->string("controller")) {
-            if (*c == "sosmc") {
-                sc.p002.controller = 0;
-            } else if (*c == "htsmc") {
-                sc.p002.controller = 1;
-            } else {
-                v->fail("controller", "must be \"sosmc\" or \"htsmc\" (got \"" + *c + "\")");
-            }
-        }
-        if (const auto b = v->boolean("compensation")) {
-            sc.p002.compensate = *b;
-        }
-        sc.p002.t0_s = v->number("t0_s").value_or(sc.p002.t0_s);
-        ge(*v, "t0_s", sc.p002.t0_s, 0.0);
-        sc.p002.t1_s = v->number("t1_s").value_or(sc.p002.t1_s);
-        if (!(sc.p002.t1_s >= sc.p002.t0_s + sc.ts_s)) {
-            v->fail("t1_s", "must be at least Ts_s after t0_s (got " + fmt_num(sc.p002.t1_s) + ")");
-        }
-        sc.p002.omega_final_rad_s = v->number("omega_final_rad_s").value_or(sc.p002.omega_final_rad_s);
-        sc.p002.omega_start_rad_s = v->number("omega_start_rad_s").value_or(0.0);
-        sc.p002.omega0_rad_s = v->number("omega0_rad_s").value_or(0.0);
-        sc.omega0_rad_s = sc.p002.omega0_rad_s;
-        if (sc.motor.type != MotorType::kPmsm3) {
-            root.fail("motor.file", "paper 002's drive needs a pmsm3 motor (this one is a stepper2)");
-        }
-        if (sc.p002.estimator == 0 && !root.has("encoder")) {
-            root.fail("encoder", "missing required table: paper 002's drive reads an encoder (or set paper002.estimator = \"flux\")");
         }
     }
 

@@ -119,7 +119,8 @@ struct Scenario {
     int gain_design = -1; // [design] gain_design: 0 continuous, 1 discrete; -1: design default
     int control_law = -1; // [design] control_law: 0 twisting, 1 load_angle; -1: design default
 
-    // [speed] (the paper-001 speed drive instead of [trajectory])
+    // [speed] (the paper-001 speed drive instead of [trajectory]):
+    // drive_table == "speed"
     bool speed_drive = false;
     std::vector<std::pair<double, double>> speed_points;  // (t [s], w [rad/s]) corners
     struct {
@@ -130,11 +131,10 @@ struct Scenario {
         int estimator = 0;      // p001_estimator_t: 0 flux (paper 001), 1 back_emf (paper 000)
     } speed_gains;
 
-    // [paper002] (paper 002's cascaded speed drive on an encoder instead of
-    // [trajectory] or [speed]): the controller, disturbance compensation,
-    // the reference w_d (w0 until t0, a C^2 polynomial to w1 on [t0, t1],
-    // held) and the plant's initial speed w(0)
-    bool paper002_drive = false;
+    // [paper002] (paper 002's cascaded speed drive of an IPMSM on an
+    // encoder): the controller, disturbance compensation, the reference
+    // w_d (w0 until t0, a C^2 polynomial to w1 on [t0, t1], held) and the
+    // plant's initial speed w(0)
     struct {
         int controller = 0;        // p002_controller_t: 0 sosmc, 1 htsmc
         bool compensate = true;    // disturbance compensation (DC)
@@ -144,7 +144,7 @@ struct Scenario {
         int estimator = 0;         // p002_angle_source_t: 0 the encoder, 1 paper 001's flux observer
         double ekf_q[5] = {0, 0, 0, 0, 0};  // the EKF's Q diagonal per sample (all 0: the design's)
         double ekf_r[3] = {0, 0, 0};        // its R diagonal (all 0: the design's)
-    } p002;
+    } ipmsm;
 
     // The drive: [drive] kind, or the drive whose table the scenario has
     // ([trajectory], [speed], [paper002]); a name of the host registry

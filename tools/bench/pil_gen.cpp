@@ -68,54 +68,31 @@ struct Options {
     std::string estimator;  // paper 001: flux | back_emf; empty: the scenario's
 };
 
-// The scenario's own drive.
-std::string scenario_drive(const mcsim::Scenario& sc)
-{
-    if (!sc.drive_kind.empty()) return sc.drive_kind;
-    if (sc.paper002_drive) return "paper002";
-    if (sc.speed_drive) return "paper001";
-    return "paper000";
-}
+// The scenario's own drive: its [drive] kind, or the drive its table chose.
+std::string scenario_drive(const mcsim::Scenario& sc) { return sc.drive_kind; }
 
-// The configuration of drive name for scenario sc, as motorsim designs it.
-// paper000's design sets sc.pre_ticks (its rotor alignment before t = 0).
+// The configuration of drive name for scenario sc, as motorsim designs it
+// (its host part, sim/host_drives/); paper 000's design sets sc.pre_ticks
+// (its rotor alignment before t = 0).
 void design(const std::string& name, const Options& opt, mcsim::Scenario& sc, drive_config_storage_t* cfg)
 {
     std::memset(cfg, 0, sizeof *cfg);
-    if (!opt.estimator.empty() && name != "paper001") {
-        throw std::runtime_error("--estimator applies to --drive paper001 only");
+    const mcsim::HostDrive* host = mcsim::host_drive_find(name);
+    if (host == nullptr) throw std::runtime_error("--drive " + name + ": no host part designs this drive");
+    if (sc.drive_kind != name) {
+        throw std::runtime_error(sc.path + ": --drive " + name + " needs a scenario of that drive ([" + host->table +
+                                 "], or [drive] kind = \"" + name + "\"); this one's is " + sc.drive_kind);
     }
-    if (name == "paper000") {
-        if (!sc.position_drive()) throw std::runtime_error(sc.path + ": --drive paper000 needs a [trajectory] scenario");
-        auto d = std::make_unique<paper000_drive_t>();
-        mcsim::design_and_init_drive(sc, d.get());
-        cfg->paper000 = d->cfg;  // what paper000_drive_init got
-    } else if (name == "paper001") {
-        if (!sc.speed_drive) throw std::runtime_error(sc.path + ": --drive paper001 needs a [speed] scenario");
-        if (sc.speed_gains.identify) {
-            // motorsim would replace the drive model by the commissioning's
-            // R, L, Phi first; not reproduced here
-            throw std::runtime_error(sc.path + ": [speed] identify = true is not supported by mc_pil_gen");
-        }
-        if (!opt.estimator.empty()) sc.speed_gains.estimator = (opt.estimator == "back_emf") ? 1 : 0;
-        auto d = std::make_unique<paper001_drive_t>();
-        p001_design_report_t rep{};
-        mcsim::design_and_init_speed_drive(sc, d.get(), &rep);
-        cfg->paper001 = d->cfg;
-    } else if (name == "paper002") {
-        if (!sc.paper002_drive) throw std::runtime_error(sc.path + ": --drive paper002 needs a [paper002] scenario");
-        auto d = std::make_unique<paper002_drive_t>();
-        mcsim::design_and_init_paper002_drive(sc, d.get());
-        cfg->paper002 = d->cfg;
-    } else {
-        const mcsim::HostDrive* host = mcsim::host_drive_find(name);
-        if (host == nullptr) throw std::runtime_error("--drive " + name + ": no host part designs this drive");
-        if (sc.drive_kind != name) {
-            throw std::runtime_error(sc.path + ": --drive " + name + " needs a scenario with [drive] kind = \"" + name +
-                                     "\" (its table's keys)");
-        }
-        host->design(sc, cfg);
+    if (!opt.estimator.empty()) {
+        if (host->select_estimator == nullptr) throw std::runtime_error("--estimator: the " + name + " drive has one estimator");
+        host->select_estimator(&sc, opt.estimator);
     }
+    if (sc.speed_drive && sc.speed_gains.identify) {
+        // motorsim would replace the drive model by the commissioning's
+        // R, L, Phi first; not reproduced here
+        throw std::runtime_error(sc.path + ": [speed] identify = true is not supported by mc_pil_gen");
+    }
+    host->design(sc, cfg);
 }
 
 std::string estimator_note(const std::string& name, const drive_config_storage_t& cfg)

@@ -41,8 +41,6 @@ PENDING = {
     "sim/replay/drive_replay.cpp": "a replay of paper 000's estimator (its applied-voltage input and telemetry): to move to its host room",
     "sim/scenario/design_input.cpp": "issue 28: papers 000-002 as host parts in sim/host_drives/",
     "sim/scenario/design_input.h": "issue 28",
-    "sim/scenario/scenario.cpp": "issue 28: [trajectory], [speed], [paper002] parsed by the drives' host parts",
-    "sim/scenario/scenario.h": "issue 28",
 }
 
 COMMENT = re.compile(r"/\*.*?\*/|//[^\n]*", re.S)
