@@ -13,6 +13,9 @@ drives table (`<!-- drives table ... -->`): one row per drive of the
 layout       (the code block after `<!-- layout ... -->`): every directory
              it names exists; every top-level directory of the repository,
              every folder of firmware/ and of hal/backends/ is named.
+links        every relative link and image of README.md, tools/README.md
+             and docs/*.md names a file that exists (sections moved to
+             docs/ must not leave a dangling link behind).
 
     python3 tools/checks/readme_facts.py [--readme README.md]   exit 1 on a mismatch (each one printed)
     python3 tools/checks/readme_facts.py --print-faults          the fault rows from the firmware
@@ -83,12 +86,13 @@ def main() -> int:
     bad = check_faults(fw, readme_rows(a.readme), a.readme.name)
     bad += check_drives(text, a.readme.name)
     bad += check_layout(text, a.readme.name)
+    bad += check_links([a.readme, ROOT / "tools" / "README.md"] + sorted((ROOT / "docs").glob("*.md")))
     for msg in bad:
         print(f"readme_facts: {msg}")
     if bad:
         return 1
     print(f"readme_facts: {a.readme.name}: the {len(fw)} fault codes, the {len(registry())} drives and the "
-          "layout agree with the code")
+          "layout agree with the code; every link resolves")
     return 0
 
 
@@ -157,6 +161,18 @@ def check_drives(text: str, name: str) -> list[str]:
         if says != bool(boards):
             bad.append(f"{name}: drives table: `{d}` STM32F405 image '{r[stm]}', but firmware/drives/{d}/boards/ "
                        f"has {'the board configurations ' + ', '.join(boards) if boards else 'no board configuration'}")
+    return bad
+
+
+def check_links(pages: list[Path]) -> list[str]:
+    bad = []
+    for page in pages:
+        for m in re.finditer(r"\]\(([^)#\s]+)(?:#[^)]*)?\)|<img src=\"([^\"]+)\"", page.read_text()):
+            target = m.group(1) or m.group(2)
+            if re.match(r"[a-z]+:", target):
+                continue  # https:, mailto:
+            if not (page.parent / target).exists():
+                bad.append(f"{page.relative_to(ROOT)}: link to {target}, which does not exist")
     return bad
 
 
