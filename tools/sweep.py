@@ -90,7 +90,11 @@ import time
 import tomllib
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+TOOLS = Path(__file__).resolve().parent
+sys.path.insert(0, str(TOOLS))  # the toolbox, tools/lib
+from lib import motorsim  # noqa: E402
+
+ROOT = TOOLS.parent
 DEFAULT_BINARY = ROOT / "build" / "host" / "sim" / "motorsim"
 
 PARAMS = ("R", "L", "K", "J")
@@ -228,38 +232,21 @@ class Base:
 
 
 # ------------------------------------------------------------- a run ----
-def run_variant(binary: str, name: str, toml_text: str, seed: int, timeout_s: float | None) -> dict:
-    """One motorsim run of one variant, metrics only. Self-contained (it may
-    run on a Dask worker): writes the variant into a temporary directory of
-    its own and returns motorsim's exit status (None: it did not run or
-    timed out), its stderr and its metrics (None when it wrote none)."""
-    import json as _json
-    import os as _os
-    import subprocess as _sp
-    import tempfile as _tf
+def run_variant(binary: str, name: str, toml_text: str, seed: int, timeout_s: float | None,
+                tools_dir: str = str(TOOLS)) -> dict:
+    """One motorsim run of one variant, metrics only (tools/lib/motorsim.py,
+    which the worker imports from tools_dir: it may run on a Dask worker,
+    which must see this filesystem). Returns motorsim's exit status (None: it
+    did not run or timed out), its stderr and its metrics (None when it
+    wrote none)."""
+    import sys as _sys
 
-    with _tf.TemporaryDirectory(prefix="sweep_run_") as tmp:
-        scen = _os.path.join(tmp, name + ".toml")
-        mpath = _os.path.join(tmp, name + ".json")
-        with open(scen, "w") as f:
-            f.write(toml_text)
-        cmd = [binary, "--scenario", scen, "--seed", str(seed), "--metrics-out", mpath, "--quiet"]
-        try:
-            proc = _sp.run(cmd, capture_output=True, text=True, timeout=timeout_s)
-            status, stderr = proc.returncode, proc.stderr
-        except _sp.TimeoutExpired:
-            status, stderr = None, f"timed out after {timeout_s:g} s"
-        except OSError as e:
-            status, stderr = None, f"cannot run {binary}: {e}"
-        metrics = None
-        if _os.path.exists(mpath):
-            try:
-                with open(mpath) as f:
-                    metrics = _json.load(f)
-            except ValueError:
-                metrics = None
-    stderr = stderr.replace(scen, name + ".toml")
-    return {"status": status, "stderr": stderr, "metrics": metrics}
+    if tools_dir not in _sys.path:
+        _sys.path.insert(0, tools_dir)
+    from lib import motorsim as _motorsim
+
+    r = _motorsim.run(binary, text=toml_text, name=name, seed=seed, timeout=timeout_s, ok=None)
+    return {"status": r.status, "stderr": r.stderr.replace(r.scenario, name + ".toml"), "metrics": r.metrics}
 
 
 def reason_of(status: int | None, stderr: str) -> str:
@@ -568,8 +555,8 @@ def run_sweep(args: argparse.Namespace) -> tuple[dict, int]:
 
     def public(r: dict) -> dict:
         path = keep / f"{r['name']}.toml"
-        replay = shlex.join([str(binary), "--scenario", str(path), "--seed", str(r["seed"]),
-                             "--out", str(keep / r["name"])])
+        replay = shlex.join(motorsim.command(binary, path, seed=r["seed"], out=keep / r["name"], plot=True,
+                                             quiet=False))
         d = {k: v for k, v in r.items() if k not in ("metrics", "name")}
         d.update(scenario=str(path), replay=replay)
         return d

@@ -82,13 +82,17 @@ def test_ci_runs_the_tests_then_static_analysis_and_fuzzing():
 
 
 def test_readme_opens_with_the_two_commands():
+    """The first screen (the first 40 lines): what the project is, then its
+    first code block is exactly the two commands."""
     lines = (ROOT / "README.md").read_text().splitlines()
     assert lines[0].startswith("# ")
     body = [ln for ln in lines[1:] if ln.strip()]
-    assert not body[0].startswith("```"), "one sentence comes before the commands"
-    assert body[1].startswith("```")
-    end = body.index("```", 2)
-    commands = [ln.split("#")[0].strip() for ln in body[2:end]]
+    assert not body[0].startswith(("```", "|", "!", "<")), "a sentence saying what it is comes first"
+    start = next(i for i, ln in enumerate(lines) if ln.startswith("```"))
+    assert start < 40, f"the two commands start on line {start + 1}, below the first screen"
+    assert lines[start] in ("```bash", "```sh", "```")
+    end = lines.index("```", start + 1)
+    commands = [ln.split("#")[0].strip() for ln in lines[start + 1:end]]
     assert commands == ["./scripts/run_paper000.sh", "./scripts/test_all.sh"]
     for c in commands:
         assert (ROOT / c).is_file()

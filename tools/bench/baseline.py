@@ -30,13 +30,14 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
-import subprocess
 import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))  # the toolbox, tools/lib
+from lib import motorsim  # noqa: E402
 SCENARIOS = ROOT / "sim" / "scenarios"
 
 # Which way is worse, and by how much a metric may get worse before the
@@ -59,13 +60,13 @@ MARGINS = {
 
 
 def entries() -> dict[str, list[str]]:
-    """Entry name -> motorsim arguments (the names of tests/sim/CMakeLists.txt)."""
+    """Entry name -> [scenario, further motorsim arguments] (the names of tests/sim/CMakeLists.txt)."""
     e = {
-        "paper000_ideal": ["--scenario", str(SCENARIOS / "paper000_ideal.toml")],
-        "paper000_experiment": ["--scenario", str(SCENARIOS / "paper000_experiment.toml")],
+        "paper000_ideal": [str(SCENARIOS / "paper000_ideal.toml")],
+        "paper000_experiment": [str(SCENARIOS / "paper000_experiment.toml")],
     }
     for seed in range(1, 11):
-        e[f"paper000_experiment_seed{seed}"] = ["--scenario", str(SCENARIOS / "paper000_experiment.toml"),
+        e[f"paper000_experiment_seed{seed}"] = [str(SCENARIOS / "paper000_experiment.toml"),
                                                 "--seed", str(seed)]
     return e
 
@@ -98,7 +99,7 @@ def scenario_kind(path: Path) -> str:
 
 
 def exact_entries(fixed: bool) -> dict[str, list[str]]:
-    """Entry name -> motorsim arguments, for every drive's shipped scenarios."""
+    """Entry name -> [scenario, further motorsim arguments], for every drive's shipped scenarios."""
     files = sorted(SCENARIOS.glob("*.toml")) + sorted((ROOT / "tests/sim/design_runs").glob("*.toml"))
     e = {}
     for f in files:
@@ -107,31 +108,28 @@ def exact_entries(fixed: bool) -> dict[str, list[str]]:
             continue
         for suffix, extra, kinds in EXACT_VARIANTS:
             if kind in kinds:
-                e[f"{f.stem}{suffix}"] = ["--scenario", str(f), "--no-expect", *extra]
+                e[f"{f.stem}{suffix}"] = [str(f), "--no-expect", *extra]
     return e
 
 
 def run_exact(binary: str, name: str, args: list[str], work: Path) -> tuple[str, dict]:
     """Every metric of one run and the SHA-256 of its CSV log."""
-    out = work / name
-    p = subprocess.run([binary, *args, "--out", str(out), "--no-plot", "--quiet"], capture_output=True, text=True)
-    if p.returncode not in (0, 3, 4):
-        raise RuntimeError(f"{name}: motorsim exited {p.returncode}: {p.stderr.strip()}")
-    stem = Path(args[1]).stem
-    with open(out / f"{stem}_metrics.json", encoding="utf-8") as f:
-        m = {k: v for k, v in json.load(f).items() if k not in NOT_EXACT}
-    m["exit_status"] = p.returncode
-    m["csv_sha256"] = hashlib.sha256((out / f"{stem}.csv").read_bytes()).hexdigest()
+    try:
+        r = motorsim.run(binary, args[0], extra=args[1:], out=work / name,
+                         ok=(motorsim.OK, motorsim.FAULT, motorsim.EXPECT_MISSED))
+    except motorsim.MotorsimError as e:
+        raise RuntimeError(f"{name}: {e}") from None
+    m = {k: v for k, v in r.metrics.items() if k not in NOT_EXACT}
+    m["exit_status"] = r.status
+    m["csv_sha256"] = hashlib.sha256(r.csv.read_bytes()).hexdigest()
     return name, m
 
 
 def run(binary: str, name: str, args: list[str], work: Path) -> tuple[str, dict]:
-    out = work / f"{name}.json"
-    p = subprocess.run([binary, *args, "--metrics-out", str(out), "--quiet"], capture_output=True, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(f"{name}: motorsim exited {p.returncode}: {p.stderr.strip()}")
-    with open(out, encoding="utf-8") as f:
-        m = json.load(f)
+    try:
+        m = motorsim.metrics(binary, args[0], extra=args[1:])
+    except motorsim.MotorsimError as e:
+        raise RuntimeError(f"{name}: {e}") from None
     return name, {k: m[k] for k in MARGINS if k in m}
 
 
@@ -147,11 +145,11 @@ def main() -> int:
     if not Path(a.binary).is_file():
         print(f"baseline.py: --binary: no such file '{a.binary}'", file=sys.stderr)
         return 2
-    v = subprocess.run([a.binary, "--version"], capture_output=True, text=True)
-    if v.returncode != 0:
-        print(f"baseline.py: {a.binary} --version exited {v.returncode}", file=sys.stderr)
+    try:
+        fixed = "fixed point" in motorsim.version(a.binary)
+    except motorsim.MotorsimError as e:
+        print(f"baseline.py: {e}", file=sys.stderr)
         return 1
-    fixed = "fixed point" in v.stdout
     with tempfile.TemporaryDirectory() as tmp:
         with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
             try:

@@ -25,10 +25,11 @@ import json
 import re
 import shutil
 import statistics
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIO = ROOT / "sim" / "scenarios" / "paper000_experiment.toml"
@@ -42,17 +43,13 @@ def rtf(binary: Path, duration: float, runs: int) -> float:
         sys.exit("long_runs: duration_s not found in the scenario")
     pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
     vals = []
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", dir=SCENARIO.parent, prefix=".long_") as f, \
-            tempfile.TemporaryDirectory() as d:
-        f.write(text)
-        f.flush()
-        for _ in range(runs):
-            out = Path(d) / "m.json"
-            r = subprocess.run(pin + [str(binary), "--scenario", f.name, "--metrics-out", str(out), "--quiet", "--no-expect"],
-                               capture_output=True, text=True)
-            if r.returncode != 0:
-                sys.exit(f"long_runs: {duration} s: motorsim exit {r.returncode}: {r.stderr.strip()}")
-            vals.append(json.loads(out.read_text())["realtime_factor"])
+    for _ in range(runs):
+        try:
+            m = motorsim.metrics(binary, text=text, name=f"long_{duration:g}s", text_dir=SCENARIO.parent,
+                                 expect=False, prefix=pin)
+        except motorsim.MotorsimError as e:
+            sys.exit(f"long_runs: {duration:g} s: {e}")
+        vals.append(m["realtime_factor"])
     return statistics.median(vals)
 
 
@@ -62,8 +59,10 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--markdown", action="store_true")
     a = ap.parse_args()
-    if not a.binary.exists():
-        print(f"long_runs: {a.binary}: no such binary (build the host preset)", file=sys.stderr)
+    try:
+        a.binary = motorsim.find(binary=a.binary)
+    except motorsim.MotorsimError as e:
+        print(f"long_runs: {e}", file=sys.stderr)
         return 2
     res = [(d, rtf(a.binary, d, a.runs)) for d in DURATIONS]
     base = res[0][1]

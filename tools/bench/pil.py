@@ -447,7 +447,7 @@ def main():
                          "paper001: flux observer + IDA-PBC M4F mean)")
     ap.add_argument("--results", default=None, help="also write the JSON to this file")
     ap.add_argument("--markdown", metavar="RESULTS.json", default=None,
-                    help="run nothing: print the paper-000 cost table of a results file (README.md and "
+                    help="run nothing: print the paper-000 cost table of a results file (docs/benchmarks.md and "
                          "docs/fixed_point.md embed it)")
     args = ap.parse_args()
     if args.markdown:

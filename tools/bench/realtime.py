@@ -38,6 +38,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))  # the toolbox, tools/lib
+from lib import motorsim  # noqa: E402
 DEFAULT_BINARY = ROOT / "build" / "host" / "sim" / "motorsim"
 DEFAULT_SCENARIO = ROOT / "sim" / "scenarios" / "paper000_experiment.toml"
 PROG = "realtime.py"
@@ -181,40 +183,30 @@ class Runner:
         self.count = 0
         self._lock = threading.Lock()
 
-    def run(self, extra: list[str], prefix: list[str] | None = None) -> float:
-        """Runs motorsim once with extra arguments; returns the wall time in s.
-        Thread-safe (the variants run from a thread pool)."""
+    def run(self, extra: list[str], prefix: list[str] | None = None, seed: int | None = None,
+            metrics: bool = False):
+        """Runs motorsim once (tools/lib/motorsim.py) with extra arguments;
+        returns the wall time of the process in s, and with metrics=True
+        (a metrics-only run) the metrics too. Thread-safe (the variants run
+        from a thread pool)."""
         prefix = self.prefix if prefix is None else prefix
-        cmd = prefix + [str(self.args.binary), "--scenario", str(self.args.scenario)] + extra
-        t0 = time.perf_counter()
-        try:
-            proc = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                  text=True, timeout=self.args.timeout)
-        except subprocess.TimeoutExpired:
-            raise BenchError(f"motorsim timed out after {self.args.timeout} s: {' '.join(cmd)}")
-        wall = time.perf_counter() - t0
-        if proc.returncode != 0:
-            tail = "\n".join(proc.stderr.strip().splitlines()[-10:])
-            raise BenchError(f"motorsim failed (exit {proc.returncode}): {' '.join(cmd)}\n{tail}")
+        r = motorsim.run(self.args.binary, self.args.scenario, raw=not metrics, extra=extra, prefix=prefix,
+                         seed=seed, timeout=self.args.timeout, ok=None)
+        if r.status is None:
+            raise BenchError(f"motorsim {r.stderr}: {' '.join(r.cmd)}")
+        if r.status != 0:
+            tail = "\n".join(r.stderr.strip().splitlines()[-10:])
+            raise BenchError(f"motorsim failed (exit {r.status}): {' '.join(r.cmd)}\n{tail}")
+        if metrics and r.metrics is None:
+            raise BenchError(f"motorsim wrote no metrics (--metrics-out), or not JSON: {' '.join(r.cmd)}")
         with self._lock:
             self.count += 1
-        return wall
+        return (r.wall_s, r.metrics) if metrics else r.wall_s
 
     def metrics_run(self, tag: str, seed: int | None = None,
                     prefix: list[str] | None = None) -> tuple[float, dict]:
         """A metrics-only run: --metrics-out without --out (no CSV, no PNG)."""
-        path = self.workdir / f"metrics_{tag}.json"
-        extra = ["--metrics-out", str(path), "--quiet"]
-        if seed is not None:
-            extra += ["--seed", str(seed)]
-        wall = self.run(extra, prefix)
-        try:
-            metrics = json.loads(path.read_text())
-        except FileNotFoundError:
-            raise BenchError(f"motorsim wrote no metrics file {path} (--metrics-out)")
-        except json.JSONDecodeError as e:
-            raise BenchError(f"metrics file {path} is not JSON: {e}")
-        return wall, metrics
+        return self.run([], prefix, seed=seed, metrics=True)
 
 
 def supports_flag(binary: Path, flag: str) -> bool:

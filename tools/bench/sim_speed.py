@@ -90,6 +90,9 @@ import warnings
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))  # tools/: the toolbox
+from lib import motorsim as motorsim_lib  # noqa: E402
+
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEF_MOTORSIM = os.path.join(REPO, "build", "host", "sim", "motorsim")
 DEF_PLANT_REPLAY = os.path.join(REPO, "build", "host", "sim", "plant_replay")
@@ -145,29 +148,26 @@ def read_run_csv(path):
 # ----------------------------------------------------------------------------- ours
 
 
-def _run(cmd, what):
-    t0 = time.perf_counter()
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    if r.returncode != 0:
-        raise BenchError(f"{what} failed (exit {r.returncode}): {' '.join(cmd)}\n{r.stderr.strip()}")
-    return wall
+def _motorsim(motorsim, scenario, what, **kw):
+    """One motorsim run through the toolbox (tools/lib/motorsim.py)."""
+    try:
+        return motorsim_lib.run(motorsim, scenario, **kw)
+    except motorsim_lib.MotorsimError as e:
+        raise BenchError(f"{what}: {e}") from None
 
 
 def run_ours_csv(motorsim, setup, out_dir):
     """One motorsim run writing the CSV: the voltages, speed and currents for GEM."""
-    _run([motorsim, "--scenario", setup["scenario"], "--out", out_dir, "--no-plot", "--quiet"], "motorsim (CSV run)")
-    stem = os.path.splitext(os.path.basename(setup["scenario"]))[0]
-    return read_run_csv(os.path.join(out_dir, stem + ".csv"))
+    r = _motorsim(motorsim, setup["scenario"], "motorsim (CSV run)", out=out_dir)
+    return read_run_csv(str(r.csv))
 
 
 def time_ours_closed_loop(motorsim, setup, tmp, repeats):
     loops, procs = [], []
-    js = os.path.join(tmp, "metrics.json")
     for _ in range(repeats):
-        procs.append(_run([motorsim, "--scenario", setup["scenario"], "--metrics-out", js, "--quiet"], "motorsim"))
-        with open(js, encoding="utf-8") as f:
-            m = json.load(f)
+        r = _motorsim(motorsim, setup["scenario"], "motorsim")
+        procs.append(r.wall_s)
+        m = r.metrics
         loops.append(float(m["wall_time_s"]))
         n = int(m["n_samples"])
     return dict(wall_s=statistics.median(loops), e2e_s=statistics.median(procs), n=n,

@@ -3,7 +3,7 @@
 
 A generated block in README.md or docs/*.md looks like
 
-    <!-- table KIND: python3 tools/bench/paper001_tables.py --build {build} -->
+    <!-- table KIND: python3 tools/tables/paper001_tables.py --build {build} -->
     ... the command's output ...
     <!-- end table -->
 

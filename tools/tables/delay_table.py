@@ -4,19 +4,19 @@ run with `--compute-delay-samples` 0, 0.5 and 1 (the voltage computed from
 the currents of t_k acts from t_k + d Ts; hal_sw_plant.h), and whether it
 still meets its own [expect] thresholds.
 
-    python3 tools/bench/delay_table.py [--build build/host]
+    python3 tools/tables/delay_table.py [--build build/host]
 
 Standard library only; about a second.
 """
 from __future__ import annotations
 
 import argparse
-import json
 import re
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SC = ROOT / "sim" / "scenarios"
@@ -30,24 +30,24 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "host"))
     a = ap.parse_args()
-    ms = Path(a.build).resolve() / "sim" / "motorsim"
-    if not ms.exists():
-        print(f"delay_table: {ms}: not built", file=sys.stderr)
+    try:
+        ms = motorsim.find(build=a.build)
+    except motorsim.MotorsimError as e:
+        print(f"delay_table: {e}", file=sys.stderr)
         return 2
     print("| scenario | delay (samples) | metrics | its [expect] |")
     print("| --- | --- | --- | --- |")
     for name, keys in CASES:
         for d in DELAYS:
-            with tempfile.TemporaryDirectory() as tmp:
-                out = Path(tmp) / "m.json"
-                r = subprocess.run([str(ms), "--scenario", str(SC / f"{name}.toml"), "--compute-delay-samples",
-                                    f"{d:g}", "--metrics-out", str(out), "--quiet"], capture_output=True, text=True)
-                if r.returncode not in (0, 3, 4, 5):
-                    sys.exit(f"delay_table: {name} d={d}: exit {r.returncode}: {r.stderr.strip()}")
-                m = json.loads(out.read_text())
+            try:
+                r = motorsim.run(ms, SC / f"{name}.toml", compute_delay_samples=d, ok=motorsim.RESULTS)
+            except motorsim.MotorsimError as e:
+                print(f"delay_table: {e}", file=sys.stderr)
+                return 1
+            m = r.metrics
             missed = sorted(set(re.findall(r"expect\.([a-z_0-9]+):", r.stderr)))
-            verdict = "met" if r.returncode == 0 else (
-                "missed: " + ", ".join(f"`{k}`" for k in missed) if missed else f"exit {r.returncode}")
+            verdict = "met" if r.status == 0 else (
+                "missed: " + ", ".join(f"`{k}`" for k in missed) if missed else f"exit {r.status}")
             vals = ", ".join(f"{k} {m[k]:.3g}" for k in keys)
             print(f"| {name} | {d:g} | {vals} | {verdict} |")
     return 0

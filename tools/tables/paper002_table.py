@@ -8,9 +8,9 @@ reference scenario's noise and without any noise: 32 motorsim runs of
 sim/scenarios/paper002_reference.toml, the single source of every other
 value (motor, load pulses, reference, noise, limits).
 
-    python3 tools/paper002_table.py [--binary build/host/sim/motorsim] [--png out/paper002_table.png] [--check]
-    python3 tools/paper002_table.py --sensorless [--check]
-    python3 tools/paper002_table.py [--sensorless] --markdown   (the tables on stdout, for the docs)
+    python3 tools/tables/paper002_table.py [--binary build/host/sim/motorsim] [--png out/paper002_table.png] [--check]
+    python3 tools/tables/paper002_table.py --sensorless [--check]
+    python3 tools/tables/paper002_table.py [--sensorless] --markdown   (the tables on stdout, for the docs)
 
 stdout: one JSON object keyed <sosmc|htsmc>.dc<0|1>.perr<0|1>.w0_<0|5> and
 the same keys with .nonoise appended; each value is the run's metrics
@@ -41,13 +41,14 @@ import concurrent.futures
 import json
 import os
 import re
-import subprocess
 import sys
-import tempfile
 import tomllib
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
 REFERENCE = ROOT / "sim" / "scenarios" / "paper002_reference.toml"
 DEFAULT_BINARY = ROOT / "build" / "host" / "sim" / "motorsim"
 
@@ -122,17 +123,17 @@ def variant(text: str, ref: dict, ctrl: str, dc: int, perr: int, w0: int, noise:
 
 
 def run_case(binary: Path, text: str, name: str) -> dict:
-    with tempfile.TemporaryDirectory(prefix="p002_") as d:
-        sc = Path(d) / f"{name}.toml"
-        sc.write_text(text)
-        out = Path(d) / "m.json"
-        r = subprocess.run([str(binary), "--scenario", str(sc), "--metrics-out", str(out), "--quiet", "--no-expect"],
-                           capture_output=True, text=True)
-        if r.returncode == 2 or not out.exists():
-            raise ToolError(f"{name}: motorsim exit {r.returncode}: {r.stderr.strip()}")
-        m = json.loads(out.read_text())
-        m["motorsim_exit"] = r.returncode
-        return m
+    """The metrics of one variant, with motorsim's exit status as
+    `motorsim_exit` (any status that wrote metrics is a result, judged by
+    the caller; a bad scenario or no metrics is an error)."""
+    try:
+        r = motorsim.run(binary, text=text, name=name, expect=False,
+                         ok=(motorsim.OK, motorsim.RUN_FAILED) + motorsim.RESULTS[1:])
+    except motorsim.MotorsimError as e:
+        raise ToolError(str(e)) from None
+    m = r.metrics
+    m["motorsim_exit"] = r.status
+    return m
 
 
 def table_text(res: dict, metric: str, noise: bool) -> str:
@@ -171,7 +172,7 @@ def write_png(res: dict, path: Path) -> None:
         ax.set_title(f"{ctrl.upper()}, w(0) = {w0} rad/s")
         ax.grid(True, axis="y", which="both", alpha=0.3)
     axes.flat[0].legend(fontsize=8)
-    fig.suptitle("Paper 002's 16 cases on the reference IPMSM (tools/paper002_table.py)")
+    fig.suptitle("Paper 002's 16 cases on the reference IPMSM (tools/tables/paper002_table.py)")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp.png")
     fig.savefig(tmp, dpi=110)
@@ -262,9 +263,10 @@ def main() -> int:
     try:
         if args.jobs < 1:
             raise ToolError(f"--jobs: must be >= 1 (got {args.jobs})")
-        if not args.binary.is_file():
-            raise ToolError(f"{args.binary}: no motorsim there; build it: cmake --preset host && "
-                            "cmake --build --preset host --target motorsim")
+        try:
+            motorsim.find(binary=args.binary)
+        except motorsim.MotorsimError as e:
+            raise ToolError(str(e)) from None
         text = REFERENCE.read_text()
         ref = tomllib.loads(text)
         if args.angle_noise_sweep:

@@ -6,7 +6,7 @@ model ([drive_model] = motor file), once with the standstill R/L measurement
 of the start (design.identify_rl = true) and once without. Prints one row per
 case with the closed-loop tracking and estimation errors, and a JSON line.
 
-    .venv/bin/python tools/bench/robustness.py [--scenario FILE] [--jobs 2]
+    .venv/bin/python tools/tables/robustness.py [--scenario FILE] [--jobs 2]
 """
 from __future__ import annotations
 
@@ -14,11 +14,12 @@ import argparse
 import concurrent.futures as cf
 import json
 import os
-import subprocess
 import sys
-import tempfile
 import tomllib
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 try:
     import tomli_w
@@ -47,17 +48,11 @@ def scenario_variant(base: dict, base_dir: Path, key: str | None, factor: float,
     return sc
 
 
-def run_case(binary: Path, sc: dict, workdir: Path, name: str) -> dict:
-    path = workdir / f"{name}.toml"
-    path.write_text(tomli_w.dumps(sc))
-    metrics = workdir / f"{name}.json"
-    proc = subprocess.run([str(binary), "--scenario", str(path), "--out", str(workdir / name), "--no-plot",
-                           "--metrics-out", str(metrics), "--quiet", "--no-expect"], capture_output=True, text=True)
+def run_case(binary: Path, sc: dict, name: str) -> dict:
     # 0 ok, 3 the drive faulted, 5 the plant left its envelope: a result
     # (the metrics are written); anything else is a failure of the tool
-    if proc.returncode not in (0, 3, 5) or not metrics.exists():
-        raise RuntimeError(f"motorsim failed on {name}: {proc.stderr.strip()}")
-    return json.loads(metrics.read_text())
+    return motorsim.metrics(binary, text=tomli_w.dumps(sc), name=name, expect=False,
+                            ok=(motorsim.OK, motorsim.FAULT, motorsim.DIVERGED))
 
 
 def print_markdown(results: dict) -> None:
@@ -94,10 +89,11 @@ def main() -> int:
                     help="exit 1 unless every case with identify_rl = true tracks within 0.03 rad without fault "
                          "(the experiment threshold of paper 000); runs only those cases")
     args = ap.parse_args()
-    binary, scenario = Path(args.binary), Path(args.scenario)
-    if not binary.is_file():
-        print(f"robustness.py: {binary} not found; build it: cmake --preset host && cmake --build --preset host",
-              file=sys.stderr)
+    scenario = Path(args.scenario)
+    try:
+        binary = motorsim.find(binary=args.binary)
+    except motorsim.MotorsimError as e:
+        print(f"robustness.py: {e}", file=sys.stderr)
         return 2
     if args.jobs < 1:
         print("robustness.py: --jobs must be >= 1", file=sys.stderr)
@@ -108,16 +104,20 @@ def main() -> int:
         print(f"robustness.py: {scenario}: {e}", file=sys.stderr)
         return 2
     rows = []
-    with tempfile.TemporaryDirectory() as tmp, cf.ThreadPoolExecutor(args.jobs) as pool:
-        futs = {}
-        for i, (label, key, f) in enumerate(CASES):
-            for identify in ((True,) if args.check else (True, False)):
-                sc = scenario_variant(base, scenario.parent, key, f, identify)
-                name = f"case{i}_{int(identify)}"
-                futs[pool.submit(run_case, binary, sc, Path(tmp), name)] = (i, label, identify)
-        results = {}
-        for fut in cf.as_completed(futs):
-            results[futs[fut]] = fut.result()
+    try:
+        with cf.ThreadPoolExecutor(args.jobs) as pool:
+            futs = {}
+            for i, (label, key, f) in enumerate(CASES):
+                for identify in ((True,) if args.check else (True, False)):
+                    sc = scenario_variant(base, scenario.parent, key, f, identify)
+                    name = f"case{i}_{int(identify)}"
+                    futs[pool.submit(run_case, binary, sc, name)] = (i, label, identify)
+            results = {}
+            for fut in cf.as_completed(futs):
+                results[futs[fut]] = fut.result()
+    except motorsim.MotorsimError as e:
+        print(f"robustness.py: {e}", file=sys.stderr)
+        return 1
     if args.markdown and not args.check:
         print_markdown(results)
         return 0

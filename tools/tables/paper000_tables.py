@@ -18,20 +18,19 @@
               theta_track_load_settled_max_rad) and passes (ok) when there is
               no trip, no pole slip, max < 0.05 and settled < 0.02 rad
 
-    python3 tools/bench/paper000_tables.py --results [--build build/host]
+    python3 tools/tables/paper000_tables.py --results [--build build/host]
 
 Standard library only; about a second.
 """
 from __future__ import annotations
 
 import argparse
-import json
-import re
-import subprocess
 import sys
-import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SC = ROOT / "sim" / "scenarios"
@@ -40,18 +39,14 @@ PAPER = {"theta_track_max_rad": "< 0.02", "theta_est_max_rad": "< 0.01", "curren
          "omega_est_peak_max_rad_s": "~1 at 20 rad/s", "final_theta_err_rad": "-", "closed_loop_fraction": "-"}
 
 
-def run(ms: Path, scenario_text: str | None, scenario: Path, *extra: str) -> dict:
-    with tempfile.TemporaryDirectory() as d:
-        path = scenario
-        if scenario_text is not None:
-            path = Path(d) / scenario.name
-            path.write_text(scenario_text.replace('file = "../motors/', f'file = "{SC.parent}/motors/'))
-        out = Path(d) / "m.json"
-        r = subprocess.run([str(ms), "--scenario", str(path), "--metrics-out", str(out), "--quiet", "--no-expect",
-                            *extra], capture_output=True, text=True)
-        if r.returncode not in (0, 3, 5):
-            sys.exit(f"paper000_tables: {scenario.name} {' '.join(extra)}: exit {r.returncode}: {r.stderr.strip()}")
-        return json.loads(out.read_text())
+def run(ms: Path, scenario_text: str | None, scenario: Path, seed: int | None = None) -> dict:
+    """The metrics of one run judged without its [expect] (a fault or a
+    divergence is a result here); scenario_text: a variant of `scenario`."""
+    ok = (motorsim.OK, motorsim.FAULT, motorsim.DIVERGED)
+    if scenario_text is None:
+        return motorsim.metrics(ms, scenario, seed=seed, expect=False, ok=ok)
+    return motorsim.metrics(ms, text=motorsim.with_absolute_motor(scenario_text), name=scenario.stem, seed=seed,
+                            expect=False, ok=ok)
 
 
 def g(x: float) -> str:
@@ -66,7 +61,7 @@ def results(ms: Path) -> None:
     for k, paper in PAPER.items():
         print(f"| `{k}` | {paper} | {g(ideal[k])} | {g(exp[k])} |")
     with ThreadPoolExecutor(2) as pool:
-        seeds = list(pool.map(lambda s: run(ms, None, SC / "paper000_experiment.toml", "--seed", str(s)),
+        seeds = list(pool.map(lambda s: run(ms, None, SC / "paper000_experiment.toml", seed=s),
                               range(1, 11)))
     def rng(k: str) -> str:
         xs = [m[k] for m in seeds]
@@ -133,7 +128,7 @@ def designs(ms: Path) -> None:
         for name, bounds in [("experiment, seeds 1-10", {})] + [("experiment " + n, b) for n, b in raised]:
             text = experiment_variant(design, bounds)
             with ThreadPoolExecutor(2) as pool:
-                seeds = list(pool.map(lambda s: run(ms, text, SC / "paper000_experiment.toml", "--seed", str(s)),
+                seeds = list(pool.map(lambda s: run(ms, text, SC / "paper000_experiment.toml", seed=s),
                                       range(1, 11)))
             def mx(k: str) -> str:
                 return g(max(m[k] for m in seeds))
@@ -187,23 +182,28 @@ def main() -> int:
     ap.add_argument("--designs", action="store_true")
     ap.add_argument("--load-capacity", action="store_true")
     a = ap.parse_args()
-    ms = Path(a.build).resolve() / "sim" / "motorsim"
-    if not ms.exists():
-        print(f"paper000_tables: {ms}: not built", file=sys.stderr)
+    try:
+        ms = motorsim.find(build=a.build)
+    except motorsim.MotorsimError as e:
+        print(f"paper000_tables: {e}", file=sys.stderr)
         return 2
     if not (a.results or a.load_steps or a.designs or a.load_capacity):
         print("paper000_tables: give --results, --load-steps, --designs and/or --load-capacity", file=sys.stderr)
         return 2
-    if a.results:
-        results(ms)
-    if a.load_steps:
+    try:
         if a.results:
-            print()
-        load_steps(ms)
-    if a.designs:
-        designs(ms)
-    if a.load_capacity:
-        load_capacity(ms)
+            results(ms)
+        if a.load_steps:
+            if a.results:
+                print()
+            load_steps(ms)
+        if a.designs:
+            designs(ms)
+        if a.load_capacity:
+            load_capacity(ms)
+    except motorsim.MotorsimError as e:
+        print(f"paper000_tables: {e}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -7,7 +7,7 @@ Then the currents the float run measured are replayed, open loop, through
 drive_replay of both builds, so the estimates can be compared sample by
 sample without the two closed loops drifting apart.
 
-    python3 tools/bench/compare_builds.py [--scenario FILE] [--check RAD]
+    python3 tools/checks/compare_builds.py [--scenario FILE] [--check RAD]
 needs build/host and build/host-fixed (cmake --preset host / host-fixed).
 Exit 77 (skipped) when a build is missing; with --check, exit 1 when the
 theta_est difference in closed loop reaches RAD.
@@ -23,6 +23,8 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))  # the toolbox, tools/lib
+from lib import motorsim  # noqa: E402
 KEYS = ["theta_track_max_rad", "theta_est_max_rad", "current_obs_max_a", "omega_est_peak_max_rad_s",
         "final_theta_err_rad", "closed_loop_fraction"]
 
@@ -64,9 +66,11 @@ def main() -> int:
         for sc in scenarios:
             res = {}
             for name, b in builds.items():
-                out = tmp / f"{sc.stem}_{name}"
-                run([b / "sim/motorsim", "--scenario", sc, "--out", out, "--no-plot", "--quiet"])
-                res[name] = json.loads((out / f"{sc.stem}_metrics.json").read_text())
+                try:
+                    r = motorsim.run(b / "sim/motorsim", sc, out=tmp / f"{sc.stem}_{name}")
+                except motorsim.MotorsimError as e:
+                    raise RuntimeError(f"{name} build: {e}") from None
+                res[name] = r.metrics
             currents = tmp / f"{sc.stem}_float" / f"{sc.stem}.csv"
             rep = {}
             for name, b in builds.items():

@@ -17,19 +17,19 @@ control_law, control/load_angle.h) instead of paper 000's twisting law;
 "other" counts the runs that ended in another fault (4: the voltage
 limit active for too long).
 
-    python3 tools/bench/relock_bursts.py [--build build/host] [--jobs 2] [--law twisting|load_angle]
+    python3 tools/tables/relock_bursts.py [--build build/host] [--jobs 2] [--law twisting|load_angle]
 
 126 motorsim runs, metrics only: a few seconds. Standard library only.
 """
 from __future__ import annotations
 
 import argparse
-import json
-import subprocess
 import sys
-import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SC = ROOT / "sim" / "scenarios" / "paper000_experiment.toml"
@@ -42,7 +42,7 @@ END_TOL_RAD = 0.05  # the issue's "finishes the move within 0.05 rad"
 
 
 def scenario(count: int, noise_A: float, t_s: float, law: str = "twisting") -> str:
-    text = SC.read_text().replace('file = "../motors/', f'file = "{SC.parent.parent}/motors/')
+    text = motorsim.with_absolute_motor(SC.read_text())
     if "[limits]\n" not in text:
         sys.exit("relock_bursts: no [limits] table in " + str(SC))
     text = text.replace("[limits]\n", f"[limits]\ni_trip_samples = {count}\n", 1)
@@ -55,16 +55,9 @@ def scenario(count: int, noise_A: float, t_s: float, law: str = "twisting") -> s
 
 def run(ms: Path, case: tuple[int, float, float, int], law: str = "twisting") -> tuple[int, int, float]:
     count, noise_A, t_s, seed = case
-    with tempfile.TemporaryDirectory() as d:
-        path = Path(d) / "burst.toml"
-        path.write_text(scenario(count, noise_A, t_s, law))
-        out = Path(d) / "m.json"
-        r = subprocess.run([str(ms), "--scenario", str(path), "--metrics-out", str(out), "--quiet", "--no-expect",
-                            "--seed", str(seed)], capture_output=True, text=True)
-        if r.returncode not in (0, 3) or not out.exists():
-            sys.exit(f"relock_bursts: {case}: exit {r.returncode}: {r.stderr.strip()}")
-        m = json.loads(out.read_text())
-        return count, int(m["fault"]), float(m["final_theta_err_rad"])
+    m = motorsim.metrics(ms, text=scenario(count, noise_A, t_s, law), name=f"burst_n{count}_{noise_A:g}A_{t_s:g}s",
+                         seed=seed, expect=False, ok=(motorsim.OK, motorsim.FAULT))
+    return count, int(m["fault"]), float(m["final_theta_err_rad"])
 
 
 def main() -> int:
@@ -74,16 +67,21 @@ def main() -> int:
     ap.add_argument("--law", choices=("twisting", "load_angle"), default="twisting",
                     help="the paper-000 drive's position law ([design] control_law)")
     a = ap.parse_args()
-    ms = Path(a.build).resolve() / "sim" / "motorsim"
-    if not ms.exists():
-        print(f"relock_bursts: {ms}: not built", file=sys.stderr)
+    try:
+        ms = motorsim.find(build=a.build)
+    except motorsim.MotorsimError as e:
+        print(f"relock_bursts: {e}", file=sys.stderr)
         return 2
     if a.jobs < 1:
         print(f"relock_bursts: --jobs must be >= 1 (got {a.jobs})", file=sys.stderr)
         return 2
     cases = [(c, n, t, s) for c in COUNTS for n in NOISE_A for t in TIMES_S for s in SEEDS]
-    with ThreadPoolExecutor(a.jobs) as pool:
-        res = list(pool.map(lambda c: run(ms, c, a.law), cases))
+    try:
+        with ThreadPoolExecutor(a.jobs) as pool:
+            res = list(pool.map(lambda c: run(ms, c, a.law), cases))
+    except motorsim.MotorsimError as e:
+        print(f"relock_bursts: {e}", file=sys.stderr)
+        return 1
     n = len(cases) // len(COUNTS)
     print("| `[limits] i_trip_samples` | recovered | over-current (code 1) | loss of synchronism standing (code 5) "
           "| no fault, off the end |")

@@ -6,19 +6,19 @@ loop (k/10 of an electrical turn, 2 pi/3 rad mechanical at n_p = 3), the
 identification scenario, and the three robustness scenarios, in the float
 build and (--fixed) the fixed-point build, and prints markdown tables:
 
-    python3 tools/bench/paper001_tables.py [--build build/host] [--fixed build/host-fixed]
+    python3 tools/tables/paper001_tables.py [--build build/host] [--fixed build/host-fixed]
 
 Standard library only; about 2 s per build.
 """
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SC = ROOT / "sim" / "scenarios"
@@ -29,29 +29,16 @@ KEYS = [("speed_err_settled_max_rpm", "< 0.1", "%.3f"), ("speed_err_rms_rpm", "<
         ("speed_err_ramp_max_rpm", "reported", "%.2f"), ("max_abs_current_A", "< 8", "%.1f")]
 
 
-def run(motorsim: Path, scenario: Path, *extra: str) -> dict:
-    with tempfile.TemporaryDirectory() as d:
-        out = Path(d) / "m.json"
-        r = subprocess.run([str(motorsim), "--scenario", str(scenario), "--metrics-out", str(out), "--quiet", *extra],
-                           capture_output=True, text=True)
-        if r.returncode != 0:
-            sys.exit(f"paper001_tables: {scenario.name} {' '.join(extra)}: motorsim exit {r.returncode}: {r.stderr}")
-        return json.loads(out.read_text())
+def run(ms: Path, scenario: Path, theta0_rad: str | None = None) -> dict:
+    """The metrics of a shipped scenario, which must meet its [expect]."""
+    return motorsim.metrics(ms, scenario, theta0_rad=theta0_rad)
 
 
-def run_text(motorsim: Path, text: str) -> dict:
+def run_text(ms: Path, text: str) -> dict:
     """A scenario given as text, written next to the shipped ones (its
     motor path is relative to them); judged without its [expect]."""
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", dir=SC, prefix=".p001_") as f, \
-            tempfile.TemporaryDirectory() as d:
-        f.write(text)
-        f.flush()
-        out = Path(d) / "m.json"
-        r = subprocess.run([str(motorsim), "--scenario", f.name, "--metrics-out", str(out), "--quiet", "--no-expect"],
-                           capture_output=True, text=True)
-        if r.returncode not in (0, 3, 5):
-            sys.exit(f"paper001_tables: variant: motorsim exit {r.returncode}: {r.stderr}")
-        return json.loads(out.read_text())
+    return motorsim.metrics(ms, text=text, name="p001", text_dir=SC, expect=False,
+                            ok=(motorsim.OK, motorsim.FAULT, motorsim.DIVERGED))
 
 
 def fmt(fmt_: str, x) -> str:
@@ -68,7 +55,7 @@ def rng(fmt_: str, xs: list) -> str:
 def tables(build: Path, label: str) -> None:
     ms = build / "sim" / "motorsim"
     bench = SC / "paper001_benchmark.toml"
-    angles = [run(ms, bench, "--theta0-rad", "%.5f" % th) for th in ANGLES]
+    angles = [run(ms, bench, theta0_rad="%.5f" % th) for th in ANGLES]
     ident = run(ms, SC / "paper001_identify.toml")
     print("| metric | θ(0) = 0 | 10 angles | identify (R +50 %, Φ +15 %) | threshold |")
     print("|---|---|---|---|---|")
@@ -106,11 +93,16 @@ def main() -> int:
     ap.add_argument("--build", default=str(ROOT / "build" / "host"),
                     help="host build to run (build/host: float; build/host-fixed: fixed point)")
     a = ap.parse_args()
-    ms = Path(a.build).resolve() / "sim" / "motorsim"
-    if not ms.exists():
-        print(f"paper001_tables: {ms}: not built", file=sys.stderr)
+    try:
+        motorsim.find(build=a.build)
+    except motorsim.MotorsimError as e:
+        print(f"paper001_tables: {e}", file=sys.stderr)
         return 2
-    tables(Path(a.build).resolve(), "")
+    try:
+        tables(Path(a.build).resolve(), "")
+    except motorsim.MotorsimError as e:
+        print(f"paper001_tables: {e}", file=sys.stderr)
+        return 1
     return 0
 
 

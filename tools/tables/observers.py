@@ -19,20 +19,20 @@ and RMS), the speed tracking error over the run (RMS, max), and the share of
 the run in closed loop. With --pil FILE (a JSON of tools/bench/pil.py for
 the paper-001 drive) it adds the instructions per step on Cortex-M4F.
 
-    python3 tools/bench/observers.py [--build build/host] [--pil FILE] [--markdown]
+    python3 tools/tables/observers.py [--build build/host] [--pil FILE] [--markdown]
 
 Standard library only; a few seconds.
 """
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SC = ROOT / "sim" / "scenarios"
@@ -42,14 +42,9 @@ RPM = 60.0 / (2.0 * math.pi)
 SETTLE_S = 0.05  # after the lock, as theta_est_max_deg_e (sim/motorsim/speed_recorder.h)
 
 
-def run(motorsim: Path, scenario: Path, est: str) -> dict:
-    with tempfile.TemporaryDirectory() as d:
-        r = subprocess.run([str(motorsim), "--scenario", str(scenario), "--estimator", est, "--no-expect", "--out", d, "--no-plot",
-                            "--quiet"], capture_output=True, text=True)
-        if r.returncode != 0:
-            sys.exit(f"observers: {scenario.name} --estimator {est}: motorsim exit {r.returncode}: {r.stderr.strip()}")
-        m = json.loads((Path(d) / f"{scenario.stem}_metrics.json").read_text())
-        rows = list(csv.DictReader(open(Path(d) / f"{scenario.stem}.csv")))
+def run(ms: Path, scenario: Path, est: str) -> dict:
+    r = motorsim.run(ms, scenario, estimator=est, expect=False, csv_log=True)
+    m, rows = r.metrics, r.rows
     lock = m["lock_time_s"]
     th, dw = [], []
     if lock is not None:
@@ -77,14 +72,22 @@ def main() -> int:
             return 2
         print_pil(json.loads(Path(a.pil).read_text()), a.markdown)
         return 0
-    ms = Path(a.build).resolve() / "sim" / "motorsim"
+    try:
+        ms = motorsim.find(build=a.build)
+    except motorsim.MotorsimError as e:
+        print(f"observers: {e}", file=sys.stderr)
+        return 2
     pil = json.loads(Path(a.pil).read_text()) if a.pil else None
     head = ["motor", "estimator", "lock (s)", "angle err max / rms (deg e)", "speed est err max / rms (rpm)",
             "tracking rms / max (rpm)", "closed loop"]
     rows = []
     for mname, sc in MOTORS:
         for est, ename in ESTIMATORS:
-            r = run(ms, sc, est)
+            try:
+                r = run(ms, sc, est)
+            except motorsim.MotorsimError as e:
+                print(f"observers: {e}", file=sys.stderr)
+                return 1
             lock = "never" if r["lock_time_s"] is None else "%.3f" % r["lock_time_s"]
             row = [mname, ename, lock, "%.2f / %.2f" % (r["theta_max_deg"], r["theta_rms_deg"]),
                    "%.2f / %.2f" % (r["dw_max_rpm"], r["dw_rms_rpm"]),
