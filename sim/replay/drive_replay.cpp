@@ -3,7 +3,7 @@
 // host build, so the same currents can be replayed through the float and the
 // fixed-point drive and their estimates compared sample by sample without
 // the closed loop making the two runs drift apart
-// (tools/bench/compare_builds.py).
+// (tools/checks/compare_builds.py).
 //   drive_replay SCENARIO.toml CURRENTS.csv OUT.csv
 // CURRENTS.csv is a motorsim CSV (columns i_a_meas, i_b_meas, v_a, v_b); OUT.csv has
 // t_s, mode, theta_est, omega_est, v_a, v_b.

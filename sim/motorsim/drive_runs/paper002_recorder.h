@@ -3,7 +3,7 @@
 // (section 5's study): the true plant against the drive's reference and
 // its EKF, one preallocated row per period.
 //
-// Metrics (keys checked by tests/sim, tools/paper002_table.py and checks
+// Metrics (keys checked by tests/sim, tools/tables/paper002_table.py and checks
 // outside them):
 //   speed_rmse_rad_s              RMSE of w_d - w over [0, 1] s (the whole
 //                                 run if shorter), w the plant's speed
