@@ -511,6 +511,67 @@ void read_board(const View& root, Scenario* sc)
     }
 }
 
+// The keys of each table the parser reads itself (each table's `only`
+// list; a drive's table is its host part's, sim/host_drives/), in one
+// place: motorsim --scenario-keys prints them with the drives' and the
+// motor file's, and ctest docs.scenario_keys checks sim/scenarios/README.md
+// against them both ways.
+const std::vector<std::pair<std::string, std::vector<std::string>>>& parser_tables()
+{
+    static const std::vector<std::pair<std::string, std::vector<std::string>>> k = {
+        {"run", {"duration_s", "Ts_s", "seed", "substeps", "theta0_rad", "compute_delay_samples"}},
+        {"drive_model", {"L_H", "R_ohm", "K_Nm_per_A", "L_d_H", "L_q_H", "Phi_Wb", "J_kgm2", "fv_Nms_per_rad", "n_p"}},
+        {"supply", {"v_max_V", "v_bus_V"}},
+        {"limits", {"i_max_A", "i_trip_A", "i_trip_samples", "omega_lim_rad_s", "i_open_loop_A"}},
+        {"design", {"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design", "control_law"}},
+        {"protection", {"loss_of_sync"}},
+        {"sensor", {"noise", "noise_A", "adc_bits", "adc_full_scale_A"}},
+        {"faults", {"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples", "nan_sample_t_s", "supply_sag", "overruns"}},
+        {"load", {"steps", "pulses"}},
+        {"trajectory", {"segments"}},
+        {"trajectory.segments", {"t_start_s", "duration_s", "theta_to_rad"}},
+        {"encoder", {"counts_per_turn", "noise_rad"}},
+        {"drive", {"kind"}}};
+    return k;
+}
+
+const std::vector<std::string>& table_keys(const std::string& table)
+{
+    for (const auto& kv : parser_tables()) {
+        if (kv.first == table) {
+            return kv.second;
+        }
+    }
+    throw std::logic_error("scenario.cpp: no key list for [" + table + "]");
+}
+
+std::vector<std::string> top_level_keys()
+{
+    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
+               "gains", "bounds", "expect", "faults", "board", "encoder", "drive"};
+    for (const HostDrive* d : host_drives()) {
+        if (std::find(top.begin(), top.end(), d->table) == top.end()) {
+            top.emplace_back(d->table);  // each registered drive's own table
+        }
+    }
+    return top;
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>> scenario_keys()
+{
+    std::vector<std::pair<std::string, std::vector<std::string>>> k = parser_tables();
+    k.emplace_back("top", top_level_keys());
+    k.emplace_back("motor_file", motor_file_keys());
+    k.emplace_back("gains", gain_override_keys());
+    k.emplace_back("bounds", design_bound_keys());
+    for (const HostDrive* d : host_drives()) {
+        if (d->keys != nullptr) {
+            k.emplace_back(d->table, d->keys());
+        }
+    }
+    return k;
+}
+
 void read_speed_profile(const View& v, Scenario* sc)
 {
     const auto pts = v.pairs("profile_rpm");
@@ -546,14 +607,7 @@ Scenario load_scenario(const std::string& path)
     }
     const toml::table root_t = parse_toml(path);
     const View root(root_t, path, "");
-    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
-               "gains", "bounds", "expect", "faults", "board", "encoder", "drive"};
-    for (const HostDrive* d : host_drives()) {
-        if (std::find(top.begin(), top.end(), d->table) == top.end()) {
-            top.emplace_back(d->table);  // each registered drive's own table
-        }
-    }
-    root.only(top);
+    root.only(top_level_keys());
     // One drive's table: the papers' tables choose their drive without
     // [drive] (so two of them are a mistake)
     {
@@ -576,7 +630,7 @@ Scenario load_scenario(const std::string& path)
     // its parser below then requires).
     const HostDrive* host = nullptr;
     if (const auto v = root.table("drive")) {
-        v->only({"kind"});
+        v->only(table_keys("drive"));
         const auto k = v->string("kind");
         if (!k) {
             v->fail("kind", "missing required field");
@@ -629,7 +683,7 @@ Scenario load_scenario(const std::string& path)
     // [run]
     {
         const View v = required_table("run");
-        v.only({"duration_s", "Ts_s", "seed", "substeps", "theta0_rad", "compute_delay_samples"});
+        v.only(table_keys("run"));
         sc.duration_s = v.number_req("duration_s");
         gt(v, "duration_s", sc.duration_s, 0.0);
         sc.ts_s = v.number_req("Ts_s");
@@ -729,14 +783,14 @@ Scenario load_scenario(const std::string& path)
     // [drive_model]: what the drive is designed for; defaults to the plant.
     sc.drive_model = sc.motor;
     if (const auto v = root.table("drive_model")) {
-        v->only({"L_H", "R_ohm", "K_Nm_per_A", "L_d_H", "L_q_H", "Phi_Wb", "J_kgm2", "fv_Nms_per_rad", "n_p"});
+        v->only(table_keys("drive_model"));
         read_motor_fields(*v, &sc.drive_model, false, false);
     }
 
     // [supply]
     {
         const View v = required_table("supply");
-        v.only({"v_max_V", "v_bus_V"});
+        v.only(table_keys("supply"));
         if (sc.motor.type == MotorType::kPmsm3) {
             // three legs on one bus: each swings +-v_bus/2 about the midpoint
             if (v.has("v_max_V")) {
@@ -762,7 +816,7 @@ Scenario load_scenario(const std::string& path)
     // [limits]
     {
         const View v = required_table("limits");
-        v.only({"i_max_A", "i_trip_A", "i_trip_samples", "omega_lim_rad_s", "i_open_loop_A"});
+        v.only(table_keys("limits"));
         sc.i_max_A = v.number_req("i_max_A");
         gt(v, "i_max_A", sc.i_max_A, 0.0);
         sc.i_trip_A = v.number("i_trip_A").value_or(1.5 * sc.i_max_A);
@@ -788,7 +842,7 @@ Scenario load_scenario(const std::string& path)
 
     // [design] (optional): design switches that are neither gains nor bounds
     if (const auto v = root.table("design")) {
-        v->only({"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design", "control_law"});
+        v->only(table_keys("design"));
         if (const auto b = v->boolean("load_feedforward")) {
             sc.load_feedforward = *b ? 1 : 0;
         }
@@ -827,7 +881,7 @@ Scenario load_scenario(const std::string& path)
 
     // [protection] (optional): reactions to faults
     if (const auto v = root.table("protection")) {
-        v->only({"loss_of_sync"});
+        v->only(table_keys("protection"));
         if (const auto r = v->string("loss_of_sync")) {
             if (*r == "relock") {
                 if (!sc.position_drive()) {
@@ -843,7 +897,7 @@ Scenario load_scenario(const std::string& path)
 
     // [sensor] (optional: an ideal sensor)
     if (const auto v = root.table("sensor")) {
-        v->only({"noise", "noise_A", "adc_bits", "adc_full_scale_A"});
+        v->only(table_keys("sensor"));
         const std::string kind = v->string("noise").value_or("none");
         if (kind == "none") {
             sc.sensor.noise = NoiseKind::kNone;
@@ -879,8 +933,7 @@ Scenario load_scenario(const std::string& path)
     // [load] (optional: no external load)
     // [faults] (optional): injected faults (model/fault_injection.h)
     if (const auto v = root.table("faults")) {
-        v->only({"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples",
-                 "nan_sample_t_s", "supply_sag", "overruns"});
+        v->only(table_keys("faults"));
         FaultInjection& f = sc.faults;
         const int n_ph = sc.motor.n_phases();
         auto time_of = [](const View& t, const char* k) {
@@ -963,7 +1016,7 @@ Scenario load_scenario(const std::string& path)
     }
 
     if (const auto v = root.table("load")) {
-        v->only({"steps", "pulses"});
+        v->only(table_keys("load"));
         if (v->has("steps") && v->has("pulses")) {
             v->fail("pulses", "give either steps or pulses, not both");
         }
@@ -1047,7 +1100,7 @@ Scenario load_scenario(const std::string& path)
     // [trajectory]: [[trajectory.segments]]
     if (sc.position_drive()) {
         const View v = required_table("trajectory");
-        v.only({"segments"});
+        v.only(table_keys("trajectory"));
         const auto segs = v.tables("segments");
         if (!segs || segs->empty()) {
             v.fail("segments", "missing required field (at least one [[trajectory.segments]])");
@@ -1058,7 +1111,7 @@ Scenario load_scenario(const std::string& path)
         }
         double t_free = 0.0;
         for (const View& s : *segs) {
-            s.only({"t_start_s", "duration_s", "theta_to_rad"});
+            s.only(table_keys("trajectory.segments"));
             Segment g;
             g.t_start_s = s.number_req("t_start_s");
             ge(s, "t_start_s", g.t_start_s, t_free);
@@ -1092,7 +1145,7 @@ Scenario load_scenario(const std::string& path)
     read_board(root, &sc);
     // [encoder] (optional): the HAL's position input
     if (const auto v = root.table("encoder")) {
-        v->only({"counts_per_turn", "noise_rad"});
+        v->only(table_keys("encoder"));
         const auto n = v->integer("counts_per_turn");
         if (!n) v->fail("counts_per_turn", "missing required field");
         if (*n < 1 || *n > (std::int64_t{1} << 32)) {

@@ -181,6 +181,13 @@ struct Scenario {
 // Throws ScenarioError on any problem.
 Scenario load_scenario(const std::string& path);
 
+// Every table's keys as the parser knows them, (table, keys): its own
+// tables, "top" (the top level), "motor_file" (sim/motors/*.toml), "gains",
+// "bounds", and each drive's table from its host part. What
+// sim/scenarios/README.md documents is checked against it (ctest
+// docs.scenario_keys).
+std::vector<std::pair<std::string, std::vector<std::string>>> scenario_keys();
+
 // Reads a motor file on its own (keys as in sim/motors/*.toml).
 MotorParams load_motor_file(const std::string& path);
 
