@@ -3,11 +3,11 @@
 # fails it. Called by .ci/run after test_all.sh.
 #
 #   cppcheck     firmware/ (C11) in float and in fixed point, sim/ and
-#                hal/backends/sw_plant (C++17) in both, hal/backends/mcu (C11,
+#                sim/model/hal_sw_plant (C++17) in both, hal/backends/mcu (C11,
 #                32-bit, as the Cortex-M4F float and Cortex-M3 fixed images)
 #   clang-tidy   the checks of .clang-tidy, through the compile_commands.json
 #                of a host configure: firmware/ in float and in fixed point,
-#                sim/ and hal/backends/sw_plant in float
+#                sim/ (with the software plant backend) in float
 #
 # Check sets and why: .clang-tidy and docs/testing.md ("Static analysis and
 # fuzzing"). Suppressions are inline only, each with its reason:
@@ -94,8 +94,8 @@ if want cppcheck; then
     for fx in 0 1; do
         cfg=$([ $fx = 1 ] && echo "fixed point" || echo float)
         run_cppcheck "firmware/ (C11, $cfg)" --std=c11 -DMC_FIXED_POINT=$fx firmware
-        run_cppcheck "sim/ hal/backends/sw_plant (C++17, $cfg)" --std=c++17 --language=c++ -DMC_FIXED_POINT=$fx \
-            -I sim -I hal/backends/sw_plant -I "$build/float/sim" sim hal/backends/sw_plant
+        run_cppcheck "sim/ (C++17, $cfg)" --std=c++17 --language=c++ -DMC_FIXED_POINT=$fx \
+            -I sim -I sim/model -I "$build/float/sim" sim
     done
     # The Cortex-M images: 32-bit, the macros of each target (mc_num_fixed.h's
     # assembly on the M3); the PIL image (its pil_drive.h is generated per
@@ -148,7 +148,7 @@ if want clang-tidy; then
     tt=$SECONDS
     n_checks=$(clang-tidy -p "$build/float" --list-checks firmware/model/motor_model.c 2>/dev/null | grep -c '^    ' || true)
     echo "==== static: clang-tidy $(clang-tidy --version | sed -n 's/.*LLVM version //p' | head -1), $n_checks checks (.clang-tidy)"
-    run_tidy "firmware/, sim/, hal/backends/sw_plant (float)" "$build/float" firmware/ sim/ hal/backends/sw_plant/
+    run_tidy "firmware/, sim/ (float)" "$build/float" firmware/ sim/
     run_tidy "firmware/ (fixed point)" "$build/fixed" firmware/
     echo "---- clang-tidy: $((SECONDS - tt)) s"
 fi
