@@ -3,7 +3,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "motorsim/commission.h"
+#include "motorsim/drive_runs/paper001_commission.h"
 #include "motorsim/drive_runs/drive_runs.h"
 #include "motorsim/drive_runs/paper000_recorder.h"
 #include "motorsim/drive_runs/paper002_recorder.h"

@@ -1,4 +1,4 @@
-#include "motorsim/commission.h"
+#include "motorsim/drive_runs/paper001_commission.h"
 
 #include <cstring>
 #include <stdexcept>

@@ -1,11 +1,11 @@
-// commission.h - the PMSM commissioning run before a speed-drive run
+// paper001_commission.h - the PMSM commissioning run before a speed-drive run
 // ([speed] identify = true): the firmware's identification
 // (firmware/startup/pmsm_identification.h) on the scenario's plant, unloaded,
 // from the scenario's initial angle, through the same software-plant HAL
 // backend as the drive. Like a motor detection on a real drive, it runs
 // before the run and its results replace the drive model's R, L and Phi.
-#ifndef MCSIM_MOTORSIM_COMMISSION_H
-#define MCSIM_MOTORSIM_COMMISSION_H
+#ifndef MCSIM_MOTORSIM_DRIVE_RUNS_PAPER001_COMMISSION_H
+#define MCSIM_MOTORSIM_DRIVE_RUNS_PAPER001_COMMISSION_H
 
 #include <string>
 
@@ -26,4 +26,4 @@ CommissionResult commission_pmsm(const Scenario& sc);
 
 }  // namespace mcsim
 
-#endif  // MCSIM_MOTORSIM_COMMISSION_H
+#endif  // MCSIM_MOTORSIM_DRIVE_RUNS_PAPER001_COMMISSION_H
