@@ -83,7 +83,7 @@
  * closes from the speed whose back-EMF K_e omega_lim is paper 000's own,
  * 0.27 V s/rad x 3 rad/s = 0.81 V (section 5.3): 1.6 rad/s on paper 001's
  * motor, 3 rad/s on paper 000's stepper. Its gains follow paper 000's
- * bounds (design/drive_design.c) with that design's defaults for what a
+ * bounds (design/paper000_design.c) with that design's defaults for what a
  * speed profile does not give: 1 rad/s of closed-loop speed error and
  * 2 N m/s of load rate. */
 #define P001_EMF_AT_OMEGA_LIM_V 0.81

@@ -11,7 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "drives/paper001/paper001_drive.h"
 #include "startup/pmsm_identification.h"
 

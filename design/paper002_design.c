@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "math/mc_convert.h"
 
 /* How the constants below were chosen. The structure of each one (what

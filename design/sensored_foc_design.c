@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "design/profile_design.h"
 #include "math/mc_convert.h"
 

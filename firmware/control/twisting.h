@@ -3,7 +3,7 @@
  *   w = -lambda_M sgn(S) if S dS/dt > 0,  -lambda_m sgn(S) otherwise,
  * for a relative-degree-2 sliding variable. The position loop (52)-(54)
  * uses it with the output scaled to a voltage (gains times JL/K).
- * Finite-time convergence needs conditions (22), see drive_design.c.
+ * Finite-time convergence needs conditions (22), see paper000_design.c.
  */
 #ifndef CONTROL_TWISTING_H
 #define CONTROL_TWISTING_H

@@ -36,7 +36,7 @@ typedef struct {
     mc_t alpha_V;            /* L * alpha_{f,g} * Ts: e-hat step per sample [V] */
     mc_t alpha_V_s;          /* L * alpha_{f,g}: equivalent injection amplitude [V/s] */
     mc_t lpf_coeff;          /* Ts/(tau + Ts) of the equivalent-injection filter */
-    /* Discrete-time design (design/drive_design.c, gain_design): alpha
+    /* Discrete-time design (design/paper000_design.c, gain_design): alpha
      * follows the reference speed, alpha(|w_r|) = alpha + slope |w_r|, as
      * the bound Pi_d of section 3.1.1 does; 0: a constant alpha (the
      * continuous-time design, which takes |w|max). */

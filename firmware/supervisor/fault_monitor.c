@@ -91,7 +91,7 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
     }
     /* I^2 t on the current vector: three phases carry 3/2 |i_ab|^2 in the
      * sum of squares, two carry |i_ab|^2; the design scales i2t_cont_A2 to
-     * the same sum (design/drive_design.c). Heating is slow against a
+     * the same sum (design/paper000_design.c). Heating is slow against a
      * sample: every FAULT_I2T_SUBSAMPLE-th sample enters the block's mean. */
     m->i2_n += 1;
     if ((m->i2_n & (FAULT_I2T_SUBSAMPLE - 1)) == 0) {

@@ -1,7 +1,7 @@
 // paper000_host.cpp - paper 000's position drive's host part: its table is
 // [trajectory] (parsed by scenario.cpp with [design], [gains], [bounds] and
 // [protection]: sim/scenarios/README.md), its design is
-// design/drive_design.h's through scenario/design_input.h, and its
+// design/paper000_design.h's through scenario/design_input.h, and its
 // reference's peak demand is that of eq. (70)'s polynomial.
 #include <algorithm>
 #include <cmath>

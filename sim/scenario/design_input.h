@@ -1,5 +1,5 @@
 // design_input.h - maps a scenario onto drive_design_input_t
-// (design/drive_design.h), the one place that knows the design
+// (design/paper000_design.h), the one place that knows the design
 // field names the [gains] and [bounds] tables may override.
 #ifndef MCSIM_SCENARIO_DESIGN_INPUT_H
 #define MCSIM_SCENARIO_DESIGN_INPUT_H
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "design/paper001_design.h"
 #include "design/paper002_design.h"
 #include "scenario/scenario.h"

@@ -11,7 +11,7 @@
 
 #include <toml++/toml.h>
 
-#include "design/drive_design.h"
+#include "trajectory/trajectory.h"
 #include "trajectory/speed_profile.h"
 #include "scenario/design_input.h"
 #include "scenario/toml_view.h"
@@ -1105,8 +1105,8 @@ Scenario load_scenario(const std::string& path)
         if (!segs || segs->empty()) {
             v.fail("segments", "missing required field (at least one [[trajectory.segments]])");
         }
-        if (segs->size() > static_cast<std::size_t>(DRIVE_DESIGN_MAX_SEGMENTS)) {
-            v.fail("segments", "at most " + std::to_string(DRIVE_DESIGN_MAX_SEGMENTS) + " segments (got " +
+        if (segs->size() > static_cast<std::size_t>(TRAJECTORY_MAX_SEGMENTS)) {
+            v.fail("segments", "at most " + std::to_string(TRAJECTORY_MAX_SEGMENTS) + " segments (got " +
                                    std::to_string(segs->size()) + ")");
         }
         double t_free = 0.0;

@@ -14,7 +14,7 @@
 #include "comm/can_node.h"
 #include "comm/generated/drive_can.h"
 #include "drives/registry.h"
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "design/paper001_design.h"
 #include "design/paper002_design.h"
 #include "math/mc_convert.h"

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "design/paper001_design.h"
 #include "math/mc_convert.h"
 #include "p001_fixture.h"
@@ -110,7 +110,7 @@ static void trajectory_peaks(double delta, double T, double *w_max, double *a_ma
 
 // The derived gains against the sliding-mode conditions, with every bound
 // worked out here from the model and the trajectory rather than taken from
-// drive_design.c. Paper 000, rig of section 5.3, bounds of
+// paper000_design.c. Paper 000, rig of section 5.3, bounds of
 // drive_design_defaults().
 TEST(DriveDesign, GainsMeetTheSlidingModeConditions)
 {
@@ -199,7 +199,7 @@ TEST(DriveDesign, TwistingGainsBeatTheWorstPerturbation)
     EXPECT_LT(late_max, 1e-3) << "twisting with the designed gains did not hold S near 0";
 }
 
-// The discrete-time gain design (drive_design.c, gain_design = DISCRETE)
+// The discrete-time gain design (paper000_design.c, gain_design = DISCRETE)
 // against the sampled system's bounds, worked out here from the rig: the
 // back-EMF observer's per-sample step turns its estimate by at most 0.05 rad
 // electrical at every speed from omega_lim up while still meeting alpha >=

@@ -24,7 +24,7 @@
 #include "comm/can_node.h"
 #include "drives/registry.h"
 #include "comm/generated/drive_can.h"
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 #include "design/paper001_design.h"
 #include "math/mc_convert.h"
 

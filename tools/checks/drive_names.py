@@ -35,8 +35,6 @@ SUFFIXES = {".c", ".h", ".cpp", ".hpp", ".txt"}
 
 # Files that name drives today, and what makes each generic (issues 28, 29).
 PENDING = {
-    "design/drive_design.c": "paper 000's design: to be renamed design/paper000_design.c",
-    "design/drive_design.h": "the same",
     "sim/replay/drive_replay.cpp": "a replay of paper 000's estimator (its applied-voltage input and telemetry): to move to its host room",
     "sim/scenario/design_input.cpp": "issue 28: papers 000-002 as host parts in sim/host_drives/",
     "sim/scenario/design_input.h": "issue 28",

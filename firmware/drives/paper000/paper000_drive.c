@@ -190,7 +190,7 @@ static bool drive_lost_sync(paper000_drive_t *d, bool observable)
 /* The measured K replaces the model's everywhere it was folded in
  * (startup/k_identification.h): the model (J/K, f_v/K, ...), (30)'s 1/K
  * and the observability threshold (K omega_lim)^2, the twisting gains and
- * feed-forwards that carry J L/K or 1/K (design/drive_design.c), the load
+ * feed-forwards that carry J L/K or 1/K (design/paper000_design.c), the load
  * clamp 2 K I_max. r = K_old/K_new. The blocks keep their own copies of
  * their configuration, so those are what change. */
 _Static_assert(K_ID_DECIMATION == P000_LOS_DECIMATION, "the K measurement runs on the loss-of-sync checks' samples");
@@ -221,7 +221,7 @@ static uint32_t drive_traj_tick(const paper000_drive_t *d, uint32_t n)
 }
 
 /* The first inconsistency of c, named by its field (a string literal), or
- * NULL when c is consistent. The design (design/drive_design.c) derives
+ * NULL when c is consistent. The design (design/paper000_design.c) derives
  * every field; a motor or limit far outside what it was written for can
  * still give a gain that rounds to zero or overflows, and this says which. */
 const char *paper000_config_problem(const paper000_config_t *c)
@@ -611,7 +611,7 @@ bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s
         return false;
     }
     /* eq. (70)'s peaks: 2.1875 |d|/T and 7.5132 |d|/T^2 (POLY7_DP_MAX,
-     * POLY7_DDP_MAX of design/drive_design.c), checked as products so
+     * POLY7_DDP_MAX of design/paper000_design.c), checked as products so
      * nothing overflows: |v| T <= ..., with v = d/T */
     const mc_t from = d->ref_next.theta_rad;
     const mc_t dist = mc_abs(mc_sub(theta_to_rad, from));

@@ -69,7 +69,7 @@ extern "C" {
  * RELOCK: open loop for relock_hold_ticks, then closed again; confirmed
  * after relock_confirm_ticks of closed loop; if the reference slows below
  * omega_lim before that, the loss stands (safe state).
- * Derived in design/drive_design.c. */
+ * Derived in design/paper000_design.c. */
 /* The loss-of-synchronism criteria (all but the unobservable back-EMF)
  * run on every P000_LOS_DECIMATION-th sample: they persist for 5 ms and
  * 0.2 s, so a quarter of the samples decides as well at a quarter of the
@@ -126,7 +126,7 @@ typedef struct {
 typedef enum { P000_LAW_TWISTING = 0, P000_LAW_LOAD_ANGLE = 1 } paper000_law_t;
 
 /* Everything paper000_drive_init needs, in the firmware numeric type. Per-sample
- * coefficients already contain Ts (see design/drive_design.c).
+ * coefficients already contain Ts (see design/paper000_design.c).
  * Pointer-free, so it can be stored, copied and sent as bytes. */
 typedef struct {
     motor_model_t model;          /* the motor the drive believes in */

@@ -111,7 +111,7 @@ typedef struct {
     mc_t advance_np;               /* n_p (1/2 + d): the output angle's lead per unit of
                                     * w_hat Ts (the voltage acts on average that late) */
     /* estimator = BACK_EMF only */
-    fg_estimator_config_t emf;     /* paper 000's estimator gains (design/drive_design.h) */
+    fg_estimator_config_t emf;     /* paper 000's estimator gains (design/paper000_design.h) */
     motor_model_t emf_torque_model;/* the model with K = K_t: the torque of (33)-(37) */
     mc_t omega_lim_rad_s;          /* |w*| from which the back-EMF angle is trusted (paper 000 4.2) */
     /* faults (docs/faults.md): the generic set, and the loss of the

@@ -1,13 +1,13 @@
 /*
- * drive_design.h - derives every drive coefficient from the motor, the
+ * paper000_design.h - derives every drive coefficient from the motor, the
  * sample time and the design bounds, in double precision on the host (or at
  * build time for an MCU image). The firmware blocks themselves never see a
  * physical constant that was not folded here, which is what lets the same
  * blocks run in fixed point. Each gain's derivation (conditions (22), (51),
- * (57) of paper 000) is documented in drive_design.c.
+ * (57) of paper 000) is documented in paper000_design.c.
  */
-#ifndef DESIGN_DRIVE_DESIGN_H
-#define DESIGN_DRIVE_DESIGN_H
+#ifndef DESIGN_PAPER000_DESIGN_H
+#define DESIGN_PAPER000_DESIGN_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -33,7 +33,7 @@ typedef struct {
     double t_start_s, duration_s, theta_to_rad;
 } drive_segment_si_t;
 
-/* Which conditions the gains are derived from (drive_design.c):
+/* Which conditions the gains are derived from (paper000_design.c):
  *  CONTINUOUS: paper 000's continuous-time conditions (22), (51), (57) and
  *    Levant's super-twisting condition with the bounds as given, constant
  *    gains (the reference derivation);
@@ -57,7 +57,7 @@ typedef struct {
     double ts_s;               /* sample period (1e-4 in the paper) */
     double v_max_V, i_max_A, i_trip_A, omega_lim_rad_s;
     /* current amplitude of the open-loop drive (68) and of the alignment;
-     * <= 0 means 2/3 of i_max_A (OPEN_LOOP_OVER_IMAX, drive_design.c: it
+     * <= 0 means 2/3 of i_max_A (OPEN_LOOP_OVER_IMAX, paper000_design.c: it
      * makes the switch to closed loop far less sensitive to R, L, K
      * errors); the paper uses i_max_A. */
     double i_open_loop_A;
@@ -90,7 +90,7 @@ typedef struct {
     int i_trip_samples;
     /* 1: a loss of synchronism falls back to the open loop and closes again
      * (FAULT_REACT_RELOCK, bounded retries, then the safe state); 0 (the
-     * default): the safe state at once (drive_design.c says why). */
+     * default): the safe state at once (paper000_design.c says why). */
     int los_relock;
     /* The board's computation delay d in [0, 1] samples (0, the default:
      * none, the paper's sampled model): the voltage computed from the
@@ -126,13 +126,13 @@ typedef struct {
     double omega_lim_rad_s, i_max_A;
     drive_gain_override_t override;
     drive_gain_design_t gain_design;  /* DISCRETE: speed-following back-EMF gain, capped load gain */
-    double ripple_cap_rad_s3;         /* DISCRETE: the cap of the load observer's alpha (drive_design.c) */
+    double ripple_cap_rad_s3;         /* DISCRETE: the cap of the load observer's alpha (paper000_design.c) */
 } fg_estimator_design_t;
 
 /* The generic fault criteria (supervisor/fault_monitor.h) for a drive of
  * n_phases phases with current limit i_max_A, trip i_trip_A and ADC rail
  * i_rail_A (0: unknown), sampled every ts_s; every threshold is a named,
- * justified constant of drive_design.c (docs/faults.md). Shared by every
+ * justified constant of paper000_design.c (docs/faults.md). Shared by every
  * drive's design. */
 void fault_monitor_design(fault_monitor_config_t *fc, int n_phases, double i_max_A, double i_trip_A,
                           int i_trip_samples, double i_rail_A, double ts_s);
@@ -147,4 +147,4 @@ void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t 
 }
 #endif
 
-#endif /* DESIGN_DRIVE_DESIGN_H */
+#endif /* DESIGN_PAPER000_DESIGN_H */

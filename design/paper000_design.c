@@ -1,5 +1,5 @@
 /*
- * drive_design.c - gains of the paper-000 drive derived from the motor and
+ * paper000_design.c - gains of the paper-000 drive derived from the motor and
  * its bounds (host side, double precision).
  *
  * Super-twisting (13)-(16) with a perturbation whose derivative is bounded
@@ -50,7 +50,7 @@
  *  - load feed-forward: i_g,r of (39) carries C_r/K, so its L di_g,r/dt
  *    of (38) carries (L/K) dC_r/dt; the continuous design leaves it out.
  */
-#include "design/drive_design.h"
+#include "design/paper000_design.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -342,7 +342,7 @@ void drive_design_defaults(drive_design_input_t *in)
     in->bound_load_Nm = 0.0;           /* 0: the motor's Coulomb friction (section 5.3) */
     in->bound_load_rate_Nm_s = 2.0;    /* slow load changes */
     in->bound_model_error_V = 0.05;    /* errata on (57): volts of model error */
-    in->load_feedforward = 1;            /* see drive_design.h */
+    in->load_feedforward = 1;            /* see paper000_design.h */
     in->identify_rl = 1;
     in->align_rotor = 1;
     in->identify_k = 1;
