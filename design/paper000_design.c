@@ -450,7 +450,7 @@ void fg_estimator_design(const fg_estimator_design_t *in, fg_estimator_config_t 
 
 bool drive_design(const drive_design_input_t *in, paper000_config_t *cfg, char *err, size_t err_len)
 {
-    const drive_motor_si_t *m = &in->motor;
+    const motor_design_input_t *m = &in->motor;
     if (!(m->L_H > 0.0)) return fail(err, err_len, "motor.L_H", "must be > 0", m->L_H);
     if (!(m->R_ohm >= 0.0)) return fail(err, err_len, "motor.R_ohm", "must be >= 0", m->R_ohm);
     if (!(m->K_Nm_per_A > 0.0)) return fail(err, err_len, "motor.K_Nm_per_A", "must be > 0", m->K_Nm_per_A);
@@ -577,8 +577,13 @@ bool drive_design(const drive_design_input_t *in, paper000_config_t *cfg, char *
     motor_model_t *mm = &cfg->model;
     mm->n_p = np;
     mm->fs_hz = tc->fs_hz;
+    mm->ts_s = mc_from_double(Ts);
     mm->R_ohm = mc_from_double(R);
     mm->L_H = mc_from_double(L);
+    mm->Ld_H = mm->L_H; /* the stepper is non-salient */
+    mm->Lq_H = mm->L_H;
+    mm->psi_Wb = mc_from_double(K / np);
+    mm->J_kgm2 = mc_from_double(J);
     mm->ts_over_L_A_per_V = mc_from_double(Ts / L);
     mm->npL_ohm_s = mc_from_double(np * L);
     mm->K_V_s = mc_from_double(K);

@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "design/motor_design.h"
 #include "drives/paper000/paper000_drive.h"
 
 #ifdef __cplusplus
@@ -20,12 +21,6 @@ extern "C" {
 
 #define DRIVE_DESIGN_MAX_SEGMENTS TRAJECTORY_MAX_SEGMENTS
 
-/* Motor model the drive believes in (paper 000 section 5.3 for the rig). */
-typedef struct {
-    double L_H, R_ohm, K_Nm_per_A, J_kgm2, fv_Nms_per_rad;
-    int n_p;
-    double coulomb_Nm;        /* Coulomb friction: the load bound when bound_load_Nm is 0 */
-} drive_motor_si_t;
 
 /* One rest-to-rest move of eq. (70): from wherever the previous segment
  * ended (0 for the first) to theta_to_rad, starting at t_start_s. */
@@ -53,7 +48,10 @@ typedef struct {
 } drive_gain_override_t;
 
 typedef struct {
-    drive_motor_si_t motor;
+    /* the motor the drive believes in (paper 000 section 5.3 for the rig),
+     * the one design input (design/motor_design.h): L, R, K, J, f_v, n_p
+     * and the Coulomb friction (the load bound when bound_load_Nm is 0) */
+    motor_design_input_t motor;
     double ts_s;               /* sample period (1e-4 in the paper) */
     double v_max_V, i_max_A, i_trip_A, omega_lim_rad_s;
     /* current amplitude of the open-loop drive (68) and of the alignment;

@@ -153,15 +153,16 @@ static bool p001_coeff(double x, const char *field, mc_t *dst, char *err, size_t
 bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_design_report_t *rep, char *err,
                  size_t err_len)
 {
-    const p001_motor_si_t *m = &in->motor;
+    const motor_design_input_t *m = &in->motor;
     if (m->n_phases != 2 && m->n_phases != 3) {
         return p001_fail(err, err_len, "motor.n_phases", "must be 2 or 3", m->n_phases);
     }
     if (!(m->R_ohm >= 0.0)) return p001_fail(err, err_len, "motor.R_ohm", "must be >= 0", m->R_ohm);
     if (!(m->L_H > 0.0)) return p001_fail(err, err_len, "motor.L_H", "must be > 0", m->L_H);
-    if (!(m->Phi_Wb > 0.0)) return p001_fail(err, err_len, "motor.Phi_Wb", "must be > 0", m->Phi_Wb);
-    if (!(m->J_kgm2 > 0.0)) return p001_fail(err, err_len, "motor.J_kgm2", "must be > 0", m->J_kgm2);
     if (m->n_p < 1) return p001_fail(err, err_len, "motor.n_p", "must be >= 1", m->n_p);
+    const double Phi = motor_design_phi_Wb(m); /* paper 001's Phi: K = n_p Phi */
+    if (!(Phi > 0.0)) return p001_fail(err, err_len, "motor.Phi_Wb", "must be > 0", Phi);
+    if (!(m->J_kgm2 > 0.0)) return p001_fail(err, err_len, "motor.J_kgm2", "must be > 0", m->J_kgm2);
     if (!(in->ts_s > 0.0)) return p001_fail(err, err_len, "ts_s", "must be > 0", in->ts_s);
     if (!(in->i_max_A > 0.0)) return p001_fail(err, err_len, "i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return p001_fail(err, err_len, "i_trip_A", "must be >= i_max_A", in->i_trip_A);
@@ -174,15 +175,15 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     const double ts = in->ts_s;
     const double fs = 1.0 / ts;
     const double np = (double)m->n_p;
-    const double Ke = np * m->Phi_Wb;
-    const double Kt = 0.5 * (double)m->n_phases * np * m->Phi_Wb;
-    const double phi_ratio = P001_PAPER_PHI_WB / m->Phi_Wb;
+    const double Ke = np * Phi;
+    const double Kt = 0.5 * (double)m->n_phases * np * Phi;
+    const double phi_ratio = P001_PAPER_PHI_WB / Phi;
     const double gamma = (in->gamma > 0.0) ? in->gamma : P001_PAPER_GAMMA * phi_ratio * phi_ratio;
     const double a1 = (in->a1 > 0.0) ? in->a1 : P001_PAPER_A1;
     const double a2 = (in->a2 > 0.0) ? in->a2 : P001_PAPER_A2;
     const double r = (in->r_ohm > 0.0) ? in->r_ohm
                                        : 2.0 * P001_LOOP_ZETA * sqrt(m->L_H * Ke * Kt / m->J_kgm2);
-    const double radial = 2.0 * gamma * m->Phi_Wb * m->Phi_Wb * ts;
+    const double radial = 2.0 * gamma * Phi * Phi * ts;
     if (!(radial < 1.0)) {
         return p001_fail(err, err_len, "gamma", "2 gamma Phi^2 Ts must be < 1 for the explicit step of (12)", gamma);
     }
@@ -201,8 +202,13 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     motor_model_t *mm = &cfg->model;
     mm->n_p = m->n_p;
     mm->fs_hz = (int32_t)fsr;
+    mm->ts_s = mc_from_double(ts);
     mm->R_ohm = mc_from_double(m->R_ohm);
     mm->L_H = mc_from_double(m->L_H);
+    mm->Ld_H = mm->L_H; /* paper 001's motor is non-salient */
+    mm->Lq_H = mm->L_H;
+    mm->psi_Wb = mc_from_double(Phi);
+    mm->J_kgm2 = mc_from_double(m->J_kgm2);
     mm->ts_over_L_A_per_V = mc_from_double(ts / m->L_H);
     mm->npL_ohm_s = mc_from_double(np * m->L_H);
     mm->K_V_s = mc_from_double(Ke);
@@ -225,14 +231,14 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     cfg->los_speed_ticks = (int32_t)ceil(P001_LOS_SPEED_S * fsr - 1e-9);
 
     /* flux observer (12)-(14) in w = lambda/Ts units (flux_observer.h) */
-    const double phi_fs = m->Phi_Wb / ts;
+    const double phi_fs = Phi / ts;
     const int s = (int)floor(log2(phi_fs)) + 1;
     flux_observer_config_t *fo = &cfg->flux;
     bool ok = p001_coeff(m->R_ohm, "flux.R_ohm", &fo->R_ohm, err, err_len) &&
               p001_coeff(m->L_H / ts, "flux.L_fs_ohm", &fo->L_fs_ohm, err, err_len) &&
               p001_coeff(phi_fs, "flux.Phi_fs_V", &fo->Phi_fs_V, err, err_len) &&
-              p001_coeff(ldexp(ts / m->Phi_Wb, s), "flux.rho_gain", &fo->rho_gain, err, err_len) &&
-              p001_coeff(gamma * m->Phi_Wb * m->Phi_Wb * m->Phi_Wb, "flux.gPhi3_V", &fo->gPhi3_V, err, err_len);
+              p001_coeff(ldexp(ts / Phi, s), "flux.rho_gain", &fo->rho_gain, err, err_len) &&
+              p001_coeff(gamma * Phi * Phi * Phi, "flux.gPhi3_V", &fo->gPhi3_V, err, err_len);
     /* 2^-s is exact in both builds (a power of two of at least 2^-17) */
     if (s > 17) {
         return p001_fail(err, err_len, "motor.Phi_Wb", "Phi/Ts above 2^17 V", phi_fs);
@@ -381,7 +387,8 @@ bool p001_identification_design(const p001_design_input_t *in, pmsm_id_config_t 
     if (!p001_design(in, &drive, &rep, err, err_len)) {
         return false;
     }
-    const p001_motor_si_t *m = &in->motor;
+    const motor_design_input_t *m = &in->motor;
+    const double Phi = motor_design_phi_Wb(m);
     if (!(m->R_ohm > 0.0)) {
         return p001_fail(err, err_len, "motor.R_ohm", "identification needs a model R > 0", m->R_ohm);
     }
@@ -389,7 +396,7 @@ bool p001_identification_design(const p001_design_input_t *in, pmsm_id_config_t 
     const double tau_e = m->L_H / m->R_ohm;
     memset(cfg, 0, sizeof *cfg);
     cfg->model = drive.model;
-    cfg->Phi_model_Wb = mc_from_double(m->Phi_Wb);
+    cfg->Phi_model_Wb = mc_from_double(Phi);
     cfg->i_trip_A = mc_from_double(in->i_trip_A);
     const double v = m->R_ohm * rep.i_open_loop_A;
     cfg->v_align_V = mc_from_double(v);

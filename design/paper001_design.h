@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "design/paper000_design.h"
+#include "design/motor_design.h"
 #include "drives/paper001/paper001_drive.h"
 #include "startup/pmsm_identification.h"
 
@@ -19,17 +20,12 @@
 extern "C" {
 #endif
 
-/* The motor the drive believes in (paper 001 section 5 for the benchmark). */
 typedef struct {
-    int n_phases;        /* 3 (PMSM) or 2 (stepper) */
-    double R_ohm, L_H;   /* per phase (alpha-beta model) */
-    double Phi_Wb;       /* peak flux linkage per phase; K_e = n_p Phi */
-    int n_p;
-    double J_kgm2;
-} p001_motor_si_t;
-
-typedef struct {
-    p001_motor_si_t motor;
+    /* the motor the drive believes in (paper 001 section 5 for the
+     * benchmark), the one design input (design/motor_design.h): n_phases
+     * 3 (PMSM) or 2 (stepper), R and L per phase (alpha-beta model),
+     * Phi = K / n_p (K_e = n_p Phi), n_p, J; friction is not designed for */
+    motor_design_input_t motor;
     double ts_s;
     double i_max_A;          /* |i_q*| and the start-up current bound */
     double i_trip_A;

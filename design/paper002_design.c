@@ -121,13 +121,15 @@ static bool p002_given(const double *v, int n)
 
 void p002_design_defaults(p002_design_input_t *in)
 {
-    in->R_ohm = 0.3;
-    in->Ld_H = 3e-3;
-    in->Lq_H = 9e-3;
-    in->psi_Wb = 0.04;
-    in->J_kgm2 = 1e-3;
-    in->d_Nms = 5e-4;
-    in->p = 4;
+    in->motor.n_phases = 3;
+    in->motor.R_ohm = 0.3;
+    in->motor.L_H = 3e-3;
+    in->motor.L_q_H = 9e-3;
+    in->motor.K_Nm_per_A = 0.16; /* psi = 0.04 Wb at p = 4 */
+    in->motor.J_kgm2 = 1e-3;
+    in->motor.fv_Nms_per_rad = 5e-4;
+    in->motor.coulomb_Nm = 0.0;
+    in->motor.n_p = 4;
     in->ts_s = 1e-4;
     in->i_max_A = 20.0;
     in->i_trip_A = 30.0;
@@ -161,13 +163,18 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     return p002_fail(err, err_len, "paper002", "the EKF needs the float build: its angle variance 1e-8 rad^2 is "
                                                "below Q14.17's step of 7.6e-6 (docs/paper002.md)", 0.0);
 #else
-    if (!(in->Ld_H > 0.0)) return p002_fail(err, err_len, "motor.L_d_H", "must be > 0", in->Ld_H);
-    if (!(in->Lq_H > 0.0)) return p002_fail(err, err_len, "motor.L_q_H", "must be > 0", in->Lq_H);
-    if (!(in->R_ohm >= 0.0)) return p002_fail(err, err_len, "motor.R_ohm", "must be >= 0", in->R_ohm);
-    if (!(in->psi_Wb > 0.0)) return p002_fail(err, err_len, "motor.Phi_Wb", "must be > 0", in->psi_Wb);
-    if (!(in->J_kgm2 > 0.0)) return p002_fail(err, err_len, "motor.J_kgm2", "must be > 0", in->J_kgm2);
-    if (!(in->d_Nms >= 0.0)) return p002_fail(err, err_len, "motor.fv_Nms_per_rad", "must be >= 0", in->d_Nms);
-    if (in->p < 1) return p002_fail(err, err_len, "motor.n_p", "must be >= 1", in->p);
+    /* the motor in paper 002's names */
+    const motor_design_input_t *mo = &in->motor;
+    const double Ld = mo->L_H, Lq = mo->L_q_H, R = mo->R_ohm, J = mo->J_kgm2, d = mo->fv_Nms_per_rad;
+    const int p = mo->n_p;
+    if (!(Ld > 0.0)) return p002_fail(err, err_len, "motor.L_d_H", "must be > 0", Ld);
+    if (!(Lq > 0.0)) return p002_fail(err, err_len, "motor.L_q_H", "must be > 0", Lq);
+    if (!(R >= 0.0)) return p002_fail(err, err_len, "motor.R_ohm", "must be >= 0", R);
+    if (p < 1) return p002_fail(err, err_len, "motor.n_p", "must be >= 1", p);
+    const double psi = motor_design_phi_Wb(mo);
+    if (!(psi > 0.0)) return p002_fail(err, err_len, "motor.Phi_Wb", "must be > 0", psi);
+    if (!(J > 0.0)) return p002_fail(err, err_len, "motor.J_kgm2", "must be > 0", J);
+    if (!(d >= 0.0)) return p002_fail(err, err_len, "motor.fv_Nms_per_rad", "must be >= 0", d);
     if (!(in->ts_s > 0.0)) return p002_fail(err, err_len, "run.Ts_s", "must be > 0", in->ts_s);
     if (!(in->i_max_A > 0.0)) return p002_fail(err, err_len, "limits.i_max_A", "must be > 0", in->i_max_A);
     if (!(in->i_trip_A >= in->i_max_A)) return p002_fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
@@ -199,21 +206,35 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     const double fs = 1.0 / in->ts_s;
     const double fsr = floor(fs + 0.5);
     if (fabs(fs - fsr) > 1e-6 * fs) return p002_fail(err, err_len, "run.Ts_s", "1/Ts must be a whole number of hertz", in->ts_s);
-    const double Kt = 1.5 * in->p * in->psi_Wb;
+    const double Kt = 1.5 * p * psi;
     const double M_max = Kt * in->i_max_A;
 
     /* the EKF: R from the sensors (the encoder's quantisation step^2/12
      * added to its noise; a floor of 1e-12 keeps R positive definite with
      * ideal sensors), Q and P0 as above */
+    /* the one motor model (model/motor_model.h): every block reads it; L_H
+     * is L_d (the scenario's convention), K_V_s = n_p psi */
+    motor_model_t *mm = &cfg->model;
+    mm->n_p = p;
+    mm->fs_hz = (int32_t)fsr;
+    mm->ts_s = mc_from_double(in->ts_s);
+    mm->R_ohm = mc_from_double(R);
+    mm->L_H = mc_from_double(Ld);
+    mm->Ld_H = mc_from_double(Ld);
+    mm->Lq_H = mc_from_double(Lq);
+    mm->psi_Wb = mc_from_double(psi);
+    mm->J_kgm2 = mc_from_double(J);
+    mm->fv_Nm_s = mc_from_double(d);
+    mm->ts_over_L_A_per_V = mc_from_double(in->ts_s / Ld);
+    mm->npL_ohm_s = mc_from_double(p * Ld);
+    mm->K_V_s = mc_from_double(p * psi);
+    mm->inv_J = mc_from_double(1.0 / J);
+    mm->ts_over_J = mc_from_double(in->ts_s / J);
+    mm->J_over_K_A_s2 = mc_from_double(J / (p * psi));
+    mm->fv_over_K_A_s = mc_from_double(d / (p * psi));
+    mm->LJ_over_KTs_V_s2 = mc_from_double(Ld * J / (p * psi * in->ts_s));
+    mm->Lfv_over_KTs_V_s = mc_from_double(Ld * d / (p * psi * in->ts_s));
     ekf_ipmsm_config_t *e = &cfg->ekf;
-    e->R_ohm = mc_from_double(in->R_ohm);
-    e->Ld_H = mc_from_double(in->Ld_H);
-    e->Lq_H = mc_from_double(in->Lq_H);
-    e->psi_Wb = mc_from_double(in->psi_Wb);
-    e->p = in->p;
-    e->J_kgm2 = mc_from_double(in->J_kgm2);
-    e->d_Nms = mc_from_double(in->d_Nms);
-    e->ts_s = mc_from_double(in->ts_s);
     const double q[EKF_N] = {P002_Q_I, P002_Q_I, P002_Q_THETA, P002_Q_OMEGA, P002_Q_M0};
     for (int i = 0; i < EKF_N; ++i) {
         e->q[i] = mc_from_double(user_q ? in->ekf_q[i] : q[i]);
@@ -229,7 +250,7 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
          * invariant Clarke) times L_q, across psi: L_q sigma_ab / psi rad
          * electrical, over p mechanical (the integrated R i noise, R sigma
          * Ts per sample, is three orders smaller) */
-        const double s_th = in->Lq_H * in->sigma_i_A * sqrt(2.0 / 3.0) / in->psi_Wb / (double)in->p;
+        const double s_th = Lq * in->sigma_i_A * sqrt(2.0 / 3.0) / psi / (double)p;
         r_th = fmax(s_th * s_th, 1e-12);
     }
     e->r[0] = mc_from_double(user_r ? in->ekf_r[0] : r_i);
@@ -238,35 +259,31 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
 
     /* the current loop (9) */
     const double lambda = P002_LAMBDA_TS * fsr;
-    cfg->ibcc = (ibcc_config_t){mc_from_double(in->R_ohm), mc_from_double(in->Ld_H), mc_from_double(in->Lq_H),
-                                mc_from_double(in->psi_Wb), in->p, mc_from_double(lambda), (int32_t)fsr,
+    cfg->ibcc = (ibcc_config_t){mc_from_double(lambda),
                                 mc_from_double(1.0 - exp(-P002_REF_RATE_PER_LAMBDA * lambda * in->ts_s))};
     /* MTPA (15)/(18) */
-    cfg->mtpa = (mtpa_config_t){mc_from_double(in->Ld_H), mc_from_double(in->Lq_H), mc_from_double(in->psi_Wb),
-                                in->p, mc_from_double(in->i_max_A)};
+    cfg->mtpa = (mtpa_config_t){mc_from_double(in->i_max_A)};
     /* SOSMC: s^2 + alpha_0 s + alpha_I with a double pole at w_s */
     const double ws = lambda / P002_SPEED_BELOW_CURRENT;
-    cfg->sosmc = (sosmc_config_t){mc_from_double(in->J_kgm2), mc_from_double(in->d_Nms), mc_from_double(2.0 * ws),
-                                  mc_from_double(ws * ws), mc_from_double(P002_SOSMC_ETA), mc_from_double(P002_SOSMC_EPS),
-                                  mc_from_double(M_max), in->compensate, mc_from_double(in->ts_s)};
+    cfg->sosmc = (sosmc_config_t){mc_from_double(2.0 * ws), mc_from_double(ws * ws), mc_from_double(P002_SOSMC_ETA),
+                                  mc_from_double(P002_SOSMC_EPS), mc_from_double(M_max), in->compensate};
     /* HTSMC */
-    const double nu_max = M_max / in->J_kgm2;
-    cfg->htsmc = (htsmc_config_t){mc_from_double(in->J_kgm2), mc_from_double(in->d_Nms), mc_from_double(P002_HTSMC_ALPHA_I),
-                                  mc_from_double(P002_HTSMC_ALPHA_m), mc_from_double(2.0 * P002_HTSMC_ALPHA_m),
-                                  mc_from_double(P002_HTSMC_LAMBDA), mc_from_double(0.5), mc_from_double(P002_HTSMC_S0),
-                                  mc_from_double(nu_max), mc_from_double(P002_HTSMC_EPS), mc_from_double(M_max),
-                                  in->compensate, mc_from_double(in->ts_s)};
+    const double nu_max = M_max / J;
+    cfg->htsmc = (htsmc_config_t){mc_from_double(P002_HTSMC_ALPHA_I), mc_from_double(P002_HTSMC_ALPHA_m),
+                                  mc_from_double(2.0 * P002_HTSMC_ALPHA_m), mc_from_double(P002_HTSMC_LAMBDA),
+                                  mc_from_double(0.5), mc_from_double(P002_HTSMC_S0), mc_from_double(nu_max),
+                                  mc_from_double(P002_HTSMC_EPS), mc_from_double(M_max), in->compensate};
     cfg->controller = (in->controller == P002_HTSMC) ? P002_HTSMC : P002_SOSMC;
     /* the angle source; the flux observer (12)-(14) on the active flux
      * (L = L_q, paper002_drive.h) in w = lambda/Ts units (flux_observer.h) */
     cfg->angle_source = flux ? P002_ANGLE_FLUX : P002_ANGLE_ENCODER;
-    const double gamma = P002_FLUX_RADIAL_RATE_PER_S / (2.0 * in->psi_Wb * in->psi_Wb);
-    const double phi_fs = in->psi_Wb * fsr;
+    const double gamma = P002_FLUX_RADIAL_RATE_PER_S / (2.0 * psi * psi);
+    const double phi_fs = psi * fsr;
     const int sh = (int)floor(log2(phi_fs)) + 1;
-    cfg->flux = (flux_observer_config_t){mc_from_double(in->R_ohm), mc_from_double(in->Lq_H * fsr),
+    cfg->flux = (flux_observer_config_t){mc_from_double(R), mc_from_double(Lq * fsr),
                                          mc_from_double(phi_fs), mc_from_double(ldexp(1.0, -sh)),
                                          mc_from_double(ldexp(1.0 / phi_fs, sh)),
-                                         mc_from_double(gamma * in->psi_Wb * in->psi_Wb * in->psi_Wb)};
+                                         mc_from_double(gamma * psi * psi * psi)};
     cfg->flux_theta0_rad = mc_from_double(in->theta0_rad);
     /* faults (docs/faults.md): the generic set, designed as the other
      * drives' are, and the loss of the estimate */

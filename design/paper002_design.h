@@ -12,6 +12,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "design/motor_design.h"
 #include "drives/paper002/paper002_drive.h"
 
 #ifdef __cplusplus
@@ -19,9 +20,10 @@ extern "C" {
 #endif
 
 typedef struct {
-    /* the motor: (2), (6), (7) */
-    double R_ohm, Ld_H, Lq_H, psi_Wb, J_kgm2, d_Nms;
-    int p;
+    /* the motor of (2), (6), (7), the one design input
+     * (design/motor_design.h): R, L_d = L_H, L_q = L_q_H, psi = K / n_p,
+     * p = n_p, J, d = fv_Nms_per_rad */
+    motor_design_input_t motor;
     double ts_s;
     double i_max_A, i_trip_A;
     double i_rail_A;

@@ -105,15 +105,25 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     const double ws = 2.0 * SFOC_PI * in->speed_bw_hz;
     const double wo = 2.0 * SFOC_PI * in->observer_bw_hz;
     const double wl = 2.0 * SFOC_PI * in->load_bw_hz;
-    cfg->n_p = in->n_p;
-    cfg->fs_hz = (int32_t)fsr;
-    cfg->ts_s = mc_from_double(ts);
-    cfg->current.L_d_H = mc_from_double(in->L_d_H);
-    cfg->current.L_q_H = mc_from_double(in->L_q_H);
-    cfg->current.psi_Wb = mc_from_double(in->psi_Wb);
+    /* the one motor model (model/motor_model.h); friction is left to the
+     * speed loop's integral and the load estimate (f_v = 0) */
+    motor_model_t *mm = &cfg->model;
+    mm->n_p = in->n_p;
+    mm->fs_hz = (int32_t)fsr;
+    mm->ts_s = mc_from_double(ts);
+    mm->R_ohm = mc_from_double(in->R_ohm);
+    mm->L_H = mc_from_double(in->L_d_H);
+    mm->Ld_H = mc_from_double(in->L_d_H);
+    mm->Lq_H = mc_from_double(in->L_q_H);
+    mm->psi_Wb = mc_from_double(in->psi_Wb);
+    mm->J_kgm2 = mc_from_double(in->J_kgm2);
+    mm->ts_over_L_A_per_V = mc_from_double(ts / in->L_d_H);
+    mm->npL_ohm_s = mc_from_double((double)in->n_p * in->L_d_H);
+    mm->K_V_s = mc_from_double((double)in->n_p * in->psi_Wb);
+    mm->inv_J = mc_from_double(1.0 / in->J_kgm2);
+    mm->ts_over_J = mc_from_double(ts / in->J_kgm2);
     cfg->kt_Nm_per_A = mc_from_double(kt);
     cfg->inv_kt_A_per_Nm = mc_from_double(1.0 / kt);
-    cfg->J_kgm2 = mc_from_double(in->J_kgm2);
     /* current loops: kp = L w_c, ki = R w_c (header) */
     cfg->current.pi_d.kp = mc_from_double(in->L_d_H * wc);
     cfg->current.pi_d.ki_ts = mc_from_double(in->R_ohm * wc * ts);
@@ -142,7 +152,7 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
         cfg->reaction[f] = (uint8_t)FAULT_REACT_SAFE; /* a sensor: nothing to re-lock */
     }
     double bad_t = 0.0;
-    if (!speed_profile_design(&cfg->profile, in->n_points, in->t_s, in->omega_rad_s, cfg->fs_hz, ts, &bad_t)) {
+    if (!speed_profile_design(&cfg->profile, in->n_points, in->t_s, in->omega_rad_s, mm->fs_hz, ts, &bad_t)) {
         return sfoc_fail(err, err_len, "profile", "corner times must start at 0 and increase", bad_t);
     }
     const char *why = sensored_foc_config_problem(cfg);

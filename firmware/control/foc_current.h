@@ -14,7 +14,8 @@
  * The d axis is served first (it holds the flux); both PIs integrate
  * conditionally at their limit. Fixed point: Q14.17 volts and amperes;
  * w_e L i and w_e psi stay within the supply's range for any speed the
- * supply can drive.
+ * supply can drive. L_d, L_q and psi are the drive's one motor model
+ * (model/motor_model.h), read by const pointer.
  */
 #ifndef CONTROL_FOC_CURRENT_H
 #define CONTROL_FOC_CURRENT_H
@@ -23,6 +24,7 @@
 
 #include "control/pi_ctrl.h"
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -30,24 +32,24 @@ extern "C" {
 
 typedef struct {
     pi_ctrl_config_t pi_d, pi_q;  /* [V/A], [V/(A sample)] */
-    mc_t L_d_H, L_q_H;            /* the decoupling's inductances */
-    mc_t psi_Wb;                  /* the magnet's flux linkage (peak, per phase) */
 } foc_current_config_t;
 
 typedef struct {
     foc_current_config_t cfg;
     pi_ctrl_t d, q;
+    mc_t v_d_V, v_q_V;            /* the last step's output */
     bool saturated;               /* the last output was at the circle */
 } foc_current_t;
 
 /* Copies cfg, the integrals at 0. False for non-positive inductances, a
- * negative flux or a negative gain. */
-bool foc_current_init(foc_current_t *c, const foc_current_config_t *cfg);
+ * negative flux (of the motor m) or a negative gain. */
+bool foc_current_init(foc_current_t *c, const foc_current_config_t *cfg, const motor_model_t *m);
 
 /* One sample: the references and measured currents [A], the electrical
- * speed w_e [rad/s], the circle's radius u_max [V]; *v_d_V, *v_q_V out. */
-void foc_current_step(foc_current_t *c, mc_t i_d_ref_A, mc_t i_q_ref_A, mc_t i_d_A, mc_t i_q_A, mc_t w_e_rad_s,
-                      mc_t u_max_V, mc_t *v_d_V, mc_t *v_q_V);
+ * speed w_e [rad/s], the circle's radius u_max [V]; the voltages out in
+ * c->v_d_V, c->v_q_V. */
+void foc_current_step(foc_current_t *c, const motor_model_t *m, mc_t i_d_ref_A, mc_t i_q_ref_A, mc_t i_d_A,
+                      mc_t i_q_A, mc_t w_e_rad_s, mc_t u_max_V);
 
 #ifdef __cplusplus
 }

@@ -14,7 +14,8 @@
  * the acceleration the torque limit gives (errata: with 1 rad/s^2 it leaves
  * almost no authority). sign is replaced by tanh(s/eps) (the paper's
  * suggestion against chattering); ds/dt is the change of s over the last
- * sample; nu_1 is integrated by explicit Euler.
+ * sample; nu_1 is integrated by explicit Euler. J, d (f_v) and Ts are the
+ * drive's one motor model (model/motor_model.h), read by const pointer.
  */
 #ifndef CONTROL_HTSMC_H
 #define CONTROL_HTSMC_H
@@ -22,13 +23,13 @@
 #include <stdbool.h>
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 typedef struct {
-    mc_t J_kgm2, d_Nms;
     mc_t alpha_I;            /* [1/s] */
     mc_t alpha_m, alpha_M;   /* twisting gains [rad/s^3], alpha_M > alpha_m */
     mc_t lambda, rho, s0;    /* super-twisting: [rad/s^(2-rho)...], 0 < rho <= 1/2, s0 [rad/s] */
@@ -36,7 +37,6 @@ typedef struct {
     mc_t eps;                /* boundary layer [rad/s] */
     mc_t M_max_Nm;
     bool compensate;         /* add M0_hat (DC) */
-    mc_t ts_s;
 } htsmc_config_t;
 
 typedef struct {
@@ -44,9 +44,10 @@ typedef struct {
     bool first;
 } htsmc_t;
 
-bool htsmc_init(htsmc_t *c, const htsmc_config_t *cfg);
+bool htsmc_init(htsmc_t *c, const htsmc_config_t *cfg, const motor_model_t *m);
 
-mc_t htsmc_step(htsmc_t *c, const htsmc_config_t *cfg, mc_t w_d, mc_t dw_d, mc_t w_hat, mc_t M0_hat);
+mc_t htsmc_step(htsmc_t *c, const htsmc_config_t *cfg, const motor_model_t *m, mc_t w_d, mc_t dw_d, mc_t w_hat,
+                mc_t M0_hat);
 
 #ifdef __cplusplus
 }

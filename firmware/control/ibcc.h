@@ -16,6 +16,8 @@
  * L / Ts (ref_alpha = 1: no filter, the raw reference's backward
  * difference; a deadbeat feed-forward that turns the speed loop's noise
  * into volts of chattering, measured in docs/paper002.md).
+ * The motor (R, L_d, L_q, psi, n_p, fs) is the drive's one model
+ * (model/motor_model.h), read by const pointer.
  */
 #ifndef CONTROL_IBCC_H
 #define CONTROL_IBCC_H
@@ -23,6 +25,7 @@
 #include <stdbool.h>
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -34,10 +37,7 @@ extern "C" {
 #define IBCC_LAMBDA_TS_MAX MC_C(0.5)
 
 typedef struct {
-    mc_t R_ohm, Ld_H, Lq_H, psi_Wb;
-    int32_t p;
     mc_t lambda_per_s;   /* the current error's decay rate (8) */
-    int32_t fs_hz;
     mc_t ref_alpha;      /* the reference filter's gain per sample, (0, 1] */
 } ibcc_config_t;
 
@@ -47,13 +47,19 @@ typedef struct {
     bool saturated;      /* the last step was limited */
 } ibcc_t;
 
-bool ibcc_init(ibcc_t *s, const ibcc_config_t *c);
+/* The step's output: the dq voltages (one pointer, so that the state, the
+ * config, the motor and the output pass in the four argument registers). */
+typedef struct {
+    mc_t u_d_V, u_q_V;
+} ibcc_out_t;
+
+bool ibcc_init(ibcc_t *s, const ibcc_config_t *c, const motor_model_t *m);
 
 /* The dq voltages for the references i_dd, i_qd, the measured (or
  * estimated) currents i_d, i_q and the estimated speed, limited to
  * |u| <= u_max_V. */
-void ibcc_step(ibcc_t *s, const ibcc_config_t *c, mc_t i_dd_A, mc_t i_qd_A, mc_t i_d_A, mc_t i_q_A, mc_t w_hat_rad_s,
-               mc_t u_max_V, mc_t *u_d_V, mc_t *u_q_V);
+void ibcc_step(ibcc_t *s, const ibcc_config_t *c, const motor_model_t *m, mc_t i_dd_A, mc_t i_qd_A, mc_t i_d_A,
+               mc_t i_q_A, mc_t w_hat_rad_s, mc_t u_max_V, ibcc_out_t *out);
 
 #ifdef __cplusplus
 }

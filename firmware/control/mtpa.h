@@ -10,7 +10,8 @@
  * (MTPA_NEWTON_STEPS: bounded cost; g is convex in i_q on each side of 0,
  * the iteration converges monotonically from the guess). The result is
  * limited to |i| <= i_max along the MTPA curve (the torque then falls
- * short: out->limited).
+ * short: out->limited). The motor (L_d, L_q, psi, n_p) is the drive's one
+ * model (model/motor_model.h), read by const pointer.
  */
 #ifndef CONTROL_MTPA_H
 #define CONTROL_MTPA_H
@@ -18,6 +19,7 @@
 #include <stdbool.h>
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -35,8 +37,6 @@ extern "C" {
 #define MTPA_LIMIT_STEPS 16
 
 typedef struct {
-    mc_t Ld_H, Lq_H, psi_Wb;
-    int32_t p;
     mc_t i_max_A;        /* |i| limit */
 } mtpa_config_t;
 
@@ -46,13 +46,13 @@ typedef struct {
 } mtpa_out_t;
 
 /* i_d of (18) (L_d < L_q) for i_q; 0 when L_d = L_q. */
-mc_t mtpa_id_of_iq(const mtpa_config_t *c, mc_t i_q_A);
+mc_t mtpa_id_of_iq(const motor_model_t *m, mc_t i_q_A);
 
 /* The torque (10) of the currents. */
-mc_t mtpa_torque(const mtpa_config_t *c, mc_t i_d_A, mc_t i_q_A);
+mc_t mtpa_torque(const motor_model_t *m, mc_t i_d_A, mc_t i_q_A);
 
 /* The MTPA currents for torque M_d. */
-void mtpa_step(const mtpa_config_t *c, mc_t M_d_Nm, mtpa_out_t *out);
+void mtpa_step(const mtpa_config_t *c, const motor_model_t *m, mc_t M_d_Nm, mtpa_out_t *out);
 
 #ifdef __cplusplus
 }

@@ -1,14 +1,14 @@
 #include "control/sosmc.h"
 
-bool sosmc_init(sosmc_t *c, const sosmc_config_t *cfg)
+bool sosmc_init(sosmc_t *c, const sosmc_config_t *cfg, const motor_model_t *m)
 {
     c->int_err = MC_ZERO;
     c->int_torque = MC_ZERO;
     c->s = MC_ZERO;
     c->limited = false;
-    return mc_gt(cfg->J_kgm2, MC_ZERO) && mc_ge(cfg->d_Nms, MC_ZERO) && mc_gt(cfg->alpha_0, MC_ZERO) &&
+    return mc_gt(m->J_kgm2, MC_ZERO) && mc_ge(m->fv_Nm_s, MC_ZERO) && mc_gt(cfg->alpha_0, MC_ZERO) &&
            mc_gt(cfg->alpha_I, MC_ZERO) && mc_ge(cfg->eta, MC_ZERO) && mc_gt(cfg->eps, MC_ZERO) &&
-           mc_gt(cfg->M_max_Nm, MC_ZERO) && mc_gt(cfg->ts_s, MC_ZERO);
+           mc_gt(cfg->M_max_Nm, MC_ZERO) && mc_gt(m->ts_s, MC_ZERO);
 }
 
 mc_t smc_tanh(mc_t x)
@@ -40,15 +40,16 @@ mc_t smc_tanh(mc_t x)
     return mc_lt(x, MC_ZERO) ? mc_neg(t) : t;
 }
 
-mc_t sosmc_step(sosmc_t *c, const sosmc_config_t *cfg, mc_t w_d, mc_t dw_d, mc_t w_hat, mc_t a_hat, mc_t M0_hat)
+mc_t sosmc_step(sosmc_t *c, const sosmc_config_t *cfg, const motor_model_t *m, mc_t w_d, mc_t dw_d, mc_t w_hat,
+                mc_t a_hat, mc_t M0_hat)
 {
     const mc_t e = mc_sub(w_d, w_hat);     /* w~ */
     const mc_t de = mc_sub(dw_d, a_hat);   /* dw~/dt */
     /* s = dw~/dt + alpha_0 w~ + alpha_I int w~ */
     c->s = mc_mac(mc_mac(de, cfg->alpha_0, e), cfg->alpha_I, c->int_err);
     /* (27): the continuous part */
-    mc_t M = mc_mul(cfg->J_kgm2, mc_mac(dw_d, cfg->alpha_0, e));
-    M = mc_mac(M, cfg->d_Nms, w_hat);
+    mc_t M = mc_mul(m->J_kgm2, mc_mac(dw_d, cfg->alpha_0, e));
+    M = mc_mac(M, m->fv_Nm_s, w_hat);
     if (cfg->compensate) {
         M = mc_add(M, M0_hat);
     }
@@ -57,11 +58,11 @@ mc_t sosmc_step(sosmc_t *c, const sosmc_config_t *cfg, mc_t w_d, mc_t dw_d, mc_t
     const mc_t M_out = mc_clamp(M, mc_neg(cfg->M_max_Nm), cfg->M_max_Nm);
     /* (28): the integral, J (alpha_I w~ + eta tanh(s/eps)); frozen while
      * the torque is limited and the integrand would push further */
-    const mc_t rate = mc_mul(cfg->J_kgm2, mc_mac(mc_mul(cfg->alpha_I, e), cfg->eta, smc_tanh(mc_div(c->s, cfg->eps))));
+    const mc_t rate = mc_mul(m->J_kgm2, mc_mac(mc_mul(cfg->alpha_I, e), cfg->eta, smc_tanh(mc_div(c->s, cfg->eps))));
     const bool windup = c->limited && ((mc_gt(M, MC_ZERO) && mc_gt(rate, MC_ZERO)) || (mc_lt(M, MC_ZERO) && mc_lt(rate, MC_ZERO)));
     if (!windup) {
-        c->int_torque = mc_mac(c->int_torque, cfg->ts_s, rate);
-        c->int_err = mc_mac(c->int_err, cfg->ts_s, e);
+        c->int_torque = mc_mac(c->int_torque, m->ts_s, rate);
+        c->int_err = mc_mac(c->int_err, m->ts_s, e);
     }
     return M_out;
 }

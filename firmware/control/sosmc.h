@@ -12,7 +12,8 @@
  * serves (errata). M0_hat is added only with disturbance compensation on.
  * The integrals (of (28) and of w~ in s) are explicit Euler; both stop
  * while the torque is at its limit and (28)'s integrand pushes it further
- * (anti-windup by clamping, on either side).
+ * (anti-windup by clamping, on either side). J, d (f_v) and Ts are the
+ * drive's one motor model (model/motor_model.h), read by const pointer.
  */
 #ifndef CONTROL_SOSMC_H
 #define CONTROL_SOSMC_H
@@ -20,19 +21,18 @@
 #include <stdbool.h>
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 typedef struct {
-    mc_t J_kgm2, d_Nms;
     mc_t alpha_0, alpha_I;   /* [1/s], [1/s^2] */
     mc_t eta;                /* switching gain [rad/s^3] */
     mc_t eps;                /* boundary layer of tanh [rad/s^2] */
     mc_t M_max_Nm;           /* torque limit (the anti-windup's) */
     bool compensate;         /* add M0_hat (DC) */
-    mc_t ts_s;
 } sosmc_config_t;
 
 typedef struct {
@@ -42,11 +42,12 @@ typedef struct {
     bool limited;
 } sosmc_t;
 
-bool sosmc_init(sosmc_t *c, const sosmc_config_t *cfg);
+bool sosmc_init(sosmc_t *c, const sosmc_config_t *cfg, const motor_model_t *m);
 
 /* The torque demand; w_hat, a_hat the estimated speed and acceleration,
  * M0_hat the disturbance estimate. */
-mc_t sosmc_step(sosmc_t *c, const sosmc_config_t *cfg, mc_t w_d, mc_t dw_d, mc_t w_hat, mc_t a_hat, mc_t M0_hat);
+mc_t sosmc_step(sosmc_t *c, const sosmc_config_t *cfg, const motor_model_t *m, mc_t w_d, mc_t dw_d, mc_t w_hat,
+                mc_t a_hat, mc_t M0_hat);
 
 /* tanh, odd, saturating to +-1 (shared with htsmc.h). */
 mc_t smc_tanh(mc_t x);

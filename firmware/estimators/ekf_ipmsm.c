@@ -1,11 +1,11 @@
 #include "estimators/ekf_ipmsm.h"
 
-bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg)
+bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg, const motor_model_t *m)
 {
     const ekf_ipmsm_config_t *c = cfg;
-    bool ok = mc_gt(c->R_ohm, MC_ZERO) && mc_gt(c->Ld_H, MC_ZERO) && mc_gt(c->Lq_H, MC_ZERO) &&
-              mc_ge(c->psi_Wb, MC_ZERO) && c->p >= 1 && mc_gt(c->J_kgm2, MC_ZERO) && mc_ge(c->d_Nms, MC_ZERO) &&
-              mc_gt(c->ts_s, MC_ZERO);
+    bool ok = mc_gt(m->R_ohm, MC_ZERO) && mc_gt(m->Ld_H, MC_ZERO) && mc_gt(m->Lq_H, MC_ZERO) &&
+              mc_ge(m->psi_Wb, MC_ZERO) && m->n_p >= 1 && mc_gt(m->J_kgm2, MC_ZERO) && mc_ge(m->fv_Nm_s, MC_ZERO) &&
+              mc_gt(m->ts_s, MC_ZERO);
     for (int i = 0; i < EKF_N; ++i) {
         ok = ok && mc_gt(c->q[i], MC_ZERO) && mc_gt(c->p0[i], MC_ZERO);
     }
@@ -28,33 +28,33 @@ bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg)
 }
 
 /* f(x) + B u of (37) */
-static void ekf_f(const ekf_ipmsm_config_t *c, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
+static void ekf_f(const motor_model_t *m, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
 {
-    const mc_t w_el = mc_mul_i(x[EKF_OMEGA], c->p);
+    const mc_t w_el = mc_mul_i(x[EKF_OMEGA], m->n_p);
     /* L_d di_d/dt = u_d - R i_d + L_q p w i_q ; L_q di_q/dt = u_q - R i_q - L_d p w i_d - psi p w  (2) */
-    f[EKF_ID] = mc_div(mc_add(mc_sub(u_d, mc_mul(c->R_ohm, x[EKF_ID])), mc_mul(mc_mul(c->Lq_H, w_el), x[EKF_IQ])), c->Ld_H);
-    f[EKF_IQ] = mc_div(mc_sub(mc_sub(mc_sub(u_q, mc_mul(c->R_ohm, x[EKF_IQ])), mc_mul(mc_mul(c->Ld_H, w_el), x[EKF_ID])),
-                              mc_mul(c->psi_Wb, w_el)),
-                       c->Lq_H);
+    f[EKF_ID] = mc_div(mc_add(mc_sub(u_d, mc_mul(m->R_ohm, x[EKF_ID])), mc_mul(mc_mul(m->Lq_H, w_el), x[EKF_IQ])), m->Ld_H);
+    f[EKF_IQ] = mc_div(mc_sub(mc_sub(mc_sub(u_q, mc_mul(m->R_ohm, x[EKF_IQ])), mc_mul(mc_mul(m->Ld_H, w_el), x[EKF_ID])),
+                              mc_mul(m->psi_Wb, w_el)),
+                       m->Lq_H);
     f[EKF_THETA] = x[EKF_OMEGA];
     /* J dw/dt = 3/2 p ((Ld - Lq) i_d i_q + psi i_q) - d w - M_0   (6), (7) */
-    const mc_t torque = mc_mul(mc_mul_i(mc_mac(c->psi_Wb, mc_sub(c->Ld_H, c->Lq_H), x[EKF_ID]), c->p),
+    const mc_t torque = mc_mul(mc_mul_i(mc_mac(m->psi_Wb, mc_sub(m->Ld_H, m->Lq_H), x[EKF_ID]), m->n_p),
                                mc_mul(MC_C(1.5), x[EKF_IQ]));
-    f[EKF_OMEGA] = mc_div(mc_sub(mc_sub(torque, mc_mul(c->d_Nms, x[EKF_OMEGA])), x[EKF_M0]), c->J_kgm2);
+    f[EKF_OMEGA] = mc_div(mc_sub(mc_sub(torque, mc_mul(m->fv_Nm_s, x[EKF_OMEGA])), x[EKF_M0]), m->J_kgm2);
     f[EKF_M0] = MC_ZERO;
 }
 
-mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e)
+mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e, const motor_model_t *m)
 {
     mc_t f[EKF_N];
-    ekf_f(&e->cfg, e->x, MC_ZERO, MC_ZERO, f);
+    ekf_f(m, e->x, MC_ZERO, MC_ZERO, f);
     return f[EKF_OMEGA];
 }
 
-void ekf_ipmsm_predict(ekf_ipmsm_t *e, mc_t u_d_V, mc_t u_q_V)
+void ekf_ipmsm_predict(ekf_ipmsm_t *e, const motor_model_t *m, mc_t u_d_V, mc_t u_q_V)
 {
     const ekf_ipmsm_config_t *c = &e->cfg;
-    const mc_t ts = c->ts_s;
+    const mc_t ts = m->ts_s;
     const mc_t *x = e->x;
     /* A_d = I + Ts F(x+) (the Jacobian at the a posteriori estimate) */
     mc_t A[EKF_N][EKF_N];
@@ -63,29 +63,29 @@ void ekf_ipmsm_predict(ekf_ipmsm_t *e, mc_t u_d_V, mc_t u_q_V)
             A[i][j] = (i == j) ? MC_ONE : MC_ZERO;
         }
     }
-    const mc_t w_el = mc_mul_i(x[EKF_OMEGA], c->p);
-    const mc_t k_t = mc_div(mc_mul_i(MC_C(1.5), c->p), c->J_kgm2); /* 3p/(2J) */
-    const mc_t dL = mc_sub(c->Ld_H, c->Lq_H);
-    A[EKF_ID][EKF_ID] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->R_ohm, c->Ld_H)));
-    A[EKF_ID][EKF_IQ] = mc_mul(ts, mc_div(mc_mul(c->Lq_H, w_el), c->Ld_H));
-    A[EKF_ID][EKF_OMEGA] = mc_mul(ts, mc_div(mc_mul_i(mc_mul(c->Lq_H, x[EKF_IQ]), c->p), c->Ld_H));
-    A[EKF_IQ][EKF_ID] = mc_neg(mc_mul(ts, mc_div(mc_mul(c->Ld_H, w_el), c->Lq_H)));
-    A[EKF_IQ][EKF_IQ] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->R_ohm, c->Lq_H)));
+    const mc_t w_el = mc_mul_i(x[EKF_OMEGA], m->n_p);
+    const mc_t k_t = mc_div(mc_mul_i(MC_C(1.5), m->n_p), m->J_kgm2); /* 3p/(2J) */
+    const mc_t dL = mc_sub(m->Ld_H, m->Lq_H);
+    A[EKF_ID][EKF_ID] = mc_sub(MC_ONE, mc_mul(ts, mc_div(m->R_ohm, m->Ld_H)));
+    A[EKF_ID][EKF_IQ] = mc_mul(ts, mc_div(mc_mul(m->Lq_H, w_el), m->Ld_H));
+    A[EKF_ID][EKF_OMEGA] = mc_mul(ts, mc_div(mc_mul_i(mc_mul(m->Lq_H, x[EKF_IQ]), m->n_p), m->Ld_H));
+    A[EKF_IQ][EKF_ID] = mc_neg(mc_mul(ts, mc_div(mc_mul(m->Ld_H, w_el), m->Lq_H)));
+    A[EKF_IQ][EKF_IQ] = mc_sub(MC_ONE, mc_mul(ts, mc_div(m->R_ohm, m->Lq_H)));
     A[EKF_IQ][EKF_OMEGA] =
-        mc_neg(mc_mul(ts, mc_div(mc_mul_i(mc_mac(c->psi_Wb, c->Ld_H, x[EKF_ID]), c->p), c->Lq_H)));
+        mc_neg(mc_mul(ts, mc_div(mc_mul_i(mc_mac(m->psi_Wb, m->Ld_H, x[EKF_ID]), m->n_p), m->Lq_H)));
     A[EKF_THETA][EKF_OMEGA] = ts;
     A[EKF_OMEGA][EKF_ID] = mc_mul(ts, mc_mul(k_t, mc_mul(dL, x[EKF_IQ])));
-    A[EKF_OMEGA][EKF_IQ] = mc_mul(ts, mc_mul(k_t, mc_mac(c->psi_Wb, dL, x[EKF_ID])));
-    A[EKF_OMEGA][EKF_OMEGA] = mc_sub(MC_ONE, mc_mul(ts, mc_div(c->d_Nms, c->J_kgm2)));
-    A[EKF_OMEGA][EKF_M0] = mc_neg(mc_div(ts, c->J_kgm2));
+    A[EKF_OMEGA][EKF_IQ] = mc_mul(ts, mc_mul(k_t, mc_mac(m->psi_Wb, dL, x[EKF_ID])));
+    A[EKF_OMEGA][EKF_OMEGA] = mc_sub(MC_ONE, mc_mul(ts, mc_div(m->fv_Nm_s, m->J_kgm2)));
+    A[EKF_OMEGA][EKF_M0] = mc_neg(mc_div(ts, m->J_kgm2));
 
     /* the state: Heun's method, x- = x + Ts/2 (f(x) + f(x + Ts f(x))) */
     mc_t f1[EKF_N], xe[EKF_N], f2[EKF_N];
-    ekf_f(c, x, u_d_V, u_q_V, f1);
+    ekf_f(m, x, u_d_V, u_q_V, f1);
     for (int i = 0; i < EKF_N; ++i) {
         xe[i] = mc_mac(x[i], ts, f1[i]);
     }
-    ekf_f(c, xe, u_d_V, u_q_V, f2);
+    ekf_f(m, xe, u_d_V, u_q_V, f2);
     const mc_t half_ts = mc_div_i(ts, 2);
     for (int i = 0; i < EKF_N; ++i) {
         e->x[i] = mc_mac(e->x[i], half_ts, mc_add(f1[i], f2[i]));

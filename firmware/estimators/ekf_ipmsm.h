@@ -23,6 +23,9 @@
  *  - C = [I_3 0] (errata: printed 3x4), R = diag(r_i, r_i, r_theta);
  *  - the angle innovation wrapped into [-pi, pi) and theta_hat kept
  *    there: an encoder's angle wraps, and float32 keeps its resolution.
+ * The motor (R, L_d, L_q, psi, n_p, J, f_v = d, Ts) is the drive's one
+ * model (model/motor_model.h), read by const pointer at every step; the
+ * config holds only the filter's own covariances and start.
  * Float: the fixed-point build compiles it but its design refuses it (the
  * covariances span more decades than Q14.17 holds: docs/paper002.md).
  */
@@ -32,6 +35,7 @@
 #include <stdbool.h>
 
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,10 +47,6 @@ extern "C" {
 enum { EKF_ID = 0, EKF_IQ = 1, EKF_THETA = 2, EKF_OMEGA = 3, EKF_M0 = 4 };
 
 typedef struct {
-    mc_t R_ohm, Ld_H, Lq_H, psi_Wb;   /* the motor model of (2), (6) */
-    int32_t p;                        /* pole pairs */
-    mc_t J_kgm2, d_Nms;               /* (7) */
-    mc_t ts_s;
     mc_t q[EKF_N];                    /* Q_KF = diag(q) (39), > 0 */
     mc_t r[EKF_M];                    /* R_KF = diag(r) (41), > 0 */
     mc_t p0[EKF_N];                   /* P+(0) = diag(p0), > 0 */
@@ -61,9 +61,10 @@ typedef struct {
     bool spd_ok;                      /* S's Cholesky factor existed at every correction (false stays false) */
 } ekf_ipmsm_t;
 
-/* Checks the configuration (every q, r, p0 > 0, inductances, J, Ts > 0,
- * p >= 1); false leaves the filter unusable. */
-bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg);
+/* Checks the configuration (every q, r, p0 > 0) and the motor m
+ * (inductances, J, Ts > 0, R, psi, f_v >= 0, n_p >= 1); false leaves the
+ * filter unusable. */
+bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg, const motor_model_t *m);
 
 /* (40)-(44) with the measurement of this sample: the a posteriori
  * estimate. False if S lost positive definiteness: x, P and innovation
@@ -72,11 +73,11 @@ bool ekf_ipmsm_correct(ekf_ipmsm_t *e, mc_t i_d_A, mc_t i_q_A, mc_t theta_rad);
 
 /* (38)-(39): the a priori estimate of the next sample, the voltages u_d,
  * u_q held over it. */
-void ekf_ipmsm_predict(ekf_ipmsm_t *e, mc_t u_d_V, mc_t u_q_V);
+void ekf_ipmsm_predict(ekf_ipmsm_t *e, const motor_model_t *m, mc_t u_d_V, mc_t u_q_V);
 
 /* The model's acceleration dw/dt at the estimate, from (37)'s fourth row
  * (SOSMC needs it: the speed's derivative is not measured, errata). */
-mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e);
+mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e, const motor_model_t *m);
 
 #ifdef __cplusplus
 }

@@ -62,9 +62,11 @@ std::vector<std::string> keys_of(const Table& t)
     return k;
 }
 
-drive_motor_si_t to_design_motor(const MotorParams& m)
+// The one design input for the motor (design/motor_design.h), the same
+// for every design.
+motor_design_input_t to_design_motor(const MotorParams& m)
 {
-    drive_motor_si_t d;
+    motor_design_input_t d;
     d.L_H = m.L_H;
     d.R_ohm = m.R_ohm;
     d.K_Nm_per_A = m.K_Nm_per_A;
@@ -72,6 +74,8 @@ drive_motor_si_t to_design_motor(const MotorParams& m)
     d.fv_Nms_per_rad = m.fv_Nms_per_rad;
     d.n_p = m.n_p;
     d.coulomb_Nm = m.coulomb_Nm;
+    d.n_phases = m.n_phases();
+    d.L_q_H = m.L_q();
     return d;
 }
 
@@ -188,13 +192,7 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
 {
     *in = p001_design_input_t{};
     p001_design_defaults(in);
-    const MotorParams& m = sc.drive_model;
-    in->motor.n_phases = m.n_phases();
-    in->motor.R_ohm = m.R_ohm;
-    in->motor.L_H = m.L_H;
-    in->motor.Phi_Wb = m.Phi_Wb();
-    in->motor.n_p = m.n_p;
-    in->motor.J_kgm2 = m.J_kgm2;
+    in->motor = to_design_motor(sc.drive_model);
     in->ts_s = sc.ts_s;
     in->i_max_A = sc.i_max_A;
     in->i_trip_A = sc.i_trip_A;
@@ -239,14 +237,7 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
 void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
 {
     p002_design_defaults(in);
-    const MotorParams& m = sc.drive_model;
-    in->R_ohm = m.R_ohm;
-    in->Ld_H = m.L_H;
-    in->Lq_H = m.L_q();
-    in->psi_Wb = m.Phi_Wb();
-    in->J_kgm2 = m.J_kgm2;
-    in->d_Nms = m.fv_Nms_per_rad;
-    in->p = m.n_p;
+    in->motor = to_design_motor(sc.drive_model);
     in->ts_s = sc.ts_s;
     in->i_max_A = sc.i_max_A;
     in->i_trip_A = sc.i_trip_A;

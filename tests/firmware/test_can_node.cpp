@@ -30,7 +30,7 @@ bool init_position(paper000_drive_t* d)
 {
     drive_design_input_t in;
     drive_design_defaults(&in);
-    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752, 2, 9e-3};
     in.ts_s = 1e-4;
     in.v_max_V = 30.0;
     in.i_max_A = 3.0;
@@ -240,7 +240,7 @@ TEST(CanNode, PositionDriveStopKeepsTheMoveInProgress)
     static paper000_drive_t d;
     drive_design_input_t in;
     drive_design_defaults(&in);
-    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752, 2, 9e-3};
     in.ts_s = 1e-4;
     in.v_max_V = 30.0;
     in.i_max_A = 3.0;

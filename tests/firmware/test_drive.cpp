@@ -23,7 +23,7 @@ drive_design_input_t paper_input()
     drive_design_defaults(&in);
     // the rig of section 5.3 (sim/motors/paper000_stepper.toml) and the
     // supply and limits of sim/scenarios/paper000_*.toml
-    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+    in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752, 2, 9e-3};
     in.ts_s = 1e-4;
     in.v_max_V = 30.0;
     in.i_max_A = 3.0;

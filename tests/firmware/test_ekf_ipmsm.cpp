@@ -25,6 +25,23 @@ constexpr int kP = 4;
 constexpr double kSigI = 5e-3, kSigTh = 1e-4;
 constexpr double kPi = 3.14159265358979323846;
 
+// The motor as the drive's one model (model/motor_model.h) holds it: the
+// fields the EKF reads.
+motor_model_t ekf_motor(double d)
+{
+    motor_model_t m{};
+    m.R_ohm = mc_from_double(kR);
+    m.L_H = m.Ld_H = mc_from_double(kLd);
+    m.Lq_H = mc_from_double(kLq);
+    m.psi_Wb = mc_from_double(kPsi);
+    m.n_p = kP;
+    m.J_kgm2 = mc_from_double(kJ);
+    m.fv_Nm_s = mc_from_double(d);
+    m.ts_s = mc_from_double(kTs);
+    m.fs_hz = 10000;
+    return m;
+}
+
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 
@@ -114,14 +131,7 @@ TEST(EkfIpmsm, EqualsTheEigenReferenceAndTracks)
     const double r[3] = {kSigI * kSigI, kSigI * kSigI, kSigTh * kSigTh};
     const double p0[5] = {1e-3, 1e-3, 1e-6, 1.0, 1e-2};
     ekf_ipmsm_config_t cfg{};
-    cfg.R_ohm = mc_from_double(kR);
-    cfg.Ld_H = mc_from_double(kLd);
-    cfg.Lq_H = mc_from_double(kLq);
-    cfg.psi_Wb = mc_from_double(kPsi);
-    cfg.p = kP;
-    cfg.J_kgm2 = mc_from_double(kJ);
-    cfg.d_Nms = mc_from_double(kD);
-    cfg.ts_s = mc_from_double(kTs);
+    const motor_model_t mm = ekf_motor(kD);
     RefEkf ref;
     ref.x = Vec5::Zero();
     ref.P = Mat5::Zero();
@@ -138,7 +148,7 @@ TEST(EkfIpmsm, EqualsTheEigenReferenceAndTracks)
         ref.R(i, i) = r[i];
     }
     ekf_ipmsm_t ekf;
-    ASSERT_TRUE(ekf_ipmsm_init(&ekf, &cfg));
+    ASSERT_TRUE(ekf_ipmsm_init(&ekf, &cfg, &mm));
     Truth truth;
     std::mt19937_64 rng(7);
     std::normal_distribution<double> n01(0.0, 1.0);
@@ -170,7 +180,7 @@ TEST(EkfIpmsm, EqualsTheEigenReferenceAndTracks)
         // the voltages: field-oriented on the true angle, u_q ramping to 4 V
         const double uq = std::fmin(4.0, 4.0 * k / 3000.0), ud = -0.5;
         const double load = k >= 5000 ? 0.3 : 0.0;
-        ekf_ipmsm_predict(&ekf, mc_from_double(ud), mc_from_double(uq));
+        ekf_ipmsm_predict(&ekf, &mm, mc_from_double(ud), mc_from_double(uq));
         ref.predict(ud, uq);
         truth.step(ud, uq, load);
     }
@@ -195,36 +205,22 @@ TEST(EkfIpmsm, EqualsTheEigenReferenceAndTracks)
 TEST(EkfIpmsm, RefusesANonPositiveCovariance)
 {
     ekf_ipmsm_config_t cfg{};
-    cfg.R_ohm = mc_from_double(kR);
-    cfg.Ld_H = mc_from_double(kLd);
-    cfg.Lq_H = mc_from_double(kLq);
-    cfg.psi_Wb = mc_from_double(kPsi);
-    cfg.p = kP;
-    cfg.J_kgm2 = mc_from_double(kJ);
-    cfg.ts_s = mc_from_double(kTs);
+    motor_model_t mm = ekf_motor(0.0);
     for (int i = 0; i < 5; ++i) cfg.q[i] = cfg.p0[i] = mc_from_double(1e-3);
     for (int i = 0; i < 3; ++i) cfg.r[i] = mc_from_double(1e-3);
     ekf_ipmsm_t e;
-    EXPECT_TRUE(ekf_ipmsm_init(&e, &cfg));
+    EXPECT_TRUE(ekf_ipmsm_init(&e, &cfg, &mm));
     cfg.r[2] = MC_ZERO;
-    EXPECT_FALSE(ekf_ipmsm_init(&e, &cfg));
+    EXPECT_FALSE(ekf_ipmsm_init(&e, &cfg, &mm));
     cfg.r[2] = mc_from_double(1e-3);
-    cfg.Lq_H = MC_ZERO;
-    EXPECT_FALSE(ekf_ipmsm_init(&e, &cfg));
+    mm.Lq_H = MC_ZERO;
+    EXPECT_FALSE(ekf_ipmsm_init(&e, &cfg, &mm));
 }
 
 namespace {
-ekf_ipmsm_config_t ekf_cfg(double d, const double (&q)[5], const double (&r)[3], const double (&p0)[5])
+ekf_ipmsm_config_t ekf_cfg(const double (&q)[5], const double (&r)[3], const double (&p0)[5])
 {
     ekf_ipmsm_config_t cfg{};
-    cfg.R_ohm = mc_from_double(kR);
-    cfg.Ld_H = mc_from_double(kLd);
-    cfg.Lq_H = mc_from_double(kLq);
-    cfg.psi_Wb = mc_from_double(kPsi);
-    cfg.p = kP;
-    cfg.J_kgm2 = mc_from_double(kJ);
-    cfg.d_Nms = mc_from_double(d);
-    cfg.ts_s = mc_from_double(kTs);
     for (int i = 0; i < 5; ++i) {
         cfg.q[i] = mc_from_double(q[i]);
         cfg.p0[i] = mc_from_double(p0[i]);
@@ -260,9 +256,10 @@ TEST(EkfIpmsm, EachPredictAndCorrectEqualTheEigenReferenceOnTheCovariance)
     const double q[5] = {1e-4, 1e-4, 1e-12, 1e-3, 1e-5};
     const double r[3] = {kSigI * kSigI, kSigI * kSigI, kSigTh * kSigTh};
     const double p0[5] = {1e-3, 1e-3, 1e-6, 1.0, 1e-2};
-    const ekf_ipmsm_config_t cfg = ekf_cfg(kFriction, q, r, p0);
+    const ekf_ipmsm_config_t cfg = ekf_cfg(q, r, p0);
+    const motor_model_t mm = ekf_motor(kFriction);
     ekf_ipmsm_t ekf;
-    ASSERT_TRUE(ekf_ipmsm_init(&ekf, &cfg));
+    ASSERT_TRUE(ekf_ipmsm_init(&ekf, &cfg, &mm));
     RefEkf ref;
     ref.d = kFriction;
     ref.Q = Mat5::Zero();
@@ -311,7 +308,7 @@ TEST(EkfIpmsm, EachPredictAndCorrectEqualTheEigenReferenceOnTheCovariance)
         const double uq = std::fmin(4.0, 4.0 * k / 1000.0), ud = -0.5;
         const double tl = k >= 2000 ? 0.1 : 0.0;
         load();
-        ekf_ipmsm_predict(&ekf, mc_from_double(ud), mc_from_double(uq));
+        ekf_ipmsm_predict(&ekf, &mm, mc_from_double(ud), mc_from_double(uq));
         ref.predict(mc_to_double(mc_from_double(ud)), mc_to_double(mc_from_double(uq)));
         compare(1, k);
         if (HasFatalFailure()) return;
@@ -342,12 +339,13 @@ TEST(EkfIpmsm, FailedCholeskyLeavesTheEstimateAndCovariance)
     const double q[5] = {1e-3, 1e-3, 1e-3, 1e-3, 1e-3};
     const double r[3] = {1e-3, 1e-3, 1e-3};
     const double p0[5] = {1e-2, 1e-2, 1e-2, 1.0, 1e-1};
-    const ekf_ipmsm_config_t cfg = ekf_cfg(kD, q, r, p0);
+    const ekf_ipmsm_config_t cfg = ekf_cfg(q, r, p0);
+    const motor_model_t mm = ekf_motor(kD);
     ekf_ipmsm_t good;
-    ASSERT_TRUE(ekf_ipmsm_init(&good, &cfg));
+    ASSERT_TRUE(ekf_ipmsm_init(&good, &cfg, &mm));
     for (int k = 0; k < 5; ++k) {
         ASSERT_TRUE(ekf_ipmsm_correct(&good, mc_from_double(0.1 * k), mc_from_double(0.5), mc_from_double(0.01 * k)));
-        ekf_ipmsm_predict(&good, mc_from_double(-0.5), mc_from_double(2.0));
+        ekf_ipmsm_predict(&good, &mm, mc_from_double(-0.5), mc_from_double(2.0));
     }
     ASSERT_TRUE(good.spd_ok);
     ASSERT_NE(mc_to_double(good.x[EKF_OMEGA]), 0.0);
@@ -396,10 +394,11 @@ TEST(EkfIpmsm, AngleInnovationWrapsAcrossPi)
 #endif
     const double q[5] = {1e-4, 1e-4, 1e-12, 1e-3, 1e-5}, r[3] = {1e-4, 1e-4, 1e-8}, p0[5] = {1e-3, 1e-3, 1e-6, 1.0, 1e-2};
     for (const double dir : {1.0, -1.0}) {
-        ekf_ipmsm_config_t cfg = ekf_cfg(kD, q, r, p0);
+        ekf_ipmsm_config_t cfg = ekf_cfg(q, r, p0);
+        const motor_model_t mm = ekf_motor(kD);
         cfg.x0[EKF_THETA] = mc_from_double(dir * (kPi - 1e-3));
         ekf_ipmsm_t e;
-        ASSERT_TRUE(ekf_ipmsm_init(&e, &cfg));
+        ASSERT_TRUE(ekf_ipmsm_init(&e, &cfg, &mm));
         const double th0 = mc_to_double(e.x[EKF_THETA]);
         ASSERT_TRUE(ekf_ipmsm_correct(&e, MC_ZERO, MC_ZERO, mc_from_double(-dir * (kPi - 1e-3))));
         // float: pi - 1e-3 is held to 2.4e-7 rad, the wrap adds 2.4e-7

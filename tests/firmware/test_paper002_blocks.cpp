@@ -23,9 +23,31 @@ constexpr double kTol = 2e-3;  // Q14.17 arithmetic
 #else
 constexpr double kTol = 1e-4;
 #endif
-mtpa_config_t mtpa_cfg(double Ld, double Lq)
+mtpa_config_t mtpa_cfg() { return mtpa_config_t{M(20.0)}; }
+// ibcc_step with its two voltages in two variables
+void ibcc_run(ibcc_t* s, const ibcc_config_t* c, const motor_model_t* m, mc_t i_dd, mc_t i_qd, mc_t i_d, mc_t i_q,
+              mc_t w, mc_t u_max, mc_t* u_d, mc_t* u_q)
 {
-    return mtpa_config_t{M(Ld), M(Lq), M(kPsi), kP, M(20.0)};
+    ibcc_out_t o;
+    ibcc_step(s, c, m, i_dd, i_qd, i_d, i_q, w, u_max, &o);
+    *u_d = o.u_d_V;
+    *u_q = o.u_q_V;
+}
+// The motor as the drive's one model (model/motor_model.h) holds it: the
+// fields these blocks read.
+motor_model_t motor(double Ld, double Lq, double ts = kTs)
+{
+    motor_model_t m{};
+    m.n_p = kP;
+    m.fs_hz = static_cast<int32_t>(std::lround(1.0 / ts));
+    m.ts_s = M(ts);
+    m.R_ohm = M(kR);
+    m.L_H = m.Ld_H = M(Ld);
+    m.Lq_H = M(Lq);
+    m.psi_Wb = M(kPsi);
+    m.J_kgm2 = M(kJ);
+    m.fv_Nm_s = M(kD);
+    return m;
 }
 }  // namespace
 
@@ -33,10 +55,11 @@ mtpa_config_t mtpa_cfg(double Ld, double Lq)
 // a scan of i_d at the same torque finds no smaller |i|.
 TEST(Mtpa, InvertsTheTorqueOnTheMtpaCurve)
 {
-    const mtpa_config_t c = mtpa_cfg(kLd, kLq);
+    const mtpa_config_t c = mtpa_cfg();
+    const motor_model_t mm = motor(kLd, kLq);
     for (double Md : {0.05, 0.5, 1.0, 2.0, -0.7}) {
         mtpa_out_t o;
-        mtpa_step(&c, M(Md), &o);
+        mtpa_step(&c, &mm, M(Md), &o);
         const double id = D(o.i_d_A), iq = D(o.i_q_A);
         EXPECT_NEAR(1.5 * kP * (kPsi * iq + (kLd - kLq) * id * iq), Md, kTol * (1.0 + std::fabs(Md))) << Md;
         const double a = kPsi / (kLd - kLq);
@@ -56,13 +79,14 @@ TEST(Mtpa, InvertsTheTorqueOnTheMtpaCurve)
 
 TEST(Mtpa, NonSalientAndLimited)
 {
-    const mtpa_config_t c = mtpa_cfg(kLd, kLd);
+    const mtpa_config_t c = mtpa_cfg();
+    const motor_model_t mm_ns = motor(kLd, kLd);
     mtpa_out_t o;
-    mtpa_step(&c, M(0.6), &o);
+    mtpa_step(&c, &mm_ns, M(0.6), &o);
     EXPECT_EQ(D(o.i_d_A), 0.0);
     EXPECT_NEAR(D(o.i_q_A), 0.6 / (1.5 * kP * kPsi), kTol * 5);
-    const mtpa_config_t s = mtpa_cfg(kLd, kLq);
-    mtpa_step(&s, M(50.0), &o);  // far beyond 20 A
+    const motor_model_t mm = motor(kLd, kLq);
+    mtpa_step(&c, &mm, M(50.0), &o);  // far beyond 20 A
     EXPECT_TRUE(o.limited);
     EXPECT_NEAR(std::hypot(D(o.i_d_A), D(o.i_q_A)), 20.0, 0.01);
     EXPECT_GT(D(o.i_q_A), 0.0);
@@ -73,23 +97,24 @@ TEST(Mtpa, NonSalientAndLimited)
 // decays as exp(-lambda t); the bus's limit holds.
 TEST(Ibcc, SteadyVoltagesAndFirstOrderErrorDecay)
 {
-    const ibcc_config_t c{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, MC_ONE};
+    const motor_model_t mi = motor(kLd, kLq);
+    const ibcc_config_t c{M(1000.0), MC_ONE};
     ibcc_t s;
-    ASSERT_TRUE(ibcc_init(&s, &c));
+    ASSERT_TRUE(ibcc_init(&s, &c, &mi));
     mc_t ud, uq;
     const double w = 50.0, id = -1.0, iq = 3.0;
-    ibcc_step(&s, &c, M(id), M(iq), M(id), M(iq), M(w), M(100.0), &ud, &uq);
-    ibcc_step(&s, &c, M(id), M(iq), M(id), M(iq), M(w), M(100.0), &ud, &uq);
+    ibcc_run(&s, &c, &mi, M(id), M(iq), M(id), M(iq), M(w), M(100.0), &ud, &uq);
+    ibcc_run(&s, &c, &mi, M(id), M(iq), M(id), M(iq), M(w), M(100.0), &ud, &uq);
     EXPECT_NEAR(D(ud), kR * id - kLq * kP * w * iq, 1e-3 + 100 * kTol);
     EXPECT_NEAR(D(uq), kR * iq + kLd * kP * w * id + kPsi * kP * w, 1e-3 + 100 * kTol);
     // closed loop on the dq model (explicit Euler, 10 substeps), step of i_qd
     ibcc_t t;
-    ASSERT_TRUE(ibcc_init(&t, &c));
+    ASSERT_TRUE(ibcc_init(&t, &c, &mi));
     double x_d = 0.0, x_q = 0.0;
-    ibcc_step(&t, &c, M(0.0), M(2.0), M(0.0), M(0.0), M(w), M(100.0), &ud, &uq);  // seeds the reference derivative
-    ASSERT_TRUE(ibcc_init(&t, &c));
+    ibcc_run(&t, &c, &mi, M(0.0), M(2.0), M(0.0), M(0.0), M(w), M(100.0), &ud, &uq);  // seeds the reference derivative
+    ASSERT_TRUE(ibcc_init(&t, &c, &mi));
     for (int k = 0; k < 10; ++k) {  // 1 ms = 1/lambda
-        ibcc_step(&t, &c, M(0.0), M(2.0), M(x_d), M(x_q), M(w), M(100.0), &ud, &uq);
+        ibcc_run(&t, &c, &mi, M(0.0), M(2.0), M(x_d), M(x_q), M(w), M(100.0), &ud, &uq);
         for (int n = 0; n < 10; ++n) {
             const double h = kTs / 10, we = kP * w;
             const double dxd = (D(ud) - kR * x_d + kLq * we * x_q) / kLd;
@@ -104,11 +129,11 @@ TEST(Ibcc, SteadyVoltagesAndFirstOrderErrorDecay)
     // sample before the compensation (sampled) catches it: about Ts L_q p w
     // di_q / L_d = 0.012 A per 0.2 A step of i_q, decaying
     EXPECT_NEAR(x_d, 0.0, 0.05);
-    ibcc_step(&t, &c, M(0.0), M(20.0), M(0.0), M(0.0), M(w), M(5.0), &ud, &uq);
+    ibcc_run(&t, &c, &mi, M(0.0), M(20.0), M(0.0), M(0.0), M(w), M(5.0), &ud, &uq);
     EXPECT_LE(std::hypot(D(ud), D(uq)), 5.0 + 1e-3);
     EXPECT_TRUE(t.saturated);
-    const ibcc_config_t too_fast{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(6000.0), 10000, MC_ONE};
-    EXPECT_FALSE(ibcc_init(&t, &too_fast)) << "lambda Ts 0.6 > 0.5";
+    const ibcc_config_t too_fast{M(6000.0), MC_ONE};
+    EXPECT_FALSE(ibcc_init(&t, &too_fast, &mi)) << "lambda Ts 0.6 > 0.5";
 }
 
 // The references' prefilter: a 1 A step of i_qd at standstill (i = 0)
@@ -117,25 +142,26 @@ TEST(Ibcc, SteadyVoltagesAndFirstOrderErrorDecay)
 // 1 - (1 - alpha)^k; alpha outside (0, 1] is refused.
 TEST(Ibcc, ReferencePrefilterLimitsTheFeedForward)
 {
+    const motor_model_t mi = motor(kLd, kLq);
     for (const double alpha : {1.0, 0.2}) {
-        const ibcc_config_t c{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, M(alpha)};
+        const ibcc_config_t c{M(1000.0), M(alpha)};
         ibcc_t s;
-        ASSERT_TRUE(ibcc_init(&s, &c));
+        ASSERT_TRUE(ibcc_init(&s, &c, &mi));
         mc_t ud, uq;
-        ibcc_step(&s, &c, M(0.0), M(0.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
-        ibcc_step(&s, &c, M(0.0), M(1.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
+        ibcc_run(&s, &c, &mi, M(0.0), M(0.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
+        ibcc_run(&s, &c, &mi, M(0.0), M(1.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
         EXPECT_NEAR(D(uq), kLq * alpha * (1.0 / kTs + 1000.0), 100.0 * kTol) << "alpha " << alpha;
         EXPECT_NEAR(D(ud), 0.0, kTol);
         for (int k = 2; k <= 5; ++k) {
-            ibcc_step(&s, &c, M(0.0), M(1.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
+            ibcc_run(&s, &c, &mi, M(0.0), M(1.0), M(0.0), M(0.0), M(0.0), M(200.0), &ud, &uq);
         }
         EXPECT_NEAR(D(s.i_qd_prev_A), 1.0 - std::pow(1.0 - alpha, 5), kTol) << "alpha " << alpha;
     }
     ibcc_t s;
-    const ibcc_config_t zero{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, M(0.0)};
-    EXPECT_FALSE(ibcc_init(&s, &zero));
-    const ibcc_config_t above{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(1000.0), 10000, M(1.5)};
-    EXPECT_FALSE(ibcc_init(&s, &above));
+    const ibcc_config_t zero{M(1000.0), M(0.0)};
+    EXPECT_FALSE(ibcc_init(&s, &zero, &mi));
+    const ibcc_config_t above{M(1000.0), M(1.5)};
+    EXPECT_FALSE(ibcc_init(&s, &above, &mi));
 }
 
 TEST(Smc, TanhWithinAMillionthOfLibm)
@@ -186,24 +212,25 @@ double track(Ctrl ctrl, double load_Nm, bool give_load)
 // the load) lowers the error.
 TEST(Smc, SosmcAndHtsmcTrackAndCompensationHelps)
 {
+    const motor_model_t mi = motor(kLd, kLq);
     double rs[2] = {0, 0}, rh[2] = {0, 0};
     for (bool dc : {true, false}) {
-        sosmc_config_t sc{M(kJ), M(kD), M(200.0), M(1e4), M(1e4), M(50.0), M(5.0), dc, M(kTs)};
+        sosmc_config_t sc{M(200.0), M(1e4), M(1e4), M(50.0), M(5.0), dc};
         sosmc_t s;
-        ASSERT_TRUE(sosmc_init(&s, &sc));
+        ASSERT_TRUE(sosmc_init(&s, &sc, &mi));
         const double r_s = track(
             [&](double wd, double dwd, double w, double a_hat, double M0) {
-                return D(sosmc_step(&s, &sc, M(wd), M(dwd), M(w), M(a_hat), M(M0)));
+                return D(sosmc_step(&s, &sc, &mi, M(wd), M(dwd), M(w), M(a_hat), M(M0)));
             },
             0.5, dc);
-        htsmc_config_t hc{M(kJ), M(kD), M(200.0), M(2e3), M(4e3), M(40.0), M(0.5), M(5.0), M(5000.0), M(0.5),
-                          M(5.0), dc, M(kTs)};
+        htsmc_config_t hc{M(200.0), M(2e3), M(4e3), M(40.0), M(0.5), M(5.0), M(5000.0), M(0.5),
+                          M(5.0), dc};
         htsmc_t h;
-        ASSERT_TRUE(htsmc_init(&h, &hc));
+        ASSERT_TRUE(htsmc_init(&h, &hc, &mi));
         const double r_h = track(
             [&](double wd, double dwd, double w, double a, double M0) {
                 (void)a;
-                return D(htsmc_step(&h, &hc, M(wd), M(dwd), M(w), M(M0)));
+                return D(htsmc_step(&h, &hc, &mi, M(wd), M(dwd), M(w), M(M0)));
             },
             0.5, dc);
         std::printf("dc %d: RMS speed error SOSMC %.4g rad/s, HTSMC %.4g rad/s\n", dc, r_s, r_h);
@@ -306,7 +333,8 @@ TEST(Mtpa, NegativeTorqueOnTheCurveLimitedAndOdd)
 #else
     constexpr double tol = 2e-4, tolM = 2.5e-4;
 #endif
-    const mtpa_config_t c = mtpa_cfg(kLd, kLq);
+    const mtpa_config_t c = mtpa_cfg();
+    const motor_model_t mm = motor(kLd, kLq);
     const MtpaRef ref{Q(kLd), Q(kLq), Q(kPsi), Q(20.0), kP};
     const double m_at_limit = 1.5 * kP * ref.iq_at_limit() * (ref.psi + (ref.Ld - ref.Lq) * ref.id_of(ref.iq_at_limit()));
     ASSERT_NEAR(m_at_limit, 10.77, 0.01);
@@ -316,7 +344,7 @@ TEST(Mtpa, NegativeTorqueOnTheCurveLimitedAndOdd)
         const double Mabs = std::fabs(rnd(1.5 * m_at_limit));
         for (const double Md : {-Mabs, Mabs}) {
             mtpa_out_t o;
-            mtpa_step(&c, M(Md), &o);
+            mtpa_step(&c, &mm, M(Md), &o);
             const double id = D(o.i_d_A), iq = D(o.i_q_A);
             const double iq_u = ref.iq_of_torque(Md);
             const double i_u = std::hypot(ref.id_of(iq_u), iq_u);
@@ -345,8 +373,8 @@ TEST(Mtpa, NegativeTorqueOnTheCurveLimitedAndOdd)
         // odd in the torque: float negates exactly (bit-exact), Q14.17's
         // products round ties up (a few LSB)
         mtpa_out_t pos, neg;
-        mtpa_step(&c, M(Mabs), &pos);
-        mtpa_step(&c, M(-Mabs), &neg);
+        mtpa_step(&c, &mm, M(Mabs), &pos);
+        mtpa_step(&c, &mm, M(-Mabs), &neg);
 #if MC_FIXED
         ASSERT_NEAR(D(neg.i_q_A), -D(pos.i_q_A), 1e-4) << Mabs;
         ASSERT_NEAR(D(neg.i_d_A), D(pos.i_d_A), 1e-4) << Mabs;
@@ -382,6 +410,7 @@ TEST(Mtpa, NegativeTorqueOnTheCurveLimitedAndOdd)
 // float) are counted and must stay rare.
 TEST(Sosmc, EachStepFollowsEq27And28WithTheLimitOnBothSides)
 {
+    const motor_model_t mi = motor(kLd, kLq);
 #if MC_FIXED
     constexpr double tM = 5e-5, tS = 1e-3, tIe = 2e-5, tIt = 2e-5, kRel = 0.0;
 #else
@@ -389,11 +418,11 @@ TEST(Sosmc, EachStepFollowsEq27And28WithTheLimitOnBothSides)
 #endif
     Lcg rnd(2602u);
     for (const bool dc : {true, false}) {
-        const sosmc_config_t c{M(kJ), M(kD), M(200.0), M(4096.0), M(4096.0), M(500.0), M(1.0), dc, M(kTs)};
+        const sosmc_config_t c{M(200.0), M(4096.0), M(4096.0), M(500.0), M(1.0), dc};
         const double J = Q(kJ), d = Q(kD), a0 = Q(200.0), aI = Q(4096.0), eta = Q(4096.0), eps = Q(500.0), Mmax = Q(1.0),
                      ts = Q(kTs);
         sosmc_t s;
-        ASSERT_TRUE(sosmc_init(&s, &c));
+        ASSERT_TRUE(sosmc_init(&s, &c, &mi));
         int pos_frozen = 0, pos_free = 0, neg_frozen = 0, neg_free = 0, unlimited = 0, unsure = 0;
         for (int k = 0; k < 3000; ++k) {
             const double ie = D(s.int_err), it = D(s.int_torque);
@@ -413,7 +442,7 @@ TEST(Sosmc, EachStepFollowsEq27And28WithTheLimitOnBothSides)
             const double rate = J * (aI * e + eta * std::tanh(sv / eps));
             const bool lim = std::fabs(Mc) > Mmax;
             const bool frozen = lim && Mc * rate > 0.0;
-            const double M_blk = D(sosmc_step(&s, &c, M(wd), M(dwd), M(w), M(a), M(M0)));
+            const double M_blk = D(sosmc_step(&s, &c, &mi, M(wd), M(dwd), M(w), M(a), M(M0)));
             ASSERT_NEAR(D(s.s), sv, tS) << k;
             ASSERT_NEAR(M_blk, Mout, tM) << k << " M " << Mc;
             if (std::fabs(std::fabs(Mc) - Mmax) < 2.0 * tM || std::fabs(rate) < 1e-4) {
@@ -472,12 +501,12 @@ TEST(Htsmc, EachStepFollowsEq29Eq30AndTheTwistingRatesOf35)
     for (const double rho : {0.5, 0.25}) {
         for (const bool dc : {true, false}) {
             const double ts_ = 1e-3;
-            const htsmc_config_t c{M(kJ),  M(kD),  M(100.0), M(5e3), M(1e4), M(20.0), M(rho),
-                                   M(0.5), M(50.0), M(0.5),  M(1.2), dc,     M(ts_)};
+            const htsmc_config_t c{M(100.0), M(5e3), M(1e4), M(20.0), M(rho), M(0.5), M(50.0), M(0.5), M(1.2), dc};
+            const motor_model_t mi = motor(kLd, kLq, ts_);
             const double J = Q(kJ), d = Q(kD), aI = Q(100.0), am = Q(5e3), aM = Q(1e4), lam = Q(20.0), s0 = Q(0.5),
                          nu_max = Q(50.0), eps = Q(0.5), Mmax = Q(1.2), ts = Q(ts_);
             htsmc_t h;
-            ASSERT_TRUE(htsmc_init(&h, &c));
+            ASSERT_TRUE(htsmc_init(&h, &c, &mi));
             int bounded = 0, twist_m = 0, twist_M = 0, unsure = 0, clamped_neg = 0, clamped_pos = 0;
             for (int k = 0; k < 3000; ++k) {
                 const double ie = D(h.int_err), nu1 = D(h.nu1), s_prev = D(h.s_prev);
@@ -496,7 +525,7 @@ TEST(Htsmc, EachStepFollowsEq29Eq30AndTheTwistingRatesOf35)
                 const double Mout = std::fmin(Mmax, std::fmax(-Mmax, Mc));
                 // (35): the candidates for nu1's rate
                 const double r_bound = -nu, r_m = -am * sg, r_M = -aM * sg;
-                const double M_blk = D(htsmc_step(&h, &c, M(wd), M(dwd), M(w), M(M0)));
+                const double M_blk = D(htsmc_step(&h, &c, &mi, M(wd), M(dwd), M(w), M(M0)));
                 ASSERT_NEAR(D(h.s), sv, tS) << k;
                 ASSERT_NEAR(M_blk, Mout, tM) << k;
                 clamped_neg += Mc < -Mmax - tM;
@@ -561,21 +590,22 @@ TEST(Htsmc, EachStepFollowsEq29Eq30AndTheTwistingRatesOf35)
 // 200 V): plus 4e-6 |u| (float 1e-7 |u|).
 TEST(Ibcc, EachStepFollowsEq9WithTheCouplingAndTheLimit)
 {
+    const motor_model_t mi = motor(kLd, kLq);
 #if MC_FIXED
     constexpr double tU = 8e-3, tI = 2e-5, kScale = 4e-6;
 #else
     constexpr double tU = 1e-4, tI = 3e-6, kScale = 1e-7;
 #endif
-    const ibcc_config_t c{M(kR), M(kLd), M(kLq), M(kPsi), kP, M(500.0), 10000, M(0.25)};
+    const ibcc_config_t c{M(500.0), M(0.25)};
     const double R = Q(kR), Ld = Q(kLd), Lq = Q(kLq), psi = Q(kPsi), lam = Q(500.0), al = Q(0.25), fs = 10000.0;
     ibcc_t s;
-    ASSERT_TRUE(ibcc_init(&s, &c));
+    ASSERT_TRUE(ibcc_init(&s, &c, &mi));
     Lcg rnd(909u);
     double rd = 0.0, rq = 0.0;
     int sat = 0, unlim = 0, neg_w = 0, unsure = 0;
     for (int k = 0; k < 3000; ++k) {
         if (k % 1000 == 0) {
-            ASSERT_TRUE(ibcc_init(&s, &c));  // the first step again
+            ASSERT_TRUE(ibcc_init(&s, &c, &mi));  // the first step again
         }
         rd = std::fmax(-6.0, std::fmin(6.0, rd + (k % 50 == 0 ? rnd(2.0) : rnd(0.3))));
         rq = std::fmax(-6.0, std::fmin(6.0, rq + (k % 50 == 25 ? rnd(2.0) : rnd(0.3))));
@@ -597,7 +627,7 @@ TEST(Ibcc, EachStepFollowsEq9WithTheCouplingAndTheLimit)
             uq *= umax / mag;
         }
         mc_t u_d, u_q;
-        ibcc_step(&s, &c, M(rd), M(rq), M(id), M(iq), M(w), M(umax), &u_d, &u_q);
+        ibcc_run(&s, &c, &mi, M(rd), M(rq), M(id), M(iq), M(w), M(umax), &u_d, &u_q);
         ASSERT_NEAR(D(s.i_dd_prev_A), fd, tI) << k;
         ASSERT_NEAR(D(s.i_qd_prev_A), fq, tI) << k;
         ASSERT_NEAR(D(u_d), ud, tol) << k << " w " << w << " i " << id << " " << iq << " |u| " << mag;

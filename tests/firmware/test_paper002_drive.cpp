@@ -210,7 +210,7 @@ TEST(Paper002Design, RefusesBadInputNamingTheKey)
     EXPECT_NE(std::string(err).find("needs the float build"), std::string::npos) << err;
 #else
     EXPECT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
-    in.Lq_H = 0.0;
+    in.motor.L_q_H = 0.0;
     EXPECT_FALSE(p002_design(&in, &c, err, sizeof err));
     EXPECT_NE(std::string(err).find("motor.L_q_H"), std::string::npos) << err;
     p002_design_defaults(&in);
@@ -229,10 +229,10 @@ TEST(Paper002Design, RefusesBadInputNamingTheKey)
     // HTSMC's nu_max = M_max / J
     p002_design_defaults(&in);
     ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
-    const double m_max = 1.5 * in.p * in.psi_Wb * in.i_max_A;
+    const double m_max = 1.5 * in.motor.n_p * motor_design_phi_Wb(&in.motor) * in.i_max_A;
     EXPECT_NEAR(mc_to_double(c.sosmc.M_max_Nm), m_max, 1e-6 * m_max);
     EXPECT_NEAR(mc_to_double(c.htsmc.M_max_Nm), m_max, 1e-6 * m_max);
-    EXPECT_NEAR(mc_to_double(c.htsmc.nu_max), m_max / in.J_kgm2, 1e-6 * m_max / in.J_kgm2);
+    EXPECT_NEAR(mc_to_double(c.htsmc.nu_max), m_max / in.motor.J_kgm2, 1e-6 * m_max / in.motor.J_kgm2);
     // the user's Q and R: not positive definite is refused with the entry named
     p002_design_defaults(&in);
     const double q[EKF_N] = {1e-6, 2e-6, 1e-12, 1e-3, 4e-3};

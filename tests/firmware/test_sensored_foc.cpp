@@ -76,23 +76,24 @@ TEST(FocCurrent, DecouplingTermsAndTheProportionalPart)
     foc_current_config_t cfg{};
     cfg.pi_d = {M(kp), M(0.05)};
     cfg.pi_q = {M(kp), M(0.05)};
-    cfg.L_d_H = M(Ld);
-    cfg.L_q_H = M(Lq);
-    cfg.psi_Wb = M(psi);
+    motor_model_t m{};
+    m.L_H = m.Ld_H = M(Ld);
+    m.Lq_H = M(Lq);
+    m.psi_Wb = M(psi);
     for (const auto& [idr, iqr, id, iq] : {std::array<double, 4>{0.0, 2.0, 0.0, 2.0},
                                             std::array<double, 4>{-0.5, 3.0, -0.2, 2.5}}) {
         foc_current_t c;
-        ASSERT_TRUE(foc_current_init(&c, &cfg));
-        mc_t vd, vq;
-        foc_current_step(&c, M(idr), M(iqr), M(id), M(iq), M(we), M(100.0), &vd, &vq);
+        ASSERT_TRUE(foc_current_init(&c, &cfg, &m));
+        foc_current_step(&c, &m, M(idr), M(iqr), M(id), M(iq), M(we), M(100.0));
+        const mc_t vd = c.v_d_V, vq = c.v_q_V;
         EXPECT_NEAR(D(vd), kp * (idr - id) - we * Lq * iq, 50 * kTol);
         EXPECT_NEAR(D(vq), kp * (iqr - iq) + we * (Ld * id + psi), 50 * kTol);
         EXPECT_FALSE(c.saturated);
     }
-    foc_current_config_t bad = cfg;
-    bad.L_q_H = M(0.0);
+    motor_model_t bad = m;
+    bad.Lq_H = M(0.0);
     foc_current_t c;
-    EXPECT_FALSE(foc_current_init(&c, &bad));
+    EXPECT_FALSE(foc_current_init(&c, &cfg, &bad));
 }
 
 // The circle, d first: v_d takes what it needs up to u_max, v_q the rest,
@@ -102,12 +103,13 @@ TEST(FocCurrent, VoltageCircleServesTheDAxisFirst)
     foc_current_config_t cfg{};
     cfg.pi_d = {M(10.0), M(0.0)};
     cfg.pi_q = {M(10.0), M(0.0)};
-    cfg.L_d_H = cfg.L_q_H = M(3e-3);
-    cfg.psi_Wb = M(0.0);
+    motor_model_t m{};
+    m.L_H = m.Ld_H = m.Lq_H = M(3e-3);
+    m.psi_Wb = M(0.0);
     foc_current_t c;
-    ASSERT_TRUE(foc_current_init(&c, &cfg));
-    mc_t vd, vq;
-    foc_current_step(&c, M(0.6), M(5.0), M(0.0), M(0.0), M(0.0), M(10.0), &vd, &vq);  // asks 6 V and 50 V
+    ASSERT_TRUE(foc_current_init(&c, &cfg, &m));
+    foc_current_step(&c, &m, M(0.6), M(5.0), M(0.0), M(0.0), M(0.0), M(10.0));  // asks 6 V and 50 V
+    const mc_t vd = c.v_d_V, vq = c.v_q_V;
     EXPECT_NEAR(D(vd), 6.0, 20 * kTol);
     EXPECT_NEAR(D(vq), 8.0, 20 * kTol);
     EXPECT_TRUE(c.saturated);

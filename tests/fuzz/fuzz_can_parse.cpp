@@ -55,7 +55,7 @@ struct Drives {
     {
         drive_design_input_t in;
         drive_design_defaults(&in);
-        in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752};
+        in.motor = {9e-3, 3.01, 0.27, 3.18e-4, 2.37e-3, 50, 0.0752, 2, 9e-3};
         in.ts_s = 1e-4;
         in.v_max_V = 30.0;
         in.i_max_A = 3.0;
@@ -69,7 +69,13 @@ struct Drives {
         check(drive_design(&in, &cfg, err, sizeof err) && paper000_drive_init(&pos, &cfg));
         p001_design_input_t sp;
         p001_design_defaults(&sp);
-        sp.motor = {3, 0.225, 3.8e-3, 0.17, 3, 0.012};
+        sp.motor = motor_design_input_t{};  // paper 001's PMSM (design/motor_design.h)
+        sp.motor.n_phases = 3;
+        sp.motor.R_ohm = 0.225;
+        sp.motor.L_H = sp.motor.L_q_H = 3.8e-3;
+        sp.motor.n_p = 3;
+        sp.motor.K_Nm_per_A = 3 * 0.17;
+        sp.motor.J_kgm2 = 0.012;
         sp.ts_s = 1e-4;
         sp.i_max_A = 8.0;
         sp.i_trip_A = 12.0;

@@ -24,22 +24,23 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->disabled = false;
     d->v_bus_V = MC_ZERO;
     d->theta_ref_rad = MC_ZERO;
-    d->stop_ramp_rad_s2 = mc_div(mc_mul(mc_mul_i(mc_mul(MC_C(1.5), cfg->ekf.psi_Wb), cfg->ekf.p), cfg->mtpa.i_max_A),
-                                 mc_mul_i(cfg->ekf.J_kgm2, 4));
+    const motor_model_t *m = &d->cfg.model;
+    d->stop_ramp_rad_s2 = mc_div(mc_mul(mc_mul_i(mc_mul(MC_C(1.5), m->psi_Wb), m->n_p), cfg->mtpa.i_max_A),
+                                 mc_mul_i(m->J_kgm2, 4));
     fault_monitor_init(&d->mon, &cfg->faults);
-    const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf) && sosmc_init(&d->sosmc, &cfg->sosmc) &&
-                    htsmc_init(&d->htsmc, &cfg->htsmc) && ibcc_init(&d->ibcc, &cfg->ibcc) &&
+    const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf, m) && sosmc_init(&d->sosmc, &cfg->sosmc, m) &&
+                    htsmc_init(&d->htsmc, &cfg->htsmc, m) && ibcc_init(&d->ibcc, &cfg->ibcc, m) &&
                     mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
                     mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
                     mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
                     (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX);
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
-    const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, cfg->ekf.p);
+    const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, m->n_p);
     flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
     angle_unwrap_init(&d->unwrap, e0);
     /* the electrical angle fixes the mechanical one up to 2 pi/p: the
      * start's turn among the p is kept as an offset */
-    d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, cfg->ekf.p));
+    d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, m->n_p));
     if (!ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
     }
@@ -75,6 +76,7 @@ static bool p002_fault(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
+    const motor_model_t *m = &c->model;
     if (d->sup.state == SUP_STATE_FAULT || d->disabled) {
         return p002_zero(d, out);
     }
@@ -97,19 +99,19 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     if (flux) {
         /* the active flux's radius psi + (L_d - L_q) i_d at the EKF's i_d,
          * relative to psi, squared: the gradient term's target */
-        const mc_t ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(c->ekf.Ld_H, c->ekf.Lq_H), d->ekf.x[EKF_ID]), c->ekf.psi_Wb));
+        const mc_t ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
         flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
         flux_observer_step(&d->flux, i_ab);
         r_meas = d->flux.unit;
         angle_unwrap_step(&d->unwrap, r_meas.s, r_meas.c);
         /* the mechanical angle: (e + 2 pi n)/p, with n taken modulo p first
          * (n p-fold is a whole mechanical turn) so the sum stays small */
-        const int32_t p = c->ekf.p;
+        const int32_t p = m->n_p;
         const int32_t n_mod = ((d->unwrap.n_turns % p) + p) % p;
         theta_meas = mc_wrap_pi(mc_add(mc_div_i(mc_add(d->unwrap.e_rad, mc_mul_i(MC_TWO_PI, n_mod)), p), d->theta_offset_rad));
     } else {
         theta_meas = in->angle_rad;
-        r_meas = mc_rot_from_angle(mc_elec_angle(in->angle_rad, c->ekf.p));
+        r_meas = mc_rot_from_angle(mc_elec_angle(in->angle_rad, m->n_p));
     }
     mc_t i_d, i_q;
     mc_rot_fwd(r_meas, i_ab.alpha, i_ab.beta, &i_d, &i_q);
@@ -117,7 +119,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
     mc_t w_d, dw_d;
     speed_poly_eval(&d->reference, d->tick, &w_d, &dw_d);
-    d->theta_ref_rad = mc_wrap_pi(mc_mac(d->theta_ref_rad, w_d, c->ekf.ts_s));
+    d->theta_ref_rad = mc_wrap_pi(mc_mac(d->theta_ref_rad, w_d, m->ts_s));
     const bool lost = fault_persist_step(&d->los, !mc_le(mc_abs(d->ekf.innovation[2]), c->los_theta_rad), c->los_ticks);
     const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(w_d));
     const bool stalled =
@@ -134,21 +136,23 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.M0_hat_Nm = x[EKF_M0];
     /* 3. reference and torque demand */
     const mc_t M_d = (c->controller == P002_SOSMC)
-                         ? sosmc_step(&d->sosmc, &c->sosmc, w_d, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf), x[EKF_M0])
-                         : htsmc_step(&d->htsmc, &c->htsmc, w_d, dw_d, x[EKF_OMEGA], x[EKF_M0]);
+                         ? sosmc_step(&d->sosmc, &c->sosmc, m, w_d, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
+                                      x[EKF_M0])
+                         : htsmc_step(&d->htsmc, &c->htsmc, m, w_d, dw_d, x[EKF_OMEGA], x[EKF_M0]);
     /* 4. MTPA */
     mtpa_out_t ref;
-    mtpa_step(&c->mtpa, M_d, &ref);
+    mtpa_step(&c->mtpa, m, M_d, &ref);
     /* 5. current control on the EKF's currents and speed */
     const mc_t u_max = mc_mul(in->v_bus_V, P002_INV_SQRT3);
-    mc_t u_d, u_q;
-    ibcc_step(&d->ibcc, &c->ibcc, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_d, &u_q);
+    ibcc_out_t u_dq;
+    ibcc_step(&d->ibcc, &c->ibcc, m, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_dq);
+    const mc_t u_d = u_dq.u_d_V, u_q = u_dq.u_q_V;
     /* 6. back to alpha-beta at the angle the voltage acts around: the
      * estimate advanced to the middle of the sample it acts over, (1/2 +
      * d) Ts ahead */
-    const mc_t half_ts = mc_div_i(c->ekf.ts_s, 2);
-    const mc_t lead = mc_mac(half_ts, c->compute_delay, c->ekf.ts_s);
-    const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], lead, x[EKF_OMEGA]), c->ekf.p);
+    const mc_t half_ts = mc_div_i(m->ts_s, 2);
+    const mc_t lead = mc_mac(half_ts, c->compute_delay, m->ts_s);
+    const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], lead, x[EKF_OMEGA]), m->n_p);
     mc_ab_t u_ab;
     mc_rot_inv(mc_rot_from_angle(th_el), u_d, u_q, &u_ab.alpha, &u_ab.beta);
     phase_adapter_voltages(3u, u_ab, out);
@@ -158,14 +162,14 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
      * sample's middle */
     if (mc_eq(c->compute_delay, MC_ZERO)) {
         flux_observer_hold(&d->flux, u_ab);
-        ekf_ipmsm_predict(&d->ekf, u_d, u_q);
+        ekf_ipmsm_predict(&d->ekf, m, u_d, u_q);
     } else {
         const mc_ab_t u_mean = delay_applied_mean(c->compute_delay, u_ab, d->u_ab_prev_V);
         flux_observer_hold(&d->flux, u_mean);
-        const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), c->ekf.p);
+        const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), m->n_p);
         mc_t u_d_mean, u_q_mean;
         mc_rot_fwd(mc_rot_from_angle(th_mid), u_mean.alpha, u_mean.beta, &u_d_mean, &u_q_mean);
-        ekf_ipmsm_predict(&d->ekf, u_d_mean, u_q_mean);
+        ekf_ipmsm_predict(&d->ekf, m, u_d_mean, u_q_mean);
     }
     d->u_ab_prev_V = u_ab;
     d->last.w_d_rad_s = w_d;
@@ -206,12 +210,13 @@ bool paper002_drive_set_speed(paper002_drive_t *d, mc_t omega_rad_s, mc_t ramp_r
         return false;
     }
     /* the back-EMF p psi |w| within a share of v_bus/sqrt(3) */
-    const mc_t k_e = mc_mul_i(c->ekf.psi_Wb, c->ekf.p);
+    const motor_model_t *m = &c->model;
+    const mc_t k_e = mc_mul_i(m->psi_Wb, m->n_p);
     if (mc_gt(mc_mul(k_e, mc_abs(omega_rad_s)), mc_mul(P002_CMD_VOLTAGE_SHARE, mc_mul(d->v_bus_V, P002_INV_SQRT3)))) {
         return false;
     }
     /* the ramp within K_t i_max / J */
-    const mc_t a_max = mc_div(mc_mul(mc_mul(MC_C(1.5), k_e), c->mtpa.i_max_A), c->ekf.J_kgm2);
+    const mc_t a_max = mc_div(mc_mul(mc_mul(MC_C(1.5), k_e), c->mtpa.i_max_A), m->J_kgm2);
     if (mc_gt(ramp_rad_s2, a_max)) {
         return false;
     }
@@ -220,12 +225,12 @@ bool paper002_drive_set_speed(paper002_drive_t *d, mc_t omega_rad_s, mc_t ramp_r
     (void)dw_now;
     /* T = 1.875 |dw| / ramp, at least a sample */
     const mc_t t_s = mc_div(mc_mul(P002_POLY_PEAK_OVER_MEAN, mc_abs(mc_sub(omega_rad_s, w_now))), ramp_rad_s2);
-    int32_t n = mc_round_i(mc_mul_i(t_s, c->ibcc.fs_hz)) + 1;
+    int32_t n = mc_round_i(mc_mul_i(t_s, m->fs_hz)) + 1;
     if (n < 1) {
         n = 1;
     }
     speed_poly_t next;
-    if (!speed_poly_init(&next, d->tick, d->tick + (uint32_t)n, w_now, omega_rad_s, c->ibcc.fs_hz)) {
+    if (!speed_poly_init(&next, d->tick, d->tick + (uint32_t)n, w_now, omega_rad_s, m->fs_hz)) {
         return false;
     }
     d->reference = next;

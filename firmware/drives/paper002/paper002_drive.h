@@ -64,6 +64,7 @@
 #include "drives/drive.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/flight_recorder.h"
 #include "supervisor/supervisor.h"
@@ -82,6 +83,9 @@ typedef enum {
 } p002_angle_source_t;
 
 typedef struct {
+    motor_model_t model;           /* the one motor model: R, L_d, L_q, psi, n_p, J, f_v, Ts; every
+                                    * block (EKF, SOSMC, HTSMC, MTPA, IBCC) reads it by const pointer
+                                    * (first: its address is the drive's, no offset to add) */
     p002_controller_t controller;
     ekf_ipmsm_config_t ekf;
     sosmc_config_t sosmc;

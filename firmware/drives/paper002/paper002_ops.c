@@ -63,11 +63,11 @@ static void p002_status(const void *self, drive_status_t *s)
     s->accel_ref_rad_s2 = dw_d;
     s->omega_est_rad_s = d->last.w_hat_rad_s;
     s->estimate_valid = !faulted;
-    s->theta_e_est_rad = mc_elec_angle(d->last.theta_hat_rad, d->cfg.ekf.p);
+    s->theta_e_est_rad = mc_elec_angle(d->last.theta_hat_rad, d->cfg.model.n_p);
     s->v_alpha_V = d->u_ab_prev_V.alpha;
     s->v_beta_V = d->u_ab_prev_V.beta;
     s->estimate_quality = MC_ONE;
-    s->accel_est_rad_s2 = ekf_ipmsm_accel(&d->ekf);
+    s->accel_est_rad_s2 = ekf_ipmsm_accel(&d->ekf, &d->cfg.model);
     s->load_est_Nm = d->last.M0_hat_Nm;
     s->i1_A = d->last.i_d_A;
     s->i2_A = d->last.i_q_A;
@@ -76,7 +76,7 @@ static void p002_status(const void *self, drive_status_t *s)
     s->i1_est_A = d->last.i_d_hat_A;
     s->i2_est_A = d->last.i_q_hat_A;
     s->emf1_V = MC_ZERO;
-    s->emf2_V = mc_mul(mc_mul_i(d->cfg.ekf.psi_Wb, d->cfg.ekf.p), d->last.w_hat_rad_s);
+    s->emf2_V = mc_mul(mc_mul_i(d->cfg.model.psi_Wb, d->cfg.model.n_p), d->last.w_hat_rad_s);
     s->v1_V = d->last.u_d_V;
     s->v2_V = d->last.u_q_V;
 }
@@ -87,7 +87,7 @@ static void p002_estimate(const void *self, mc_estimate_t *e)
     const paper002_drive_t *d = (const paper002_drive_t *)self;
     e->theta_rad = d->last.theta_hat_rad;
     e->omega_rad_s = d->last.w_hat_rad_s;
-    e->accel_rad_s2 = ekf_ipmsm_accel(&d->ekf);
+    e->accel_rad_s2 = ekf_ipmsm_accel(&d->ekf, &d->cfg.model);
     e->load_Nm = d->last.M0_hat_Nm;
     e->valid = d->sup.state != SUP_STATE_FAULT;
 }

@@ -55,14 +55,14 @@ static bool sfoc_fault(sensored_foc_drive_t *d, drive_fault_t f, hal_command_t *
 
 const char *sensored_foc_config_problem(const sensored_foc_config_t *c)
 {
-    if (c->n_p < 1) {
-        return "n_p: must be >= 1";
+    if (c->model.n_p < 1) {
+        return "model.n_p: must be >= 1";
     }
-    if (c->fs_hz <= 0 || !mc_gt(c->ts_s, MC_ZERO)) {
-        return "fs_hz, ts_s: must be > 0";
+    if (c->model.fs_hz <= 0 || !mc_gt(c->model.ts_s, MC_ZERO)) {
+        return "model.fs_hz, model.ts_s: must be > 0";
     }
-    if (!mc_gt(c->kt_Nm_per_A, MC_ZERO) || !mc_gt(c->inv_kt_A_per_Nm, MC_ZERO) || !mc_gt(c->J_kgm2, MC_ZERO)) {
-        return "kt_Nm_per_A, inv_kt_A_per_Nm, J_kgm2: must be > 0";
+    if (!mc_gt(c->kt_Nm_per_A, MC_ZERO) || !mc_gt(c->inv_kt_A_per_Nm, MC_ZERO) || !mc_gt(c->model.J_kgm2, MC_ZERO)) {
+        return "kt_Nm_per_A, inv_kt_A_per_Nm, model.J_kgm2: must be > 0";
     }
     if (!mc_gt(c->i_max_A, MC_ZERO) || !mc_gt(c->v_bus_min_V, MC_ZERO)) {
         return "i_max_A, v_bus_min_V: must be > 0";
@@ -105,7 +105,7 @@ bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_
     sfoc_zero_output(d, &none);
     fault_monitor_init(&d->mon, &cfg->faults);
     flight_recorder_init(&d->rec);
-    const bool ok = sensored_foc_config_problem(cfg) == 0 && foc_current_init(&d->current, &cfg->current) &&
+    const bool ok = sensored_foc_config_problem(cfg) == 0 && foc_current_init(&d->current, &cfg->current, &d->cfg.model) &&
                     pi_ctrl_init(&d->pi_speed, &cfg->pi_speed) &&
                     encoder_observer_init(&d->obs, &cfg->obs, MC_ZERO) && speed_profile_init(&d->profile, &cfg->profile);
     if (!ok) {
@@ -171,7 +171,7 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     mc_t i_zero_A;
     const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
     (void)i_zero_A; /* star without neutral */
-    const mc_t th_e = mc_elec_angle(in->angle_rad, c->n_p);
+    const mc_t th_e = mc_elec_angle(in->angle_rad, c->model.n_p);
     mc_t i_d, i_q;
     mc_rot_fwd(mc_rot_from_angle(th_e), i_ab.alpha, i_ab.beta, &i_d, &i_q);
     /* 2. the mechanical observer with the torque of this sample's current */
@@ -179,19 +179,19 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     /* 3. the reference */
     const mc_t w_cmd = sfoc_reference(d);
     /* 4. speed loop: i_q* with the load and J a_ref fed forward, |i_q*| <= i_max */
-    const mc_t ff_q = mc_mul(mc_mac(d->obs.load_Nm, c->J_kgm2, d->last.accel_ref_rad_s2), c->inv_kt_A_per_Nm);
+    const mc_t ff_q = mc_mul(mc_mac(d->obs.load_Nm, c->model.J_kgm2, d->last.accel_ref_rad_s2), c->inv_kt_A_per_Nm);
     const mc_t i_q_ref = pi_ctrl_step(&d->pi_speed, mc_sub(w_cmd, d->obs.omega_rad_s), ff_q, c->i_max_A);
     const mc_t i_d_ref = MC_ZERO;
     /* 5. current loops with the decoupling terms (control/foc_current.h),
      * limited to the circle of radius v_bus/sqrt(3), d first */
-    const mc_t w_e = mc_mul_i(d->obs.omega_rad_s, c->n_p);
+    const mc_t w_e = mc_mul_i(d->obs.omega_rad_s, c->model.n_p);
     const mc_t u_max = mc_mul(in->v_bus_V, SFOC_INV_SQRT3);
-    mc_t v_d, v_q;
-    foc_current_step(&d->current, i_d_ref, i_q_ref, i_d, i_q, w_e, u_max, &v_d, &v_q);
+    foc_current_step(&d->current, &c->model, i_d_ref, i_q_ref, i_d, i_q, w_e, u_max);
+    const mc_t v_d = d->current.v_d_V, v_q = d->current.v_q_V;
     /* 6. to the phases at the angle of the middle of the interval the
      * voltage acts over, (1/2 + d) Ts after the sample */
-    const mc_t lead_s = delay_output_lead_s(c->compute_delay, c->ts_s);
-    const mc_t th_out = mc_elec_angle(mc_mac(in->angle_rad, lead_s, d->obs.omega_rad_s), c->n_p);
+    const mc_t lead_s = delay_output_lead_s(c->compute_delay, c->model.ts_s);
+    const mc_t th_out = mc_elec_angle(mc_mac(in->angle_rad, lead_s, d->obs.omega_rad_s), c->model.n_p);
     mc_ab_t v_ab;
     mc_rot_inv(mc_rot_from_angle(th_out), v_d, v_q, &v_ab.alpha, &v_ab.beta);
     phase_adapter_voltages((uint8_t)SFOC_N_PHASES, v_ab, out);
@@ -268,7 +268,7 @@ bool sensored_foc_move(sensored_foc_drive_t *d, mc_t theta_to_rad, mc_t duration
     if (mc_gt(peak_w, c->speed_cmd_max_rad_s) || mc_gt(peak_a, c->accel_cmd_max_rad_s2)) {
         return false;
     }
-    const int32_t n = mc_round_i(mc_mul_i(duration_s, c->fs_hz));
+    const int32_t n = mc_round_i(mc_mul_i(duration_s, c->model.fs_hz));
     if (n < 1) {
         return false;
     }

@@ -40,6 +40,7 @@
 #include "hal/hal_types.h"
 #include "math/frame_fg.h"
 #include "math/mc_num.h"
+#include "model/motor_model.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/flight_recorder.h"
 #include "supervisor/supervisor.h"
@@ -58,12 +59,10 @@ extern "C" {
 #define SFOC_MOVE_PEAK_ACCEL MC_C(7.5132)
 
 typedef struct {
-    int32_t n_p;                   /* pole pairs */
-    int32_t fs_hz;                 /* sample rate */
-    mc_t ts_s;                     /* 1 / fs_hz */
+    motor_model_t model;           /* the one motor model: n_p, fs, Ts, R, L_d, L_q, psi, J (the
+                                    * acceleration feedforward J a_ref); the blocks read it by const pointer */
     mc_t kt_Nm_per_A;              /* 3/2 n_p psi: torque per i_q (amplitude-invariant Clarke) */
     mc_t inv_kt_A_per_Nm;          /* 1 / kt: i_q per torque of the feedforward (no division per sample) */
-    mc_t J_kgm2;                   /* the acceleration feedforward J a_ref */
     foc_current_config_t current;  /* current loops with decoupling (control/foc_current.h) */
     pi_ctrl_config_t pi_speed;     /* speed loop [A s/rad], [A/rad per sample] */
     mc_t pos_kp_per_s;             /* position loop: rad/s of speed per rad of error */
@@ -87,7 +86,6 @@ typedef struct {
     encoder_observer_t obs;
     speed_profile_t profile;
     fault_monitor_t mon;
-    flight_recorder_t rec;
     supervisor_t sup;              /* CLOSED_LOOP, or FAULT latched until cleared (supervisor/guard.h) */
     bool disabled;
     bool started;                  /* the observer took the first angle */
@@ -105,6 +103,8 @@ typedef struct {
         mc_t theta_e_rad;          /* the encoder's electrical angle, (-pi, pi] */
         bool saturated;
     } last;
+    flight_recorder_t rec;         /* last: its samples are the struct's bulk, the fields read every
+                                    * sample stay within the loads' immediate offsets */
 } sensored_foc_drive_t;
 
 extern const drive_ops_t sensored_foc_drive_ops;

@@ -75,7 +75,7 @@ static void sfoc_op_status(const void *self, drive_status_t *s)
     s->i1_est_A = MC_ZERO; /* no current observer */
     s->i2_est_A = MC_ZERO;
     s->emf1_V = MC_ZERO;
-    s->emf2_V = mc_mul(mc_mul_i(d->obs.omega_rad_s, d->cfg.n_p), d->cfg.current.psi_Wb);
+    s->emf2_V = mc_mul(mc_mul_i(d->obs.omega_rad_s, d->cfg.model.n_p), d->cfg.model.psi_Wb);
     s->v1_V = d->last.v_d_V;
     s->v2_V = d->last.v_q_V;
     s->v_alpha_V = d->last.v_ab_V.alpha;
