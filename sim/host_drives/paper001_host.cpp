@@ -63,6 +63,7 @@ void p001_parse(const View* v, Scenario* sc)
     }
 }
 
+// cppcheck-suppress constParameterCallback ; HostDrive.design may set sc.pre_ticks (paper 000's does)
 void p001_design(Scenario& sc, drive_config_storage_t* out)
 {
     auto d = std::make_unique<paper001_drive_t>();

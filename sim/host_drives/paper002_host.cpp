@@ -79,6 +79,7 @@ void p002_parse(const View* v, Scenario* sc)
     }
 }
 
+// cppcheck-suppress constParameterCallback ; HostDrive.design may set sc.pre_ticks (paper 000's does)
 void p002_design(Scenario& sc, drive_config_storage_t* out)
 {
     auto d = std::make_unique<paper002_drive_t>();

@@ -30,7 +30,7 @@ static volatile uint32_t mismatches;
 static volatile uint32_t first_mismatch = 0xFFFFFFFFu;
 static volatile bool done;
 static uint32_t isr_cycles[32], step_cycles[32];
-static uint32_t col;
+static uint32_t line_fill; /* periods in isr_cycles, step_cycles */
 static uint32_t last_entry, period_min = 0xFFFFFFFFu, period_max;
 
 /* the recorded output of period k, checked against what the drive returned */
@@ -82,13 +82,13 @@ void TIM2_IRQHandler(void)
     if (k + 1u < pil_n) {
         pil_sample(k + 1u, &next_in);
     }
-    isr_cycles[col] = (t0 - t1) & 0x00FFFFFFu;
-    step_cycles[col] = app.step_cycles;
-    col += 1u;
-    if (col == 32u || k + 1u == pil_n) {
-        put_line('Q', isr_cycles, col);
-        put_line('D', step_cycles, col);
-        col = 0u;
+    isr_cycles[line_fill] = (t0 - t1) & 0x00FFFFFFu;
+    step_cycles[line_fill] = app.step_cycles;
+    line_fill += 1u;
+    if (line_fill == 32u || k + 1u == pil_n) {
+        put_line('Q', isr_cycles, line_fill);
+        put_line('D', step_cycles, line_fill);
+        line_fill = 0u;
     }
 }
 
