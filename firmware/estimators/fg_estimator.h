@@ -6,19 +6,29 @@
  * (position_estimator.h) and the mechanical observer (33)-(37)
  * (mech_observer.h). One mc_estimate_t out (estimate.h).
  *
- * Per sample, in this order (the drive's recipe calls them):
+ * Per sample, in this order (the drive's recipe calls them; paper 000's
+ * position drive and paper 001's speed drive with its BACK_EMF estimator
+ * both run exactly this, the drive deciding only when the loop is closed
+ * and with which voltage):
  *   fg_estimator_schedule   the observer's gain at the reference speed (discrete-time design)
+ *   fg_estimator_front      the (f-g) frame of the sample (6)-(8) and the measured currents in it (6)
  *   fg_estimator_correct    measured (f-g) currents: observer correction, observability
  *   fg_estimator_track      (29), (71) where the angle is used (closed loop, the switch)
  *   fg_estimator_lock_branch at the open-to-closed switch: the branch nearest the reference
  *   fg_estimator_mechanics  (31)-(32) in closed loop, the estimated frame (44), (33)-(37)
- *   fg_estimator_predict    observer prediction with the applied voltage
+ *   fg_estimator_predict    observer prediction with the voltage applied over the sample
+ *                           (the command in (f-g), or the applied alpha-beta voltage turned
+ *                           into the frame's middle, f.mid: the drive knows which)
+ * The frame's rotation at the sample, rot_k, is the drive's: paper 000
+ * turns it by composition and recomputes it every 32 samples, paper 001
+ * composes the open-loop vector's origin with the reference's angle.
  */
 #ifndef ESTIMATORS_FG_ESTIMATOR_H
 #define ESTIMATORS_FG_ESTIMATOR_H
 
 #include <stdbool.h>
 
+#include "adapter/phase_adapter.h"
 #include "estimators/emf_observer.h"
 #include "estimators/estimate.h"
 #include "estimators/mech_observer.h"
@@ -36,6 +46,16 @@ typedef struct {
     mech_observer_config_t mech;
 } fg_estimator_config_t;
 
+/* The (f-g) frame of one sample, paper 000 (6)-(8): the reference's
+ * electrical rotation at the sample, its turn over half the sample and the
+ * frame at the sample's middle (where the voltage held over the sample
+ * averages). */
+typedef struct {
+    mc_rot_t k;            /* U(n_p theta_r[k]) */
+    mc_rot_t half;         /* U(n_p (theta_r[k+1] - theta_r[k]) / 2) */
+    mc_rot_t mid;          /* k turned by half */
+} fg_frame_t;
+
 typedef struct {
     emf_observer_t emf;
     position_estimator_t pos;
@@ -46,6 +66,22 @@ typedef struct {
 } fg_estimator_t;
 
 void fg_estimator_init(fg_estimator_t *e, const fg_estimator_config_t *cfg);
+
+/* The front of the sample: the frame (6)-(8) of rot_k = U(n_p theta_r[k])
+ * turned over the sample to theta_r[k+1], and the measured alpha-beta
+ * currents in it, eq. (6). The correction (fg_estimator_correct) follows;
+ * paper 000's alignment uses the frame and the currents alone. */
+static inline void fg_estimator_front(fg_frame_t *f, mc_rot_t rot_k, mc_t theta_r_rad, mc_t theta_r_next_rad, int32_t n_p,
+                                      mc_ab_t i_ab, mc_t *i_f_A, mc_t *i_g_A)
+{
+    /* n_p (theta_r[k+1] - theta_r[k]): exact (difference, then an integer
+     * multiple), small, so no wrap */
+    const mc_t dphi = mc_mul_i(mc_sub(theta_r_next_rad, theta_r_rad), n_p);
+    f->k = rot_k;
+    f->half = mc_rot_from_angle(mc_div_i(dphi, 2));
+    f->mid = mc_rot_compose(rot_k, f->half);
+    mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, i_f_A, i_g_A); /* eq. (6) */
+}
 
 /* The observer's injection amplitude for the reference speed of this
  * sample (the discrete-time design; nothing with constant gains). */

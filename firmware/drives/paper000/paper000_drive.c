@@ -352,15 +352,13 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
             d->rot_k = d->rot_next;
         }
     }
-    /* n_p (theta_r[k+1] - theta_r[k]): exact (difference, then an integer
-     * multiple), small, so no wrap */
-    const mc_t dphi = mc_mul_i(mc_sub(d->ref_next.theta_rad, d->ref.theta_rad), d->model.n_p);
-    const mc_rot_t rot_k = d->rot_k;
-    const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
-    const mc_rot_t rot_mid = mc_rot_compose(rot_k, rot_half);
-    d->rot_next = mc_rot_compose(rot_mid, rot_half);
+    /* the estimator's front (estimators/fg_estimator.h): the frame (6)-(8)
+     * and the currents in it */
+    fg_frame_t fr;
     mc_t i_f, i_g;
-    mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, &i_f, &i_g); /* eq. (6) */
+    fg_estimator_front(&fr, d->rot_k, d->ref.theta_rad, d->ref_next.theta_rad, d->model.n_p, i_ab, &i_f, &i_g);
+    const mc_rot_t rot_k = fr.k, rot_half = fr.half, rot_mid = fr.mid;
+    d->rot_next = mc_rot_compose(rot_mid, rot_half);
 
     if (d->sup.state == SUP_STATE_ALIGN) {
         mc_t v_f, v_g;

@@ -208,13 +208,14 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     speed_point_t next;
     speed_profile_eval(&d->profile, d->tick + 1u, &next);
     const mc_t theta_r = mc_add(d->ref.theta_rad, d->ol_origin_mech_rad);
+    /* paper 000's estimator, as paper000_drive.c runs it (its front, the
+     * correction, the tracking where the angle is used, the branch at the
+     * switch, the mechanics, the prediction); the frame's rotation is the
+     * open-loop vector's: its origin turned by the reference's angle */
     const mc_rot_t rot_k = mc_rot_compose(d->ol_origin, mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, n_p)));
-    /* n_p (theta_r[k+1] - theta_r[k]): exact, small */
-    const mc_t dphi = mc_mul_i(mc_sub(next.theta_rad, d->ref.theta_rad), n_p);
-    const mc_rot_t rot_half = mc_rot_from_angle(mc_div_i(dphi, 2));
-    const mc_rot_t rot_mid = mc_rot_compose(rot_k, rot_half);
+    fg_frame_t fr;
     mc_t i_f, i_g;
-    mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, &i_f, &i_g); /* paper 000 (6) */
+    fg_estimator_front(&fr, rot_k, d->ref.theta_rad, next.theta_rad, n_p, i_ab, &i_f, &i_g);
     fg_estimator_correct(&d->emf, i_f, i_g);
     const bool want_closed =
         !mc_lt(mc_abs(d->ref.omega_rad_s), d->omega_lim_rad_s) && fg_estimator_observable(&d->emf);
@@ -245,14 +246,16 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     supervisor_blend(&d->sup, switched, &v_f, &v_g);
     /* to alpha-beta at the mid-sample angle, limited by the measured bus */
     mc_ab_t v_ab;
-    mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
+    mc_rot_inv(fr.mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
     (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g);
+    /* with a computation delay the observer integrates the applied mean,
+     * in the frame of the sample's middle (as paper000_drive.c) */
     mc_t v_f_obs = v_f, v_g_obs = v_g;
     if (mc_ne(c->compute_delay, MC_ZERO)) {
         const mc_ab_t v_mean = paper001_applied_mean(c, v_ab, d->last.v_ab_V);
-        mc_rot_fwd(rot_mid, v_mean.alpha, v_mean.beta, &v_f_obs, &v_g_obs);
+        mc_rot_fwd(fr.mid, v_mean.alpha, v_mean.beta, &v_f_obs, &v_g_obs);
     }
-    fg_estimator_predict(&d->emf, &c->model, v_f_obs, v_g_obs, i_f, i_g, rot_half);
+    fg_estimator_predict(&d->emf, &c->model, v_f_obs, v_g_obs, i_f, i_g, fr.half);
     phase_adapter_voltages(c->n_phases, v_ab, out);
     d->last.i_d_A = d->emf.i_d_A;
     d->last.i_q_A = d->emf.i_q_A;
