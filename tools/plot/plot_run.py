@@ -15,7 +15,8 @@ The kind of run is told from the CSV header:
   rotating frame at the reference electrical angle n_p θ_ref (paper 000
   eqs. (6)-(8)), not d-q: the d-q frame is at the estimated angle n_p θ_est
   (eq. (44)); f ≈ d and g ≈ q while θ ≈ θ_ref.
-* speed run (paper 001's drive, column omega_ref_rad_s). Panels: speed
+* speed run (any speed drive, through the drive interface: paper 001's, the
+  sensored FOC; column omega_ref_rad_s). Panels: speed
   (reference ω*, true, estimated; rpm), speed errors (rpm), electrical angle
   estimation error (degrees), load torque (true: load + Coulomb and viscous
   friction; estimated), d-q currents (in the drive's estimated frame) with
@@ -135,7 +136,7 @@ KINDS = {
         ],
     },
     "speed": {
-        "title": "speed run, paper-001 drive",
+        "title": "speed run (any speed drive: paper 001, sensored FOC)",
         "key": "omega_ref_rad_s",
         "fault_note": "metrics of the whole run, the part after the fault included:",
         "base": ["t_s", "mode", "fault", "estimate_valid"],

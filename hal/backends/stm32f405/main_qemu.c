@@ -32,6 +32,7 @@ static volatile bool done;
 static uint32_t isr_cycles[32], step_cycles[32];
 static uint32_t line_fill; /* periods in isr_cycles, step_cycles */
 static uint32_t last_entry, period_min = 0xFFFFFFFFu, period_max;
+static uint32_t period_sum, period_n; /* the mean period: the timer's rate, whatever one entry's latency */
 
 /* the recorded output of period k, checked against what the drive returned */
 static hal_command_t last_out;
@@ -62,6 +63,8 @@ void TIM2_IRQHandler(void)
         const uint32_t p = (last_entry - t0) & 0x00FFFFFFu;
         period_min = p < period_min ? p : period_min;
         period_max = p > period_max ? p : period_max;
+        period_sum += p;
+        period_n += 1u;
     }
     last_entry = t0;
     if (k >= pil_n) {
@@ -151,6 +154,8 @@ int main(void)
     mcu_put_kv("nop1000", nop1000);
     mcu_put_kv("period_min", period_min);
     mcu_put_kv("period_max", period_max);
+    mcu_put_kv("period_sum", period_sum);
+    mcu_put_kv("period_n", period_n);
     const bool ok = mismatches == 0u && stm32_backend_steps() == pil_n;
     mcu_puts(ok ? "\nSTM32QEMU PASS\n" : "\nSTM32QEMU FAIL\n");
     mcu_exit(ok ? 0 : 1);
