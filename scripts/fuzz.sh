@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# scripts/fuzz.sh - fuzzes the scenario and motor-file parser, then the CAN
-# command parser (tests/fuzz/fuzz_can_parse.cpp, a third of the time, seed
-# corpus tests/fuzz/can_corpus), each for a bounded
+# scripts/fuzz.sh - fuzzes the scenario and motor-file parser and, beside
+# it on a second core, the CAN command parser (tests/fuzz/fuzz_can_parse.cpp,
+# a third of the time, seed corpus tests/fuzz/can_corpus), each for a bounded
 # time: builds tests/fuzz/fuzz_scenario.cpp with Clang, libFuzzer,
 # AddressSanitizer and UndefinedBehaviorSanitizer (CMake option MC_FUZZ) and
 # runs it from the seed corpus tests/fuzz/corpus. Fails on a crash, a
@@ -20,7 +20,7 @@ usage: scripts/fuzz.sh [--time SECONDS] [--build-dir DIR] [-- LIBFUZZER_OPTION..
 
 Builds the fuzzers (DIR, default build/fuzz) and runs the scenario parser's
 for SECONDS (default 60, or $MC_FUZZ_SECONDS) from the seed corpus
-tests/fuzz/corpus, then the CAN command parser's for a third of that from
+tests/fuzz/corpus, and the CAN command parser's (beside it with two cores) for a third of that from
 tests/fuzz/can_corpus; the inputs they add go to DIR/run-TARGET/corpus, a
 crashing one to DIR/run-TARGET/crash-*. Exit status 1 if either found
 anything, 2 on a usage or build error.
@@ -107,9 +107,24 @@ run_fuzzer() {
 }
 
 failed=0
-run_fuzzer fuzz_scenario tests/fuzz/corpus "$seconds" 8192 "scenario + motor-file parser" || failed=1
+scenario_args=(fuzz_scenario tests/fuzz/corpus "$seconds" 8192 "scenario + motor-file parser")
 # the CAN command parser: small inputs, fast; a third of the scenario time
-run_fuzzer fuzz_can_parse tests/fuzz/can_corpus "$(( (seconds + 2) / 3 ))" 240 "CAN command parser" || failed=1
+can_args=(fuzz_can_parse tests/fuzz/can_corpus "$(( (seconds + 2) / 3 ))" 240 "CAN command parser")
+if [ "$(nproc 2>/dev/null || echo 1)" -ge 2 ]; then
+    # libFuzzer runs one process: with two cores the two fuzzers run side
+    # by side, each on its own core, and their reports are printed in order
+    # when both are done.
+    run_fuzzer "${scenario_args[@]}" >"$build/report-scenario.txt" 2>&1 &
+    pid_scenario=$!
+    run_fuzzer "${can_args[@]}" >"$build/report-can.txt" 2>&1 &
+    pid_can=$!
+    wait "$pid_scenario" || failed=1
+    wait "$pid_can" || failed=1
+    cat "$build/report-scenario.txt" "$build/report-can.txt"
+else
+    run_fuzzer "${scenario_args[@]}" || failed=1
+    run_fuzzer "${can_args[@]}" || failed=1
+fi
 if [ "$failed" -ne 0 ]; then
     exit 1
 fi

@@ -13,12 +13,15 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 usage() {
     cat <<'EOF'
-usage: scripts/setup.sh [--no-cross] [--check] [-q|--quiet] [-h|--help]
+usage: scripts/setup.sh [--no-cross] [--no-venv | --venv-only] [--check] [-q|--quiet] [-h|--help]
 
 Installs the project's apt packages and its Python venv (.venv).
 
   --no-cross   skip the cross toolchain and QEMU (gcc-arm-none-eabi,
                libnewlib-arm-none-eabi, qemu-system-arm)
+  --no-venv    the apt packages only
+  --venv-only  the venv only (scripts/test_all.sh installs it while the
+               first preset builds: the builds do not need it)
   --check      install nothing: list what is missing, exit 1 if anything is
   -q, --quiet  print only errors and what gets installed
   -h, --help   this text
@@ -31,15 +34,21 @@ EOF
 cross=1
 check_only=0
 quiet=0
+do_apt=1
+do_venv=1
 for arg in "$@"; do
     case "$arg" in
         --no-cross) cross=0 ;;
+        --no-venv) do_venv=0 ;;
+        --venv-only) do_apt=0 ;;
         --check) check_only=1 ;;
         -q | --quiet) quiet=1 ;;
         -h | --help) usage; exit 0 ;;
         *) echo "setup.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
     esac
 done
+
+[ "$do_apt" = 1 ] || [ "$do_venv" = 1 ] || { echo "setup.sh: --no-venv and --venv-only together install nothing" >&2; exit 2; }
 
 t_start=$(date +%s%N)
 say() { [ "$quiet" = 1 ] || echo "setup: $*"; }
@@ -88,7 +97,9 @@ missing_pkgs() {
 
 # ---------------------------------------------------------------- apt ----
 todo=0
-if command -v dpkg-query >/dev/null 2>&1; then
+if [ "$do_apt" = 0 ]; then
+    say "apt: skipped (--venv-only)"
+elif command -v dpkg-query >/dev/null 2>&1; then
     mapfile -t missing < <(missing_pkgs "${PKGS[@]}")
     if [ "${#missing[@]}" -eq 0 ]; then
         say "apt: all ${#PKGS[@]} packages present"
@@ -114,36 +125,40 @@ else
 fi
 
 # --------------------------------------------------------------- venv ----
-BASE_PY="${MC_BASE_PYTHON:-/usr/bin/python3}"
-VENV="$ROOT/.venv"
-REQ="$ROOT/tools/requirements.txt"
-STAMP="$VENV/.requirements.stamp"
-[ -f "$REQ" ] || die "missing $REQ"
-# The stamp names the requirements' content and the base interpreter.
-want="$(sha256sum "$REQ" | cut -d' ' -f1) $BASE_PY"
-have="$(cat "$STAMP" 2>/dev/null || true)"
-
-venv_ok=0
-if [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -c '' 2>/dev/null; then venv_ok=1; fi
-
-if [ "$venv_ok" = 1 ] && [ "$have" = "$want" ]; then
-    say "venv: up to date ($VENV)"
-elif [ "$check_only" = 1 ]; then
-    if [ "$venv_ok" = 0 ]; then echo "setup: venv: missing or broken: $VENV"
-    else echo "setup: venv: tools/requirements.txt changed since the last install"; fi
-    todo=1
+if [ "$do_venv" = 0 ]; then
+    say "venv: skipped (--no-venv)"
 else
-    [ -x "$BASE_PY" ] || die "no $BASE_PY (set MC_BASE_PYTHON)"
-    if [ "$venv_ok" = 0 ]; then
-        echo "setup: venv: creating $VENV with $BASE_PY"
-        rm -rf "$VENV"
-        "$BASE_PY" -m venv "$VENV" || die "venv creation failed (is python3-venv installed?)"
+    BASE_PY="${MC_BASE_PYTHON:-/usr/bin/python3}"
+    VENV="$ROOT/.venv"
+    REQ="$ROOT/tools/requirements.txt"
+    STAMP="$VENV/.requirements.stamp"
+    [ -f "$REQ" ] || die "missing $REQ"
+    # The stamp names the requirements' content and the base interpreter.
+    want="$(sha256sum "$REQ" | cut -d' ' -f1) $BASE_PY"
+    have="$(cat "$STAMP" 2>/dev/null || true)"
+
+    venv_ok=0
+    if [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -c '' 2>/dev/null; then venv_ok=1; fi
+
+    if [ "$venv_ok" = 1 ] && [ "$have" = "$want" ]; then
+        say "venv: up to date ($VENV)"
+    elif [ "$check_only" = 1 ]; then
+        if [ "$venv_ok" = 0 ]; then echo "setup: venv: missing or broken: $VENV"
+        else echo "setup: venv: tools/requirements.txt changed since the last install"; fi
+        todo=1
+    else
+        [ -x "$BASE_PY" ] || die "no $BASE_PY (set MC_BASE_PYTHON)"
+        if [ "$venv_ok" = 0 ]; then
+            echo "setup: venv: creating $VENV with $BASE_PY"
+            rm -rf "$VENV"
+            "$BASE_PY" -m venv "$VENV" || die "venv creation failed (is python3-venv installed?)"
+        fi
+        echo "setup: venv: installing tools/requirements.txt"
+        rm -f "$STAMP"
+        PIP_NO_INPUT=1 "$VENV/bin/python" -m pip install --disable-pip-version-check -q -r "$REQ" ||
+            die "pip install -r tools/requirements.txt failed"
+        echo "$want" >"$STAMP"
     fi
-    echo "setup: venv: installing tools/requirements.txt"
-    rm -f "$STAMP"
-    PIP_NO_INPUT=1 "$VENV/bin/python" -m pip install --disable-pip-version-check -q -r "$REQ" ||
-        die "pip install -r tools/requirements.txt failed"
-    echo "$want" >"$STAMP"
 fi
 
 t_ms=$(( ($(date +%s%N) - t_start) / 1000000 ))

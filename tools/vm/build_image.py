@@ -16,6 +16,7 @@ had here (no apt-get download of the kernel, no busybox-static): the
 message names it.
 """
 import argparse
+import fcntl
 import gzip
 import hashlib
 import io
@@ -190,6 +191,17 @@ def main():
         die(f"{BUSYBOX} missing: apt-get install busybox-static", SKIP)
     pkg = kernel_package()
     out = os.path.abspath(args.out)
+    os.makedirs(out, exist_ok=True)
+    # One builder at a time: the VM tests run in parallel under ctest and
+    # each asks for the image first; the others wait here and then find it
+    # up to date (two writers of initramfs.img.tmp once made a VM boot a
+    # half-written image).
+    with open(os.path.join(out, "build.lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        return build(pkg, out)
+
+
+def build(pkg, out):
     stamp = os.path.join(out, "image.stamp")
     want = hashlib.sha256((pkg + INIT + ",".join(MODULES) + open(__file__).read()).encode()).hexdigest()
     if os.path.exists(stamp) and open(stamp).read() == want and all(
