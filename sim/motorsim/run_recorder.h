@@ -12,6 +12,7 @@
 #ifndef MCSIM_MOTORSIM_RUN_RECORDER_H
 #define MCSIM_MOTORSIM_RUN_RECORDER_H
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -27,6 +28,17 @@ extern "C" {
 #include "scenario/scenario.h"
 
 namespace mcsim {
+
+// An angle [rad] into [-pi, pi): the probes' angle errors.
+inline double wrap_pi(double x)
+{
+    constexpr double kPi = 3.14159265358979323846;
+    x = std::fmod(x + kPi, 2.0 * kPi);
+    if (x < 0.0) {
+        x += 2.0 * kPi;
+    }
+    return x - kPi;
+}
 
 class RunRecorder {
 public:

@@ -13,15 +13,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kSettleAfter_s = 0.5;
 constexpr double kLockTol_rad = 5.0 * kPi / 180.0;
 constexpr double kLockHold_s = 0.05;
-
-double wrap_pi(double x)
-{
-    x = std::fmod(x + kPi, 2.0 * kPi);
-    if (x < 0.0) {
-        x += 2.0 * kPi;
-    }
-    return x - kPi;
-}
 }  // namespace
 
 const char* const kSpeedColumnNames[kSpNumColumns] = {

@@ -15,15 +15,6 @@ constexpr double kPi = 3.14159265358979323846;
 // 50 ms
 constexpr double kRmseEnd_s = 1.0;
 constexpr double kRmseSkip_s = 0.05;
-
-double wrap_pi(double x)
-{
-    x = std::fmod(x + kPi, 2.0 * kPi);
-    if (x < 0.0) {
-        x += 2.0 * kPi;
-    }
-    return x - kPi;
-}
 }  // namespace
 
 const char* const kPaper002ColumnNames[kP2NumColumns] = {
