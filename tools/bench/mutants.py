@@ -141,6 +141,13 @@ MUTANTS = [
        "mech_observer_step(&e->mech, m, closed ? e->pos.omega_est_rad_s : omega_r_rad_s, e->i_d_A);")),
     m("estimator_frame_sign", "estimators/fg_estimator.h", "(44): estimated frame turned the wrong way",
       ("mc_rot_fwd(e->u_est, i_f_A, i_g_A, &e->i_d_A, &e->i_q_A);", "mc_rot_inv(e->u_est, i_f_A, i_g_A, &e->i_d_A, &e->i_q_A);")),
+    m("estimator_front_full_step", "estimators/fg_estimator.h",
+      "(6)-(8): the mid-sample frame turned by the whole step instead of half (both drives' front)",
+      ("f->half = mc_rot_from_angle(mc_div_i(dphi, 2));", "f->half = mc_rot_from_angle(dphi);")),
+    m("estimator_front_currents_mid", "estimators/fg_estimator.h",
+      "(6): the measured currents turned into the mid-sample frame instead of the sampling instant's",
+      ("mc_rot_fwd(rot_k, i_ab.alpha, i_ab.beta, i_f_A, i_g_A); /* eq. (6) */",
+       "mc_rot_fwd(f->mid, i_ab.alpha, i_ab.beta, i_f_A, i_g_A); /* eq. (6) */")),
     # ---- supervisor
     m("sup_trip_first_phase_only", "supervisor/fault_monitor.c", "over-current trip looks at phase a only",
       ("k < n_phases && k < HAL_MAX_PHASES; ++k) {\n        const mc_t i = in->i_A[k];",
