@@ -319,13 +319,15 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
     }
     const mc_rot_t rho = d->flux.unit;
+    /* the current in the estimated dq frame (for the law, 5.); its q
+     * component is the i^T Jm rho of the I&I observer */
+    mc_t i_d, i_q;
+    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     /* 4. speed and load observer (15)-(16) */
-    speed_load_observer_step(&d->speed, rho, i_ab);
+    speed_load_observer_step_iq(&d->speed, rho, i_q);
     const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
 
     /* 5. the law, in the estimated dq frame */
-    mc_t i_d, i_q;
-    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     mc_t v_d, v_q;
     if (closed) {
         ida_pbc_step(&d->ctrl, &c->ctrl, i_d, i_q, d->speed.omega_rad_s, d->speed.load_Nm, d->ref.omega_rad_s,
