@@ -83,19 +83,46 @@ static inline void phase_adapter_inverse_clarke(mc_ab_t v, mc_t *a, mc_t *b, mc_
     *c = mc_neg(mc_add(kb, half_a));
 }
 
+/* The three legs of v (inverse Clarke, before the zero sequence) with the
+ * largest and the smallest of them: what the min/max zero sequence and the
+ * peak a leg needs both start from, so a step that limits v and then
+ * outputs it forms them once when the limit leaves v as it is. */
+typedef struct {
+    mc_t a, b, c;
+    mc_t hi, lo;   /* max and min of a, b, c */
+} phase_legs_t;
+
+static inline void phase_adapter_legs(mc_ab_t v, phase_legs_t *l)
+{
+    phase_adapter_inverse_clarke(v, &l->a, &l->b, &l->c);
+    l->hi = mc_max(l->a, mc_max(l->b, l->c));
+    l->lo = mc_min(l->a, mc_min(l->b, l->c));
+}
+
+/* The legs shifted by -(max + min)/2 (min/max zero sequence) into *out. */
+static inline void phase_adapter_legs_out(const phase_legs_t *l, hal_command_t *out)
+{
+    const mc_t a = l->a, b = l->b, c = l->c;
+    const mc_t shift = mc_neg(mc_div_i(mc_add(l->hi, l->lo), 2));
+    out->n_phases = 3u;
+    out->v_V[0] = mc_add(a, shift);
+    out->v_V[1] = mc_add(b, shift);
+    out->v_V[2] = mc_add(c, shift);
+}
+
+/* The peak a leg needs about the bus midpoint after the zero sequence. */
+static inline mc_t phase_adapter_legs_peak(const phase_legs_t *l) { return mc_div_i(mc_sub(l->hi, l->lo), 2); }
+
 /* Alpha-beta voltage [V] to the phase voltages of *out (n_phases 2 or 3).
  * Three phases: inverse Clarke, then the min/max zero sequence. */
 static inline void phase_adapter_voltages(uint8_t n_phases, mc_ab_t v, hal_command_t *out)
 {
-    out->n_phases = n_phases;
     if (n_phases == 3) {
-        mc_t a, b, c;
-        phase_adapter_inverse_clarke(v, &a, &b, &c);
-        const mc_t shift = mc_neg(mc_div_i(mc_add(mc_max(a, mc_max(b, c)), mc_min(a, mc_min(b, c))), 2));
-        out->v_V[0] = mc_add(a, shift);
-        out->v_V[1] = mc_add(b, shift);
-        out->v_V[2] = mc_add(c, shift);
+        phase_legs_t l;
+        phase_adapter_legs(v, &l);
+        phase_adapter_legs_out(&l, out);
     } else {
+        out->n_phases = n_phases;
         out->v_V[0] = v.alpha;
         out->v_V[1] = v.beta;
         out->v_V[2] = MC_ZERO;
@@ -108,9 +135,9 @@ static inline void phase_adapter_voltages(uint8_t n_phases, mc_ab_t v, hal_comma
 static inline mc_t phase_adapter_peak(uint8_t n_phases, mc_ab_t v)
 {
     if (n_phases == 3) {
-        mc_t a, b, c;
-        phase_adapter_inverse_clarke(v, &a, &b, &c);
-        return mc_div_i(mc_sub(mc_max(a, mc_max(b, c)), mc_min(a, mc_min(b, c))), 2);
+        phase_legs_t l;
+        phase_adapter_legs(v, &l);
+        return phase_adapter_legs_peak(&l);
     }
     return mc_max(mc_abs(v.alpha), mc_abs(v.beta));
 }

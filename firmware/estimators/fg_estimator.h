@@ -103,10 +103,11 @@ static inline void fg_estimator_correct(fg_estimator_t *e, mc_t i_f_A, mc_t i_g_
 /* The back-EMF is large enough for (29) to give an angle. */
 static inline bool fg_estimator_observable(const fg_estimator_t *e) { return e->pos.valid; }
 
-/* (29) and (71) for the reference theta_r, omega_r of this sample. */
+/* (29) and (71) for the reference theta_r, omega_r of this sample, on the
+ * back-EMF whose |e|^2 and observability fg_estimator_correct formed. */
 static inline void fg_estimator_track(fg_estimator_t *e, mc_t theta_r_rad, mc_t omega_r_rad_s)
 {
-    position_estimator_step(&e->pos, e->emf.e_f_hat_V, e->emf.e_g_hat_V, theta_r_rad, omega_r_rad_s);
+    position_estimator_track(&e->pos, e->emf.e_f_hat_V, e->emf.e_g_hat_V, theta_r_rad, omega_r_rad_s);
 }
 
 /* At the open-to-closed switch: in open loop the rotor sits on the

@@ -25,8 +25,13 @@ mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_
 
 void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
 {
-    const position_estimator_config_t *c = &p->cfg;
     position_estimator_observe(p, e_f_V, e_g_V);
+    position_estimator_track(p, e_f_V, e_g_V, theta_r_rad, omega_r_rad_s);
+}
+
+void position_estimator_track(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
+{
+    const position_estimator_config_t *c = &p->cfg;
     const mc_t dth = p->valid ? position_estimator_angle(p, e_f_V, e_g_V, omega_r_rad_s) : p->dtheta_prev_rad;
 
     /* eq. (71): a step of more than half a pitch is a wrap of the arctan */

@@ -59,6 +59,11 @@ mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_
  * omega_r: the reference of this sample. */
 void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s);
 
+/* The same for the e of the last position_estimator_observe (its |e|^2 and
+ * observability are not formed again): what a caller that has just
+ * observed e runs. */
+void position_estimator_track(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s);
+
 /* (31)-(32) for the sample of the last position_estimator_step (separate:
  * the open-loop start does not need it). z_*: filtered equivalent
  * injections [V/s]. */

@@ -64,6 +64,11 @@ void speed_load_observer_init(speed_load_observer_t *o, const speed_load_observe
  * alpha-beta current of this sample. */
 void speed_load_observer_step(speed_load_observer_t *o, mc_rot_t rho, mc_ab_t i_A);
 
+/* The same with i^T Jm rho = rho_a i_b - rho_b i_a already formed by the
+ * caller (the q current of the dq rotation by rho, mc_rot_fwd's second
+ * output: the same expression, so the same value). */
+void speed_load_observer_step_iq(speed_load_observer_t *o, mc_rot_t rho, mc_t i_q_A);
+
 #ifdef __cplusplus
 }
 #endif

@@ -262,8 +262,8 @@ static inline uint32_t mc__sqrt_norm(uint32_t m) { return mc__sqrt_norm_n(m, 2);
  * table and two Newton steps as the square root. */
 static inline uint32_t mc__rsqrt_q17(uint32_t x)
 {
-    int s = __builtin_clz(x);     /* >= 1 */
-    s -= ((s & 1) == 0) ? 1 : 0;  /* odd, m = x 2^s in [2^30, 2^32) */
+    /* clz >= 1, made odd by (clz - 1) | 1 (an even one less by 1): m = x 2^s in [2^30, 2^32) */
+    const int s = (__builtin_clz(x) - 1) | 1;
     const uint32_t m = x << s;
     uint32_t r = (uint32_t)mc__rsqrt_tab[(m >> 24) - 64u] << 15; /* Q30 of 1/sqrt(m/2^32) */
     for (int it = 0; it < 2; ++it) {
@@ -271,9 +271,9 @@ static inline uint32_t mc__rsqrt_q17(uint32_t x)
         const uint32_t u = (uint32_t)(mc__umul64(t, r) >> 32);
         r = (uint32_t)(mc__umul64(r, 0x30000000u - u) >> 32) << 3;
     }
-    /* 1/sqrt(x/2^17) 2^17 = r 2^((s - 41)/2), s odd, shift in 5..20 */
-    const int sh = (41 - s) >> 1;
-    return ((r >> (sh - 1)) + 1u) >> 1;
+    /* 1/sqrt(x/2^17) 2^17 = r 2^((s - 41)/2), s odd, shift sh = (41 - s)/2 in 5..20,
+     * rounded: ((r >> (sh - 1)) + 1) >> 1 with sh - 1 = (39 - s)/2 */
+    return ((r >> ((39 - s) >> 1)) + 1u) >> 1;
 }
 
 /* round(sqrt(x 2^17)) for 0 < x < 2^31: the Q17 square root of a Q17 value;
@@ -281,10 +281,11 @@ static inline uint32_t mc__rsqrt_q17(uint32_t x)
  * 2.5e-5 relative, a few instructions less) */
 static inline uint32_t mc__sqrt_q17_n(uint32_t x, int iterations)
 {
-    int s = __builtin_clz(x);      /* >= 1 */
-    s -= ((s & 1) == 0) ? 1 : 0;   /* odd: 17 - s even, m = x 2^s in [2^30, 2^32) */
-    const int sh = (s + 15) >> 1;  /* sqrt(x 2^17) = S / 2^sh, sh in 8..23 */
-    return ((mc__sqrt_norm_n(x << s, iterations) >> (sh - 1)) + 1u) >> 1;
+    /* clz >= 1, made odd by (clz - 1) | 1: 17 - s even, m = x 2^s in [2^30, 2^32) */
+    const int s = (__builtin_clz(x) - 1) | 1;
+    /* sqrt(x 2^17) = S / 2^sh, sh = (s + 15)/2 in 8..23, rounded:
+     * ((S >> (sh - 1)) + 1) >> 1 with sh - 1 = (s + 13)/2 */
+    return ((mc__sqrt_norm_n(x << s, iterations) >> ((s + 13) >> 1)) + 1u) >> 1;
 }
 static inline uint32_t mc__sqrt_q17(uint32_t x) { return mc__sqrt_q17_n(x, 2); }
 

@@ -49,17 +49,22 @@ drive_fault_t fault_monitor_sample(fault_monitor_t *m, const hal_sample_t *in, u
     mc_t i2 = MC_ZERO;
     for (uint8_t k = 0; k < n_phases && k < HAL_MAX_PHASES; ++k) {
         const mc_t i = in->i_A[k];
-        if (!mc_is_finite(i)) {
-            return DRIVE_FAULT_NON_FINITE;
-        }
         const mc_t a = mc_abs(i);
-        if (mc_gt(a, c->i_trip_A)) {
-            /* the i_trip_samples-th sample in a row beyond the trip (the
-             * first one when it is 1: the instantaneous trip) */
-            if (m->oc_run + 1 >= c->i_trip_samples) {
-                return DRIVE_FAULT_OVERCURRENT;
+        if (!mc_lt(a, c->i_trip_A)) {
+            /* at or beyond the trip, or not a number (NaN compares false,
+             * inf is not below any trip): the non-finite sample is tested
+             * only here, the common path makes one comparison for both */
+            if (!mc_is_finite(i)) {
+                return DRIVE_FAULT_NON_FINITE;
             }
-            over = true;
+            if (mc_gt(a, c->i_trip_A)) {
+                /* the i_trip_samples-th sample in a row beyond the trip (the
+                 * first one when it is 1: the instantaneous trip) */
+                if (m->oc_run + 1 >= c->i_trip_samples) {
+                    return DRIVE_FAULT_OVERCURRENT;
+                }
+                over = true;
+            }
         }
         /* rail_abs_A is MC_MAX when the rail is unknown (never reached) */
         at_rail = at_rail || mc_ge(a, m->rail_abs_A);

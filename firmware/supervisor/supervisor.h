@@ -138,13 +138,10 @@ static inline void supervisor_blend(supervisor_t *s, bool switched, mc_t *v1_V, 
     }
 }
 
-/* Voltage limit: when the peak the power stage needs for v_ab (phase
- * adapter) exceeds v_max_V, v_ab and the control-frame command v1, v2 are
- * scaled by the same factor (direction kept). Records the command and the
- * saturation for the next sample; returns true if it limited. */
-static inline bool supervisor_limit(supervisor_t *s, uint8_t n_phases, mc_t v_max_V, mc_ab_t *v_ab, mc_t *v1_V, mc_t *v2_V)
+/* The scaling of supervisor_limit once the peak v_peak is known. */
+static inline bool supervisor__limit_peak(supervisor_t *s, mc_t v_peak, mc_t v_max_V, mc_ab_t *v_ab, mc_t *v1_V,
+                                          mc_t *v2_V)
 {
-    const mc_t v_peak = phase_adapter_peak(n_phases, *v_ab);
     const bool sat = mc_gt(v_peak, v_max_V);
     if (sat) {
         const mc_t scale = mc_div(v_max_V, v_peak);
@@ -156,6 +153,36 @@ static inline bool supervisor_limit(supervisor_t *s, uint8_t n_phases, mc_t v_ma
     s->sat_prev = sat;
     s->v_prev_V[0] = *v1_V;
     s->v_prev_V[1] = *v2_V;
+    return sat;
+}
+
+/* Voltage limit: when the peak the power stage needs for v_ab (phase
+ * adapter) exceeds v_max_V, v_ab and the control-frame command v1, v2 are
+ * scaled by the same factor (direction kept). Records the command and the
+ * saturation for the next sample; returns true if it limited. */
+static inline bool supervisor_limit(supervisor_t *s, uint8_t n_phases, mc_t v_max_V, mc_ab_t *v_ab, mc_t *v1_V, mc_t *v2_V)
+{
+    return supervisor__limit_peak(s, phase_adapter_peak(n_phases, *v_ab), v_max_V, v_ab, v1_V, v2_V);
+}
+
+/* supervisor_limit, then the limited v_ab to the phase voltages of *out
+ * (phase_adapter_voltages): the same values, with the three legs and
+ * their min/max formed once when the limit leaves v_ab as it is. */
+static inline bool supervisor_limit_output(supervisor_t *s, uint8_t n_phases, mc_t v_max_V, mc_ab_t *v_ab, mc_t *v1_V,
+                                           mc_t *v2_V, hal_command_t *out)
+{
+    if (n_phases != 3) {
+        const bool sat = supervisor_limit(s, n_phases, v_max_V, v_ab, v1_V, v2_V);
+        phase_adapter_voltages(n_phases, *v_ab, out);
+        return sat;
+    }
+    phase_legs_t l;
+    phase_adapter_legs(*v_ab, &l);
+    const bool sat = supervisor__limit_peak(s, phase_adapter_legs_peak(&l), v_max_V, v_ab, v1_V, v2_V);
+    if (sat) {
+        phase_adapter_legs(*v_ab, &l);
+    }
+    phase_adapter_legs_out(&l, out);
     return sat;
 }
 

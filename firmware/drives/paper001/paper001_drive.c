@@ -247,7 +247,7 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     /* to alpha-beta at the mid-sample angle, limited by the measured bus */
     mc_ab_t v_ab;
     mc_rot_inv(fr.mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
-    (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g);
+    (void)supervisor_limit_output(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g, out);
     /* with a computation delay the observer integrates the applied mean,
      * in the frame of the sample's middle (as paper000_drive.c) */
     mc_t v_f_obs = v_f, v_g_obs = v_g;
@@ -256,7 +256,6 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
         mc_rot_fwd(fr.mid, v_mean.alpha, v_mean.beta, &v_f_obs, &v_g_obs);
     }
     fg_estimator_predict(&d->emf, &c->model, v_f_obs, v_g_obs, i_f, i_g, fr.half);
-    phase_adapter_voltages(c->n_phases, v_ab, out);
     d->last.i_d_A = d->emf.i_d_A;
     d->last.i_q_A = d->emf.i_q_A;
     d->last.v_ab_V = v_ab;
@@ -320,13 +319,15 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
     }
     const mc_rot_t rho = d->flux.unit;
+    /* the current in the estimated dq frame (for the law, 5.); its q
+     * component is the i^T Jm rho of the I&I observer */
+    mc_t i_d, i_q;
+    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     /* 4. speed and load observer (15)-(16) */
-    speed_load_observer_step(&d->speed, rho, i_ab);
+    speed_load_observer_step_iq(&d->speed, rho, i_q);
     const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
 
     /* 5. the law, in the estimated dq frame */
-    mc_t i_d, i_q;
-    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     mc_t v_d, v_q;
     if (closed) {
         ida_pbc_step(&d->ctrl, &c->ctrl, i_d, i_q, d->speed.omega_rad_s, d->speed.load_Nm, d->ref.omega_rad_s,
@@ -356,9 +357,8 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     /* 6. limited by the measured bus: a leg swings +-v_bus/2 about the
      * midpoint (three phases), an H-bridge +-v_bus (two) */
     const mc_t v_max = (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V;
-    (void)supervisor_limit(&d->sup, c->n_phases, v_max, &v_ab, &v_d, &v_q);
+    (void)supervisor_limit_output(&d->sup, c->n_phases, v_max, &v_ab, &v_d, &v_q, out);
     flux_observer_hold(&d->flux, paper001_applied_mean(c, v_ab, d->last.v_ab_V));
-    phase_adapter_voltages(c->n_phases, v_ab, out);
     d->last.i_d_A = i_d;
     d->last.i_q_A = i_q;
     d->last.v_ab_V = v_ab;
