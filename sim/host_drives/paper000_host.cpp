@@ -1,17 +1,175 @@
-// paper000_host.cpp - paper 000's position drive's host part: its table is
-// [trajectory] (parsed by scenario.cpp with [design], [gains], [bounds] and
-// [protection]: sim/scenarios/README.md), its design is
+// paper000_host.cpp - paper 000's position drive's host part: its tables
+// are [trajectory] (the moves of eq. (70)), [design], [protection],
+// [gains] and [bounds] (sim/scenarios/README.md), its design is
 // design/paper000_design.h's through scenario/design_input.h, and its
 // reference's peak demand is that of eq. (70)'s polynomial.
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "host_drives/host_drive.h"
 #include "scenario/design_input.h"
+#include "scenario/toml_view.h"
+#include "trajectory/trajectory.h"
 
 namespace mcsim {
 namespace {
+
+const char kName[] = "paper000";
+
+// The scenario runs this drive (its [design] and [protection] may also be
+// in a scenario of another drive: parse_extra).
+bool runs_here(const Scenario& sc) { return sc.drive_kind == kName; }
+
+std::vector<std::string> p000_keys() { return {"segments"}; }
+
+std::vector<std::string> segment_keys() { return {"t_start_s", "duration_s", "theta_to_rad"}; }
+std::vector<std::string> design_keys()
+{
+    return {"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design", "control_law"};
+}
+std::vector<std::string> protection_keys() { return {"loss_of_sync"}; }
+
+std::vector<std::pair<std::string, std::vector<std::string>>> p000_extra_keys()
+{
+    return {{"trajectory.segments", segment_keys()},
+            {"design", design_keys()},
+            {"protection", protection_keys()},
+            {"gains", gain_override_keys()},
+            {"bounds", design_bound_keys()}};
+}
+
+// [design] (optional): design switches that are neither gains nor bounds
+void read_design(const View& v, Scenario* sc)
+{
+    v.only(design_keys());
+    if (const auto b = v.boolean("load_feedforward")) {
+        sc->load_feedforward = *b ? 1 : 0;
+    }
+    if (const auto b = v.boolean("identify_rl")) {
+        sc->identify_rl = *b ? 1 : 0;
+    }
+    if (const auto b = v.boolean("align_rotor")) {
+        sc->align_rotor = *b ? 1 : 0;
+    }
+    if (const auto b = v.boolean("identify_k")) {
+        sc->identify_k = *b ? 1 : 0;
+    }
+    if (const auto g = v.string("gain_design")) {
+        if (*g == "continuous") {
+            sc->gain_design = 0;
+        } else if (*g == "discrete") {
+            sc->gain_design = 1;
+        } else {
+            v.fail("gain_design", "must be \"continuous\" or \"discrete\" (got \"" + *g + "\")");
+        }
+    }
+    if (const auto g = v.string("control_law")) {
+        if (*g == "twisting") {
+            sc->control_law = 0;
+        } else if (*g == "load_angle") {
+            if (!runs_here(*sc)) {
+                v.fail("control_law", "\"load_angle\" is the position drive's law ([trajectory]); the speed "
+                                      "drives have their own");
+            }
+            sc->control_law = 1;
+        } else {
+            v.fail("control_law", "must be \"twisting\" or \"load_angle\" (got \"" + *g + "\")");
+        }
+    }
+}
+
+// [protection] (optional): reactions to faults
+void read_protection(const View& v, Scenario* sc)
+{
+    v.only(protection_keys());
+    if (const auto r = v.string("loss_of_sync")) {
+        if (*r == "relock") {
+            if (!runs_here(*sc)) {
+                v.fail("loss_of_sync", "\"relock\" needs the position drive ([trajectory]); the speed drives "
+                                       "have no re-lock");
+            }
+            sc->los_relock = 1;
+        } else if (*r != "safe") {
+            v.fail("loss_of_sync", "must be \"safe\" or \"relock\" (got \"" + *r + "\")");
+        }
+    }
+}
+
+// [gains]: design overrides by field name (0 = let drive_design derive it)
+void read_gains(const View& v, Scenario* sc)
+{
+    v.only(gain_override_keys());
+    for (const std::string& k : gain_override_keys()) {
+        if (const auto x = v.number(k)) {
+            ge(v, k, *x, 0.0);
+            sc->gains.emplace_back(k, *x);
+        }
+    }
+}
+
+// [bounds]: design bounds by field name
+void read_bounds(const View& v, Scenario* sc)
+{
+    v.only(design_bound_keys());
+    for (const std::string& k : design_bound_keys()) {
+        if (const auto x = v.number(k)) {
+            gt(v, k, *x, 0.0);
+            sc->bounds.emplace_back(k, *x);
+        }
+    }
+}
+
+// [design], [protection], [gains], [bounds], in every scenario (host_drive.h)
+void p000_parse_extra(const View& root, Scenario* sc)
+{
+    const struct {
+        const char* table;
+        void (*read)(const View& v, Scenario* sc);
+    } tables[] = {{"design", &read_design}, {"protection", &read_protection}, {"gains", &read_gains}, {"bounds", &read_bounds}};
+    for (const auto& t : tables) {
+        if (const auto v = root.table(t.table)) {
+            t.read(*v, sc);
+        }
+    }
+}
+
+// [trajectory]: [[trajectory.segments]], and the open/closed-loop switch
+// speed [limits] omega_lim_rad_s (optional for the other drives)
+void p000_parse(const View* t, Scenario* sc)
+{
+    if (!(sc->omega_lim_rad_s > 0.0)) {  // read_limits refused a value <= 0
+        fail(sc->path, "limits.omega_lim_rad_s", "missing required field");
+    }
+    if (t == nullptr) {
+        fail(sc->path, "trajectory", "missing required table");
+    }
+    const View& v = *t;
+    v.only(p000_keys());
+    const auto segs = v.tables("segments");
+    if (!segs || segs->empty()) {
+        v.fail("segments", "missing required field (at least one [[trajectory.segments]])");
+    }
+    if (segs->size() > static_cast<std::size_t>(TRAJECTORY_MAX_SEGMENTS)) {
+        v.fail("segments", "at most " + std::to_string(TRAJECTORY_MAX_SEGMENTS) + " segments (got " +
+                               std::to_string(segs->size()) + ")");
+    }
+    double t_free = 0.0;
+    for (const View& s : *segs) {
+        s.only(segment_keys());
+        Segment g;
+        g.t_start_s = s.number_req("t_start_s");
+        ge(s, "t_start_s", g.t_start_s, t_free);
+        g.duration_s = s.number_req("duration_s");
+        gt(s, "duration_s", g.duration_s, 0.0);
+        g.theta_to_rad = s.number_req("theta_to_rad");
+        t_free = g.t_start_s + g.duration_s;
+        sc->segments.push_back(g);
+    }
+}
 
 void p000_design(Scenario& sc, drive_config_storage_t* out)
 {
@@ -38,6 +196,7 @@ void p000_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 }  // namespace
 
 extern const HostDrive kPaper000Host;
-const HostDrive kPaper000Host = {"paper000", "trajectory", false, nullptr, &p000_design, nullptr, nullptr, &p000_peak_demand};
+const HostDrive kPaper000Host = {kName, "trajectory", false, &p000_parse, &p000_design, &p000_keys, &p000_extra_keys,
+                                 &p000_parse_extra, nullptr, &p000_peak_demand};
 
 }  // namespace mcsim

@@ -84,6 +84,7 @@ void p001_select_estimator(Scenario* sc, const std::string& name)
 }  // namespace
 
 extern const HostDrive kPaper001Host;
-const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, &p001_select_estimator, nullptr};
+const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, nullptr, nullptr,
+                                 &p001_select_estimator, nullptr};
 
 }  // namespace mcsim

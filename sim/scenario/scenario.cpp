@@ -11,9 +11,7 @@
 
 #include <toml++/toml.h>
 
-#include "trajectory/trajectory.h"
 #include "trajectory/speed_profile.h"
-#include "scenario/design_input.h"
 #include "scenario/toml_view.h"
 #include "host_drives/host_drive.h"
 
@@ -522,13 +520,9 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& parser_tabl
         {"drive_model", {"L_H", "R_ohm", "K_Nm_per_A", "L_d_H", "L_q_H", "Phi_Wb", "J_kgm2", "fv_Nms_per_rad", "n_p"}},
         {"supply", {"v_max_V", "v_bus_V"}},
         {"limits", {"i_max_A", "i_trip_A", "i_trip_samples", "omega_lim_rad_s", "i_open_loop_A"}},
-        {"design", {"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design", "control_law"}},
-        {"protection", {"loss_of_sync"}},
         {"sensor", {"noise", "noise_A", "adc_bits", "adc_full_scale_A"}},
         {"faults", {"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples", "nan_sample_t_s", "supply_sag", "overruns"}},
         {"load", {"steps", "pulses"}},
-        {"trajectory", {"segments"}},
-        {"trajectory.segments", {"t_start_s", "duration_s", "theta_to_rad"}},
         {"encoder", {"counts_per_turn", "noise_rad"}},
         {"drive", {"kind"}}};
     return k;
@@ -546,11 +540,19 @@ const std::vector<std::string>& table_keys(const std::string& table)
 
 std::vector<std::string> top_level_keys()
 {
-    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
-               "gains", "bounds", "expect", "faults", "board", "encoder", "drive"};
+    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "sensor", "load",
+                                    "expect", "faults", "board", "encoder", "drive"};
+    const auto add = [&top](const std::string& table) {
+        if (table.find('.') == std::string::npos && std::find(top.begin(), top.end(), table) == top.end()) {
+            top.push_back(table);
+        }
+    };
     for (const HostDrive* d : host_drives()) {
-        if (std::find(top.begin(), top.end(), d->table) == top.end()) {
-            top.emplace_back(d->table);  // each registered drive's own table
+        add(d->table);  // each registered drive's own table, and its further ones
+        if (d->extra_keys != nullptr) {
+            for (const auto& kv : d->extra_keys()) {
+                add(kv.first);
+            }
         }
     }
     return top;
@@ -561,11 +563,12 @@ std::vector<std::pair<std::string, std::vector<std::string>>> scenario_keys()
     std::vector<std::pair<std::string, std::vector<std::string>>> k = parser_tables();
     k.emplace_back("top", top_level_keys());
     k.emplace_back("motor_file", motor_file_keys());
-    k.emplace_back("gains", gain_override_keys());
-    k.emplace_back("bounds", design_bound_keys());
     for (const HostDrive* d : host_drives()) {
-        if (d->keys != nullptr) {
-            k.emplace_back(d->table, d->keys());
+        k.emplace_back(d->table, d->keys());
+        if (d->extra_keys != nullptr) {
+            for (auto& kv : d->extra_keys()) {
+                k.push_back(std::move(kv));
+            }
         }
     }
     return k;
@@ -759,77 +762,14 @@ void read_limits(const View* t, Scenario* sc)
         }
         sc->i_trip_samples = static_cast<int>(*n);
     }
-    if (sc->position_drive() || v.has("omega_lim_rad_s")) {
-        sc->omega_lim_rad_s = v.number_req("omega_lim_rad_s");
-        gt(v, "omega_lim_rad_s", sc->omega_lim_rad_s, 0.0);
+    if (const auto w = v.number("omega_lim_rad_s")) {  // a drive's part may require it (paper000_host.cpp)
+        gt(v, "omega_lim_rad_s", *w, 0.0);
+        sc->omega_lim_rad_s = *w;
     }
     if (const auto i = v.number("i_open_loop_A")) {
         gt(v, "i_open_loop_A", *i, 0.0);
         le(v, "i_open_loop_A", *i, sc->i_max_A);
         sc->i_open_loop_A = *i;
-    }
-}
-
-// [design] (optional): design switches that are neither gains nor bounds
-void read_design(const View* v, Scenario* sc)
-{
-    if (v == nullptr) {
-        return;
-    }
-    v->only(table_keys("design"));
-    if (const auto b = v->boolean("load_feedforward")) {
-        sc->load_feedforward = *b ? 1 : 0;
-    }
-    if (const auto b = v->boolean("identify_rl")) {
-        sc->identify_rl = *b ? 1 : 0;
-    }
-    if (const auto b = v->boolean("align_rotor")) {
-        sc->align_rotor = *b ? 1 : 0;
-    }
-    if (const auto b = v->boolean("identify_k")) {
-        sc->identify_k = *b ? 1 : 0;
-    }
-    if (const auto g = v->string("gain_design")) {
-        if (*g == "continuous") {
-            sc->gain_design = 0;
-        } else if (*g == "discrete") {
-            sc->gain_design = 1;
-        } else {
-            v->fail("gain_design", "must be \"continuous\" or \"discrete\" (got \"" + *g + "\")");
-        }
-    }
-    if (const auto g = v->string("control_law")) {
-        if (*g == "twisting") {
-            sc->control_law = 0;
-        } else if (*g == "load_angle") {
-            if (!sc->position_drive()) {
-                v->fail("control_law", "\"load_angle\" is the position drive's law ([trajectory]); the speed "
-                                       "drives have their own");
-            }
-            sc->control_law = 1;
-        } else {
-            v->fail("control_law", "must be \"twisting\" or \"load_angle\" (got \"" + *g + "\")");
-        }
-    }
-}
-
-// [protection] (optional): reactions to faults
-void read_protection(const View* v, Scenario* sc)
-{
-    if (v == nullptr) {
-        return;
-    }
-    v->only(table_keys("protection"));
-    if (const auto r = v->string("loss_of_sync")) {
-        if (*r == "relock") {
-            if (!sc->position_drive()) {
-                v->fail("loss_of_sync", "\"relock\" needs the position drive ([trajectory]); the speed drives "
-                                        "have no re-lock");
-            }
-            sc->los_relock = 1;
-        } else if (*r != "safe") {
-            v->fail("loss_of_sync", "must be \"safe\" or \"relock\" (got \"" + *r + "\")");
-        }
     }
 }
 
@@ -1051,69 +991,6 @@ void read_expect(const View* v, Scenario* sc)
     }
 }
 
-// [trajectory]: [[trajectory.segments]] (required by the position drive)
-void read_trajectory(const View* t, Scenario* sc)
-{
-    if (!sc->position_drive()) {
-        return;
-    }
-    if (t == nullptr) {
-        fail(sc->path, "trajectory", "missing required table");
-    }
-    const View& v = *t;
-    v.only(table_keys("trajectory"));
-    const auto segs = v.tables("segments");
-    if (!segs || segs->empty()) {
-        v.fail("segments", "missing required field (at least one [[trajectory.segments]])");
-    }
-    if (segs->size() > static_cast<std::size_t>(TRAJECTORY_MAX_SEGMENTS)) {
-        v.fail("segments", "at most " + std::to_string(TRAJECTORY_MAX_SEGMENTS) + " segments (got " +
-                               std::to_string(segs->size()) + ")");
-    }
-    double t_free = 0.0;
-    for (const View& s : *segs) {
-        s.only(table_keys("trajectory.segments"));
-        Segment g;
-        g.t_start_s = s.number_req("t_start_s");
-        ge(s, "t_start_s", g.t_start_s, t_free);
-        g.duration_s = s.number_req("duration_s");
-        gt(s, "duration_s", g.duration_s, 0.0);
-        g.theta_to_rad = s.number_req("theta_to_rad");
-        t_free = g.t_start_s + g.duration_s;
-        sc->segments.push_back(g);
-    }
-}
-
-// [gains]: design overrides by field name (0 = let drive_design derive it)
-void read_gains(const View* v, Scenario* sc)
-{
-    if (v == nullptr) {
-        return;
-    }
-    v->only(gain_override_keys());
-    for (const std::string& k : gain_override_keys()) {
-        if (const auto x = v->number(k)) {
-            ge(*v, k, *x, 0.0);
-            sc->gains.emplace_back(k, *x);
-        }
-    }
-}
-
-// [bounds]: design bounds by field name
-void read_bounds(const View* v, Scenario* sc)
-{
-    if (v == nullptr) {
-        return;
-    }
-    v->only(design_bound_keys());
-    for (const std::string& k : design_bound_keys()) {
-        if (const auto x = v->number(k)) {
-            gt(*v, k, *x, 0.0);
-            sc->bounds.emplace_back(k, *x);
-        }
-    }
-}
-
 // [encoder] (optional): the HAL's position input
 void read_encoder(const View* v, Scenario* sc)
 {
@@ -1146,15 +1023,10 @@ const Section kSections[] = {
     {"drive_model", false, &read_drive_model},
     {"supply", true, &read_supply},
     {"limits", true, &read_limits},
-    {"design", false, &read_design},
-    {"protection", false, &read_protection},
     {"sensor", false, &read_sensor},
     {"faults", false, &read_faults},
     {"load", false, &read_load},
     {"expect", false, &read_expect},
-    {"trajectory", false, &read_trajectory},
-    {"gains", false, &read_gains},
-    {"bounds", false, &read_bounds},
     {"board", false, &read_board},
     {"encoder", false, &read_encoder},
 };
@@ -1251,12 +1123,15 @@ Scenario load_scenario(const std::string& path)
         }
         s.read(t ? &*t : nullptr, &sc);
     }
-    // the drive's own table, when its host part parses it (after every
-    // shared table it may read)
-    if (host->parse != nullptr) {
-        const auto t = root.table(host->table);
-        host->parse(t ? &*t : nullptr, &sc);
+    // the drives' further tables, then the drive's own table (after every
+    // shared table they may read): their host parts' (host_drive.h)
+    for (const HostDrive* d : host_drives()) {
+        if (d->parse_extra != nullptr) {
+            d->parse_extra(root, &sc);
+        }
     }
+    const auto t = root.table(host->table);
+    host->parse(t ? &*t : nullptr, &sc);
     return sc;
 }
 
