@@ -1,10 +1,13 @@
 // paper000_host.cpp - paper 000's position drive's host part: its tables
 // are [trajectory] (the moves of eq. (70)), [design], [protection],
 // [gains] and [bounds] (sim/scenarios/README.md), its design is
-// design/paper000_design.h's through scenario/design_input.h, and its
+// design/paper000_design.h's from the scenario (paper000_host.h), and its
 // reference's peak demand is that of eq. (70)'s polynomial.
+#include "host_drives/paper000_host.h"
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -19,6 +22,72 @@ namespace mcsim {
 namespace {
 
 const char kName[] = "paper000";
+
+struct GainField {
+    const char* key;
+    double drive_gain_override_t::*member;
+};
+
+struct BoundField {
+    const char* key;
+    double drive_design_input_t::*member;
+};
+
+// Keep in step with drive_gain_override_t; [gains] accepts exactly these
+// names.
+const GainField kGainFields[] = {
+    {"emf_alpha_A_s2", &drive_gain_override_t::emf_alpha_A_s2},
+    {"emf_lambda", &drive_gain_override_t::emf_lambda},
+    {"emf_l_per_s", &drive_gain_override_t::emf_l_per_s},
+    {"mech_alpha_rad_s3", &drive_gain_override_t::mech_alpha_rad_s3},
+    {"mech_lambda", &drive_gain_override_t::mech_lambda},
+    {"mech_l_per_s", &drive_gain_override_t::mech_l_per_s},
+    {"cur_alpha_A_s2", &drive_gain_override_t::cur_alpha_A_s2},
+    {"cur_lambda", &drive_gain_override_t::cur_lambda},
+    {"k_surface_per_s", &drive_gain_override_t::k_surface_per_s},
+    {"tw_lambda_m_rad_s3", &drive_gain_override_t::tw_lambda_m_rad_s3},
+    {"tw_lambda_M_rad_s3", &drive_gain_override_t::tw_lambda_M_rad_s3},
+    {"injection_filter_s", &drive_gain_override_t::injection_filter_s},
+    {"blend_tau_s", &drive_gain_override_t::blend_tau_s},
+    {"current_blend_tau_s", &drive_gain_override_t::current_blend_tau_s},
+};
+
+const BoundField kBoundFields[] = {
+    {"bound_accel_rad_s2", &drive_design_input_t::bound_accel_rad_s2},
+    {"bound_speed_rad_s", &drive_design_input_t::bound_speed_rad_s},
+    {"bound_delta_omega_rad_s", &drive_design_input_t::bound_delta_omega_rad_s},
+    {"bound_load_Nm", &drive_design_input_t::bound_load_Nm},
+    {"bound_load_rate_Nm_s", &drive_design_input_t::bound_load_rate_Nm_s},
+    {"bound_model_error_V", &drive_design_input_t::bound_model_error_V},
+};
+
+// Every double of drive_gain_override_t must be reachable from [gains]: a
+// field added to the struct without a row here fails this check at compile
+// time instead of being silently impossible to override.
+static_assert(sizeof(kGainFields) / sizeof(kGainFields[0]) == sizeof(drive_gain_override_t) / sizeof(double),
+              "kGainFields must list every field of drive_gain_override_t");
+
+template <typename Table>
+std::vector<std::string> keys_of(const Table& t)
+{
+    std::vector<std::string> k;
+    for (const auto& f : t) {
+        k.emplace_back(f.key);
+    }
+    return k;
+}
+
+const std::vector<std::string>& gain_override_keys()
+{
+    static const std::vector<std::string> k = keys_of(kGainFields);
+    return k;
+}
+
+const std::vector<std::string>& design_bound_keys()
+{
+    static const std::vector<std::string> k = keys_of(kBoundFields);
+    return k;
+}
 
 // The scenario runs this drive (its [design] and [protection] may also be
 // in a scenario of another drive: parse_extra).
@@ -194,6 +263,89 @@ void p000_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 }
 
 }  // namespace
+
+void make_design_input(const Scenario& sc, drive_design_input_t* in)
+{
+    *in = drive_design_input_t{};
+    drive_design_defaults(in);
+    in->motor = motor_design_input(sc.drive_model);
+    in->ts_s = sc.ts_s;
+    in->v_max_V = sc.v_max_V;
+    in->i_max_A = sc.i_max_A;
+    in->i_trip_A = sc.i_trip_A;
+    in->i_trip_samples = sc.i_trip_samples;
+    in->omega_lim_rad_s = sc.omega_lim_rad_s;
+    in->los_relock = sc.los_relock;
+    if (sc.i_open_loop_A > 0.0) {
+        in->i_open_loop_A = sc.i_open_loop_A;
+    }
+    if (sc.load_feedforward >= 0) {
+        in->load_feedforward = sc.load_feedforward;
+    }
+    if (sc.identify_rl >= 0) {
+        in->identify_rl = sc.identify_rl;
+    }
+    if (sc.align_rotor >= 0) {
+        in->align_rotor = sc.align_rotor;
+    }
+    if (sc.identify_k >= 0) {
+        in->identify_k = sc.identify_k;
+    }
+    in->i_rail_A = adc_rail_A(sc.sensor);
+    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
+    if (sc.gain_design >= 0) {
+        in->gain_design = sc.gain_design == 1 ? DRIVE_GAIN_DISCRETE : DRIVE_GAIN_CONTINUOUS;
+    }
+    if (sc.control_law >= 0) {
+        in->control_law = sc.control_law == 1 ? P000_LAW_LOAD_ANGLE : P000_LAW_TWISTING;
+    }
+    in->n_segments = static_cast<int>(sc.segments.size());
+    for (std::size_t k = 0; k < sc.segments.size() && k < DRIVE_DESIGN_MAX_SEGMENTS; ++k) {
+        in->segments[k].t_start_s = sc.segments[k].t_start_s;
+        in->segments[k].duration_s = sc.segments[k].duration_s;
+        in->segments[k].theta_to_rad = sc.segments[k].theta_to_rad;
+    }
+    for (const auto& kv : sc.bounds) {
+        for (const BoundField& f : kBoundFields) {
+            if (kv.first == f.key) {
+                in->*(f.member) = kv.second;
+            }
+        }
+    }
+    for (const auto& kv : sc.gains) {
+        for (const GainField& f : kGainFields) {
+            if (kv.first == f.key) {
+                in->override.*(f.member) = kv.second;
+            }
+        }
+    }
+}
+
+void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
+{
+    if (sc.motor.type != MotorType::kStepper2) {
+        throw ScenarioError(sc.path + ": motor.file: the paper-000 position drive ([trajectory]) runs two-phase "
+                            "steppers (type = \"stepper2\"); a pmsm3 motor takes the speed drive ([speed])");
+    }
+    drive_design_input_t in;
+    make_design_input(sc, &in);
+    paper000_config_t cfg;
+    std::memset(&cfg, 0, sizeof(cfg));
+    char err[256] = {0};
+    if (!drive_design(&in, &cfg, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "drive_design rejected the input"));
+    }
+    if (!paper000_drive_init(drive, &cfg)) {
+        const char* why = paper000_config_problem(&cfg);
+        throw ScenarioError(sc.path + ": design: the configuration derived from the motor file and the scenario is " +
+                            "not usable: " +
+                            (why != nullptr ? std::string(why) + " (a motor or limit value far outside what the "
+                                                                 "design was written for?)"
+                                            : std::string("trajectory: a segment of zero or too many samples, or "
+                                                          "segments out of order")));
+    }
+    sc.pre_ticks = drive->align_ticks;
+}
 
 extern const HostDrive kPaper000Host;
 const HostDrive kPaper000Host = {kName, "trajectory", false, &p000_parse, &p000_design, &p000_keys, &p000_extra_keys,

@@ -17,7 +17,7 @@
 
 #include "drives/paper000/paper000_drive.h"
 #include "mc_convert.h"
-#include "scenario/design_input.h"
+#include "host_drives/paper000_host.h"
 #include "scenario/scenario.h"
 
 namespace {

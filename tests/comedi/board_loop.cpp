@@ -34,7 +34,7 @@
 #include "motorsim/drive_glue.h"
 #include "drives/paper000/paper000_drive.h"
 #include "mc_convert.h"
-#include "scenario/design_input.h"
+#include "host_drives/paper000_host.h"
 #include "scenario/rig.h"
 #include "scenario/scenario.h"
 

@@ -40,7 +40,6 @@
 #include "host_drives/host_drive.h"
 #include "model/encoder.h"
 #include "model/fault_injection.h"
-#include "scenario/design_input.h"
 #include "scenario/rig.h"
 #include "scenario/scenario.h"
 
