@@ -57,17 +57,12 @@ void sfoc_parse(const View* t, Scenario* sc)
     }
 }
 
+// cppcheck-suppress constParameterCallback ; HostDrive.design may set sc.pre_ticks (paper 000's does)
 void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
 {
     sfoc_design_input_t in{};
     sfoc_design_defaults(&in);
-    const MotorParams& m = sc.drive_model;
-    in.n_p = m.n_p;
-    in.R_ohm = m.R_ohm;
-    in.L_d_H = m.L_H;
-    in.L_q_H = (m.L_q_H > 0.0) ? m.L_q_H : m.L_H;
-    in.psi_Wb = m.Phi_Wb();
-    in.J_kgm2 = m.J_kgm2;
+    in.motor = motor_design_input(sc.drive_model);
     in.ts_s = sc.ts_s;
     in.compute_delay_samples = sc.compute_delay_samples;
     in.v_bus_V = 2.0 * sc.v_max_V;  // three legs: v_max_V = v_bus / 2 ([supply])
