@@ -3,8 +3,9 @@
 // Each drive that is chosen by [drive] kind = "<name>" brings one: the
 // keys of its own scenario table (parsed and validated with the scenario's
 // toml_view.h, errors naming file and key), the design of its
-// configuration from the scenario, and its answers to motorsim's
-// per-drive questions (its estimators, its reference's peak demand). The programs look drives up here
+// configuration from the scenario, and its answers to the programs'
+// per-drive questions (its estimators, its reference's peak demand, how a
+// replay tells it the applied voltage). The programs look drives up here
 // and never name one; a drive is added with its file in sim/host_drives/ and
 // one line in host_registry.cpp.
 #ifndef MCSIM_DRIVES_HOST_DRIVE_H
@@ -65,6 +66,12 @@ struct HostDrive {
     // The reference's peak speed [rad/s] and acceleration [rad/s^2], for
     // motorsim's feasibility warning (nullptr: from sc.speed_points).
     void (*peak_demand)(const Scenario& sc, double* w_pk_rad_s, double* a_pk_rad_s2);
+    // Open-loop replay of a recorded run (sim/replay/drive_replay.cpp;
+    // nullptr: the drive cannot be replayed): tells the drive d, for its
+    // next step only, the phase voltages v_V[0..n_phases) [V] really
+    // applied over the coming sample, so that its estimator sees the
+    // voltage that made the recorded currents rather than its own command.
+    void (*set_applied_voltage)(drive_t* d, const double* v_V, int n_phases);
 };
 
 // The drive of that name, or nullptr.

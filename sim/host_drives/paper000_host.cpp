@@ -1,8 +1,9 @@
 // paper000_host.cpp - paper 000's position drive's host part: its tables
 // are [trajectory] (the moves of eq. (70)), [design], [protection],
 // [gains] and [bounds] (sim/scenarios/README.md), its design is
-// design/paper000_design.h's from the scenario (paper000_host.h), and its
-// reference's peak demand is that of eq. (70)'s polynomial.
+// design/paper000_design.h's from the scenario (paper000_host.h), its
+// reference's peak demand is that of eq. (70)'s polynomial, and a replay
+// tells it the applied voltage through paper000_drive_set_applied_voltage.
 #include "host_drives/paper000_host.h"
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "host_drives/host_drive.h"
+#include "mc_convert.h"
 #include "scenario/design_input.h"
 #include "scenario/toml_view.h"
 #include "trajectory/trajectory.h"
@@ -262,6 +264,12 @@ void p000_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
     }
 }
 
+// The replay's applied voltage: the drive's own hook (a winding each)
+void p000_set_applied_voltage(drive_t* d, const double* v_V, int /*n_phases*/)
+{
+    paper000_drive_set_applied_voltage(static_cast<paper000_drive_t*>(d->self), to_mc(v_V[0]), to_mc(v_V[1]));
+}
+
 }  // namespace
 
 void make_design_input(const Scenario& sc, drive_design_input_t* in)
@@ -349,6 +357,6 @@ void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
 
 extern const HostDrive kPaper000Host;
 const HostDrive kPaper000Host = {kName, "trajectory", false, &p000_parse, &p000_design, &p000_keys, &p000_extra_keys,
-                                 &p000_parse_extra, nullptr, &p000_peak_demand};
+                                 &p000_parse_extra, nullptr, &p000_peak_demand, &p000_set_applied_voltage};
 
 }  // namespace mcsim

@@ -134,6 +134,6 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
 
 extern const HostDrive kPaper001Host;
 const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, nullptr, nullptr,
-                                 &p001_select_estimator, nullptr};
+                                 &p001_select_estimator, nullptr, nullptr};
 
 }  // namespace mcsim

@@ -157,6 +157,6 @@ void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 
 extern const HostDrive kPaper002Host;
 const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, nullptr, nullptr,
-                                 &p002_select_estimator, &p002_peak_demand};
+                                 &p002_select_estimator, &p002_peak_demand, nullptr};
 
 }  // namespace mcsim
