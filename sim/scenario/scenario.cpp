@@ -1095,7 +1095,6 @@ const HostDrive* read_drive(const View& root, Scenario* sc)
     }
     sc->drive_kind = host->name;
     sc->drive_table = host->table;
-    sc->speed_drive = sc->drive_table == "speed";
     return host;
 }
 

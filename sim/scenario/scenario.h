@@ -121,9 +121,8 @@ struct Scenario {
     int gain_design = -1; // [design] gain_design: 0 continuous, 1 discrete; -1: design default
     int control_law = -1; // [design] control_law: 0 twisting, 1 load_angle; -1: design default
 
-    // [speed] (the paper-001 speed drive instead of [trajectory]):
-    // drive_table == "speed"
-    bool speed_drive = false;
+    // A speed drive's reference (profile_rpm of [speed] or [sensored_foc]),
+    // and [speed]'s choices (the paper-001 speed drive)
     std::vector<std::pair<double, double>> speed_points;  // (t [s], w [rad/s]) corners
     struct {
         double gamma = 0.0, a1 = 0.0, a2 = 0.0, r_ohm = 0.0;  // 0: the design's default
