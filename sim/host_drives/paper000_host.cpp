@@ -170,29 +170,29 @@ void read_protection(const View& v, Scenario* sc)
     }
 }
 
-// [gains]: design overrides by field name (0 = let drive_design derive it)
-void read_gains(const View& v, Scenario* sc)
+// Design fields by name into *out, in the order of keys: each >= 0
+// (zero_ok) or > 0.
+void read_fields(const View& v, const std::vector<std::string>& keys, bool zero_ok,
+                 std::vector<std::pair<std::string, double>>* out)
 {
-    v.only(gain_override_keys());
-    for (const std::string& k : gain_override_keys()) {
+    v.only(keys);
+    for (const std::string& k : keys) {
         if (const auto x = v.number(k)) {
-            ge(v, k, *x, 0.0);
-            sc->gains.emplace_back(k, *x);
+            if (zero_ok) {
+                ge(v, k, *x, 0.0);
+            } else {
+                gt(v, k, *x, 0.0);
+            }
+            out->emplace_back(k, *x);
         }
     }
 }
 
+// [gains]: design overrides by field name (0 = let drive_design derive it)
+void read_gains(const View& v, Scenario* sc) { read_fields(v, gain_override_keys(), true, &sc->gains); }
+
 // [bounds]: design bounds by field name
-void read_bounds(const View& v, Scenario* sc)
-{
-    v.only(design_bound_keys());
-    for (const std::string& k : design_bound_keys()) {
-        if (const auto x = v.number(k)) {
-            gt(v, k, *x, 0.0);
-            sc->bounds.emplace_back(k, *x);
-        }
-    }
-}
+void read_bounds(const View& v, Scenario* sc) { read_fields(v, design_bound_keys(), false, &sc->bounds); }
 
 // [design], [protection], [gains], [bounds], in every scenario (host_drive.h)
 void p000_parse_extra(const View& root, Scenario* sc)
@@ -276,12 +276,8 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
 {
     *in = drive_design_input_t{};
     drive_design_defaults(in);
-    in->motor = motor_design_input(sc.drive_model);
-    in->ts_s = sc.ts_s;
+    shared_design_input(sc, in);
     in->v_max_V = sc.v_max_V;
-    in->i_max_A = sc.i_max_A;
-    in->i_trip_A = sc.i_trip_A;
-    in->i_trip_samples = sc.i_trip_samples;
     in->omega_lim_rad_s = sc.omega_lim_rad_s;
     in->los_relock = sc.los_relock;
     if (sc.i_open_loop_A > 0.0) {
@@ -299,8 +295,6 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
     if (sc.identify_k >= 0) {
         in->identify_k = sc.identify_k;
     }
-    in->i_rail_A = adc_rail_A(sc.sensor);
-    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
     if (sc.gain_design >= 0) {
         in->gain_design = sc.gain_design == 1 ? DRIVE_GAIN_DISCRETE : DRIVE_GAIN_CONTINUOUS;
     }

@@ -90,11 +90,7 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
 {
     *in = p001_design_input_t{};
     p001_design_defaults(in);
-    in->motor = motor_design_input(sc.drive_model);
-    in->ts_s = sc.ts_s;
-    in->i_max_A = sc.i_max_A;
-    in->i_trip_A = sc.i_trip_A;
-    in->i_trip_samples = sc.i_trip_samples;
+    shared_design_input(sc, in);
     in->i_open_loop_A = sc.i_open_loop_A;
     in->gamma = sc.speed_gains.gamma;
     in->a1 = sc.speed_gains.a1;
@@ -104,17 +100,11 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
     in->handover_sweep_rad = sc.speed_gains.handover_sweep_rad;
     in->fit_det_min = sc.speed_gains.fit_det_min;
     in->estimator = sc.speed_gains.estimator;
-    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
-    in->i_rail_A = adc_rail_A(sc.sensor);
     in->omega_lim_rad_s = sc.omega_lim_rad_s;
     if (sc.speed_gains.probe_s >= 0.0) {
         in->probe_s = sc.speed_gains.probe_s;
     }
-    in->n_points = sc.speed_points.size();
-    for (std::size_t k = 0; k < sc.speed_points.size() && k < SPEED_PROFILE_MAX_POINTS; ++k) {
-        in->t_s[k] = sc.speed_points[k].first;
-        in->omega_rad_s[k] = sc.speed_points[k].second;
-    }
+    speed_points_design_input(sc, in);
 }
 
 void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep)

@@ -88,12 +88,7 @@ void p002_parse(const View* v, Scenario* sc)
 void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
 {
     p002_design_defaults(in);
-    in->motor = motor_design_input(sc.drive_model);
-    in->ts_s = sc.ts_s;
-    in->i_max_A = sc.i_max_A;
-    in->i_trip_A = sc.i_trip_A;
-    in->i_trip_samples = sc.i_trip_samples;
-    in->i_rail_A = adc_rail_A(sc.sensor);
+    shared_design_input(sc, in);
     switch (sc.sensor.noise) {
     case NoiseKind::kGaussian: in->sigma_i_A = sc.sensor.noise_A; break;
     case NoiseKind::kUniform: in->sigma_i_A = sc.sensor.noise_A / std::sqrt(3.0); break;
@@ -109,7 +104,6 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->w1_rad_s = sc.ipmsm.omega_final_rad_s;
     in->angle_source = sc.ipmsm.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
-    in->compute_delay_samples = sc.compute_delay_samples;  // the board's, known to its drive
     std::copy(std::begin(sc.ipmsm.ekf_q), std::end(sc.ipmsm.ekf_q), in->ekf_q);
     std::copy(std::begin(sc.ipmsm.ekf_r), std::end(sc.ipmsm.ekf_r), in->ekf_r);
 }
