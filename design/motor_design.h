@@ -1,7 +1,8 @@
 /*
  * motor_design.h - the one design input for the motor, shared by the
- * designs of paper 000 (paper000_design.h), paper 001 (paper001_design.h)
- * and paper 002 (paper002_design.h): the motor the drive believes in, in
+ * designs of paper 000 (paper000_design.h), paper 001 (paper001_design.h),
+ * paper 002 (paper002_design.h) and the sensored FOC drive
+ * (sensored_foc_design.h): the motor the drive believes in, in
  * SI and double precision, filled once from the scenario's motor
  * ([drive_model], sim/scenario/design_input.cpp) and folded by each
  * design into the firmware's one motor model (model/motor_model.h) and
@@ -12,12 +13,12 @@
  *     Phi = K_Nm_per_A / n_p, n_p, J_kgm2 (its model (3) has no
  *     friction: the speed loop and the load estimate take it);
  *   paper 002 (interior PMSM): R_ohm, L_d = L_H, L_q_H, psi = Phi, n_p,
- *     J_kgm2, d = fv_Nms_per_rad.
+ *     J_kgm2, d = fv_Nms_per_rad;
+ *   the sensored FOC drive (PMSM): n_p, R_ohm, L_d = L_H, L_q_H,
+ *     psi = Phi, J_kgm2 (friction: its speed loop's integral and its load
+ *     estimate take it).
  * The field order begins as paper 000's former motor struct's (L, R, K,
  * J, f_v, n_p, Coulomb), so its aggregate initialisers keep their meaning.
- * Not yet shared: the sensored FOC drive's design input
- * (sensored_foc_design.h) keeps its own motor fields, filled by its host
- * part (sim/host_drives/sensored_foc_host.cpp).
  */
 #ifndef DESIGN_MOTOR_DESIGN_H
 #define DESIGN_MOTOR_DESIGN_H

@@ -56,12 +56,14 @@ void sfoc_design_defaults(sfoc_design_input_t *in)
 
 bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char *err, size_t err_len)
 {
-    if (in->n_p < 1) return sfoc_fail(err, err_len, "motor.n_p", "must be >= 1", in->n_p);
-    if (!(in->R_ohm >= 0.0)) return sfoc_fail(err, err_len, "motor.R_ohm", "must be >= 0", in->R_ohm);
-    if (!(in->L_d_H > 0.0)) return sfoc_fail(err, err_len, "motor.L_d_H", "must be > 0", in->L_d_H);
-    if (!(in->L_q_H > 0.0)) return sfoc_fail(err, err_len, "motor.L_q_H", "must be > 0", in->L_q_H);
-    if (!(in->psi_Wb > 0.0)) return sfoc_fail(err, err_len, "motor.Phi_Wb", "must be > 0", in->psi_Wb);
-    if (!(in->J_kgm2 > 0.0)) return sfoc_fail(err, err_len, "motor.J_kgm2", "must be > 0", in->J_kgm2);
+    const motor_design_input_t *mo = &in->motor;
+    if (mo->n_p < 1) return sfoc_fail(err, err_len, "motor.n_p", "must be >= 1", mo->n_p);
+    const double psi_Wb = motor_design_phi_Wb(mo);
+    if (!(mo->R_ohm >= 0.0)) return sfoc_fail(err, err_len, "motor.R_ohm", "must be >= 0", mo->R_ohm);
+    if (!(mo->L_H > 0.0)) return sfoc_fail(err, err_len, "motor.L_d_H", "must be > 0", mo->L_H);
+    if (!(mo->L_q_H > 0.0)) return sfoc_fail(err, err_len, "motor.L_q_H", "must be > 0", mo->L_q_H);
+    if (!(psi_Wb > 0.0)) return sfoc_fail(err, err_len, "motor.Phi_Wb", "must be > 0", psi_Wb);
+    if (!(mo->J_kgm2 > 0.0)) return sfoc_fail(err, err_len, "motor.J_kgm2", "must be > 0", mo->J_kgm2);
     if (!(in->ts_s > 0.0)) return sfoc_fail(err, err_len, "run.Ts_s", "must be > 0", in->ts_s);
     if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0))
         return sfoc_fail(err, err_len, "run.compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
@@ -100,7 +102,7 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     }
     memset(cfg, 0, sizeof *cfg);
     const double ts = in->ts_s;
-    const double kt = 1.5 * (double)in->n_p * in->psi_Wb; /* amplitude-invariant Clarke (phase_adapter.h) */
+    const double kt = 1.5 * (double)mo->n_p * psi_Wb; /* amplitude-invariant Clarke (phase_adapter.h) */
     const double wc = 2.0 * SFOC_PI * in->current_bw_hz;
     const double ws = 2.0 * SFOC_PI * in->speed_bw_hz;
     const double wo = 2.0 * SFOC_PI * in->observer_bw_hz;
@@ -108,29 +110,29 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     /* the one motor model (model/motor_model.h); friction is left to the
      * speed loop's integral and the load estimate (f_v = 0) */
     motor_model_t *mm = &cfg->model;
-    mm->n_p = in->n_p;
+    mm->n_p = mo->n_p;
     mm->fs_hz = (int32_t)fsr;
     mm->ts_s = mc_from_double(ts);
-    mm->R_ohm = mc_from_double(in->R_ohm);
-    mm->L_H = mc_from_double(in->L_d_H);
-    mm->Ld_H = mc_from_double(in->L_d_H);
-    mm->Lq_H = mc_from_double(in->L_q_H);
-    mm->psi_Wb = mc_from_double(in->psi_Wb);
-    mm->J_kgm2 = mc_from_double(in->J_kgm2);
-    mm->ts_over_L_A_per_V = mc_from_double(ts / in->L_d_H);
-    mm->npL_ohm_s = mc_from_double((double)in->n_p * in->L_d_H);
-    mm->K_V_s = mc_from_double((double)in->n_p * in->psi_Wb);
-    mm->inv_J = mc_from_double(1.0 / in->J_kgm2);
-    mm->ts_over_J = mc_from_double(ts / in->J_kgm2);
+    mm->R_ohm = mc_from_double(mo->R_ohm);
+    mm->L_H = mc_from_double(mo->L_H);
+    mm->Ld_H = mc_from_double(mo->L_H);
+    mm->Lq_H = mc_from_double(mo->L_q_H);
+    mm->psi_Wb = mc_from_double(psi_Wb);
+    mm->J_kgm2 = mc_from_double(mo->J_kgm2);
+    mm->ts_over_L_A_per_V = mc_from_double(ts / mo->L_H);
+    mm->npL_ohm_s = mc_from_double((double)mo->n_p * mo->L_H);
+    mm->K_V_s = mc_from_double((double)mo->n_p * psi_Wb);
+    mm->inv_J = mc_from_double(1.0 / mo->J_kgm2);
+    mm->ts_over_J = mc_from_double(ts / mo->J_kgm2);
     cfg->kt_Nm_per_A = mc_from_double(kt);
     cfg->inv_kt_A_per_Nm = mc_from_double(1.0 / kt);
     /* current loops: kp = L w_c, ki = R w_c (header) */
-    cfg->current.pi_d.kp = mc_from_double(in->L_d_H * wc);
-    cfg->current.pi_d.ki_ts = mc_from_double(in->R_ohm * wc * ts);
-    cfg->current.pi_q.kp = mc_from_double(in->L_q_H * wc);
-    cfg->current.pi_q.ki_ts = mc_from_double(in->R_ohm * wc * ts);
+    cfg->current.pi_d.kp = mc_from_double(mo->L_H * wc);
+    cfg->current.pi_d.ki_ts = mc_from_double(mo->R_ohm * wc * ts);
+    cfg->current.pi_q.kp = mc_from_double(mo->L_q_H * wc);
+    cfg->current.pi_q.ki_ts = mc_from_double(mo->R_ohm * wc * ts);
     /* speed loop: kp = J w_s / K_t, ki = kp w_s / 4 */
-    const double kp_w = in->J_kgm2 * ws / kt;
+    const double kp_w = mo->J_kgm2 * ws / kt;
     cfg->pi_speed.kp = mc_from_double(kp_w);
     cfg->pi_speed.ki_ts = mc_from_double(kp_w * SFOC_SPEED_ZERO_RATIO * ws * ts);
     cfg->pos_kp_per_s = mc_from_double(2.0 * SFOC_PI * in->position_bw_hz);
@@ -138,15 +140,15 @@ bool sfoc_design(const sfoc_design_input_t *in, sensored_foc_config_t *cfg, char
     cfg->obs.l1_ts_scaled = mc_from_double((2.0 * wo + wl) * ts * (double)(1 << ENC_OBS_SHIFT));
     cfg->obs.ts_scaled = mc_from_double(ts * (double)(1 << ENC_OBS_SHIFT));
     cfg->obs.l2_ts = mc_from_double((wo * wo + 2.0 * wo * wl) * ts);
-    cfg->obs.l3_ts = mc_from_double(in->J_kgm2 * wo * wo * wl * ts);
-    cfg->obs.ts_over_J = mc_from_double(ts / in->J_kgm2);
-    cfg->obs.inv_J = mc_from_double(1.0 / in->J_kgm2);
+    cfg->obs.l3_ts = mc_from_double(mo->J_kgm2 * wo * wo * wl * ts);
+    cfg->obs.ts_over_J = mc_from_double(ts / mo->J_kgm2);
+    cfg->obs.inv_J = mc_from_double(1.0 / mo->J_kgm2);
     cfg->i_max_A = mc_from_double(in->i_max_A);
     cfg->v_bus_min_V = mc_from_double(SFOC_BUS_MIN_RATIO * in->v_bus_V);
     cfg->compute_delay = mc_from_double(in->compute_delay_samples);
     cfg->speed_cmd_max_rad_s =
-        mc_from_double(SFOC_CMD_VOLTAGE_SHARE * in->v_bus_V / sqrt(3.0) / ((double)in->n_p * in->psi_Wb));
-    cfg->accel_cmd_max_rad_s2 = mc_from_double(SFOC_CMD_ACCEL_SHARE * kt * in->i_max_A / in->J_kgm2);
+        mc_from_double(SFOC_CMD_VOLTAGE_SHARE * in->v_bus_V / sqrt(3.0) / ((double)mo->n_p * psi_Wb));
+    cfg->accel_cmd_max_rad_s2 = mc_from_double(SFOC_CMD_ACCEL_SHARE * kt * in->i_max_A / mo->J_kgm2);
     fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, ts);
     for (int f = 0; f < DRIVE_FAULT_COUNT; ++f) {
         cfg->reaction[f] = (uint8_t)FAULT_REACT_SAFE; /* a sensor: nothing to re-lock */

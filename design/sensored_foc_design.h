@@ -32,6 +32,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "design/motor_design.h"
 #include "drives/sensored_foc/sensored_foc_drive.h"
 
 #ifdef __cplusplus
@@ -39,8 +40,10 @@ extern "C" {
 #endif
 
 typedef struct {
-    int n_p;
-    double R_ohm, L_d_H, L_q_H, psi_Wb, J_kgm2;
+    /* the one motor design input (design/motor_design.h): n_p, R_ohm,
+     * L_d = L_H, L_q_H, psi = K_Nm_per_A / n_p, J_kgm2; friction is left to
+     * the speed loop's integral and the load estimate */
+    motor_design_input_t motor;
     double ts_s;
     double compute_delay_samples;   /* [0, 1] */
     double v_bus_V;                 /* the nominal bus: CmdSpeed's bound */

@@ -3,14 +3,16 @@
 // Each drive that is chosen by [drive] kind = "<name>" brings one: the
 // keys of its own scenario table (parsed and validated with the scenario's
 // toml_view.h, errors naming file and key), the design of its
-// configuration from the scenario, and its answers to motorsim's
-// per-drive questions (its estimators, its reference's peak demand). The programs look drives up here
+// configuration from the scenario, and its answers to the programs'
+// per-drive questions (its estimators, its reference's peak demand, how a
+// replay tells it the applied voltage). The programs look drives up here
 // and never name one; a drive is added with its file in sim/host_drives/ and
 // one line in host_registry.cpp.
 #ifndef MCSIM_DRIVES_HOST_DRIVE_H
 #define MCSIM_DRIVES_HOST_DRIVE_H
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scenario/scenario.h"
@@ -32,10 +34,10 @@ struct HostDrive {
     // Its table needs [drive] kind (a drive added since [drive] kind
     // exists); false: the table alone chooses the drive (the papers').
     bool needs_kind;
-    // The keys of [<table>] (absent: t is nullptr): each validated into sc
-    // (sc->speed_points, sc->drive_params, the drive's fields of Scenario),
-    // after every shared table. Throws ScenarioError. nullptr: the table is
-    // parsed by scenario.cpp (paper 000's [trajectory], for now).
+    // Parses [<table>] (absent: t is nullptr) when this is the scenario's
+    // drive: each key validated into sc (sc->speed_points,
+    // sc->drive_params, the drive's fields of Scenario), after every shared
+    // table and every part's parse_extra. Throws ScenarioError.
     void (*parse)(const View* t, Scenario* sc);
     // The configuration from the scenario (motor, limits, Ts, delay, the
     // table's keys), tried on the drive once so that a refusal names the
@@ -43,15 +45,33 @@ struct HostDrive {
     // what the run takes from the design: sc->pre_ticks, the samples the
     // drive runs before t = 0 (paper 000's rotor alignment).
     void (*design)(Scenario& sc, drive_config_storage_t* cfg);
-    // The keys of [<table>], for sim/scenarios/README.md and the checks
-    // (nullptr with parse nullptr).
+    // The keys of [<table>], for sim/scenarios/README.md and the checks.
     std::vector<std::string> (*keys)();
+    // The keys of the further tables the part reads (nullptr: none), as
+    // (table, keys): sub-tables of [<table>] ("trajectory.segments") and
+    // top-level tables of its own (paper 000's [design], [protection],
+    // [gains], [bounds]); the top-level ones are keys of a scenario.
+    std::vector<std::pair<std::string, std::vector<std::string>>> (*extra_keys)();
+    // Reads the part's own top-level tables other than [<table>] from the
+    // scenario's root (nullptr: it has none), after every shared table and
+    // before the scenario's drive's parse, in every scenario whichever
+    // drive it runs (sc->drive_kind): the papers' drives shared these
+    // tables before a scenario named its drive, and a scenario of another
+    // drive may still carry them; the part refuses there only what its
+    // drive alone can do (paper 000's load-angle law, its re-lock).
+    void (*parse_extra)(const View& root, Scenario* sc);
     // --estimator NAME (nullptr: the drive has one estimator): sets it in
     // *sc, or throws std::invalid_argument naming the choices.
     void (*select_estimator)(Scenario* sc, const std::string& name);
     // The reference's peak speed [rad/s] and acceleration [rad/s^2], for
     // motorsim's feasibility warning (nullptr: from sc.speed_points).
     void (*peak_demand)(const Scenario& sc, double* w_pk_rad_s, double* a_pk_rad_s2);
+    // Open-loop replay of a recorded run (sim/replay/drive_replay.cpp;
+    // nullptr: the drive cannot be replayed): tells the drive d, for its
+    // next step only, the phase voltages v_V[0..n_phases) [V] really
+    // applied over the coming sample, so that its estimator sees the
+    // voltage that made the recorded currents rather than its own command.
+    void (*set_applied_voltage)(drive_t* d, const double* v_V, int n_phases);
 };
 
 // The drive of that name, or nullptr.

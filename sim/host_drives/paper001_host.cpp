@@ -1,14 +1,17 @@
 // paper001_host.cpp - paper 001's speed drive's host part: its table is
 // [speed] (its keys: sim/scenarios/README.md), its design is
-// design/paper001_design.h's through scenario/design_input.h, and
+// design/paper001_design.h's from the scenario (paper001_host.h), and
 // --estimator chooses paper 001's flux and I&I observers (flux) or paper
 // 000's back-EMF chain (back_emf).
+#include "host_drives/paper001_host.h"
+
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
 #include "host_drives/host_drive.h"
-#include "scenario/toml_view.h"
 #include "scenario/design_input.h"
+#include "scenario/toml_view.h"
 
 namespace mcsim {
 namespace {
@@ -83,7 +86,44 @@ void p001_select_estimator(Scenario* sc, const std::string& name)
 
 }  // namespace
 
+void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
+{
+    *in = p001_design_input_t{};
+    p001_design_defaults(in);
+    shared_design_input(sc, in);
+    in->i_open_loop_A = sc.i_open_loop_A;
+    in->gamma = sc.speed_gains.gamma;
+    in->a1 = sc.speed_gains.a1;
+    in->a2 = sc.speed_gains.a2;
+    in->r_ohm = sc.speed_gains.r_ohm;
+    in->blend_tau_s = sc.speed_gains.blend_tau_s;
+    in->handover_sweep_rad = sc.speed_gains.handover_sweep_rad;
+    in->fit_det_min = sc.speed_gains.fit_det_min;
+    in->estimator = sc.speed_gains.estimator;
+    in->omega_lim_rad_s = sc.omega_lim_rad_s;
+    if (sc.speed_gains.probe_s >= 0.0) {
+        in->probe_s = sc.speed_gains.probe_s;
+    }
+    speed_points_design_input(sc, in);
+}
+
+void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep)
+{
+    p001_design_input_t in;
+    make_speed_design_input(sc, &in);
+    paper001_config_t cfg;
+    std::memset(&cfg, 0, sizeof(cfg));
+    char err[256] = {0};
+    if (!p001_design(&in, &cfg, rep, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "p001_design rejected the input"));
+    }
+    if (!paper001_drive_init(drive, &cfg)) {
+        throw ScenarioError(sc.path + ": design: paper001_drive_init rejected the derived configuration");
+    }
+}
+
 extern const HostDrive kPaper001Host;
-const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, &p001_select_estimator, nullptr};
+const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, nullptr, nullptr,
+                                 &p001_select_estimator, nullptr, nullptr};
 
 }  // namespace mcsim

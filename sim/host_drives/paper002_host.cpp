@@ -1,16 +1,19 @@
 // paper002_host.cpp - paper 002's IPMSM speed drive's host part: its table
-// is [paper002] (its keys: sim/scenarios/README.md), its
-// design is design/paper002_design.h's through scenario/design_input.h,
-// --estimator chooses the encoder (the paper) or paper 001's flux observer
-// (sensorless), and its reference is a C^2 polynomial from w0 to w1.
+// is [paper002] (its keys: sim/scenarios/README.md), its design is
+// design/paper002_design.h's from the scenario, --estimator chooses the
+// encoder (the paper) or paper 001's flux observer (sensorless), and its
+// reference is a C^2 polynomial from w0 to w1.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <iterator>
 #include <memory>
 #include <stdexcept>
 
+#include "design/paper002_design.h"
 #include "host_drives/host_drive.h"
-#include "scenario/toml_view.h"
 #include "scenario/design_input.h"
+#include "scenario/toml_view.h"
 
 namespace mcsim {
 namespace {
@@ -79,6 +82,47 @@ void p002_parse(const View* v, Scenario* sc)
     }
 }
 
+// The design input from the scenario: the drive model, limits, sensor
+// noise (a uniform half-width a as its sigma a/sqrt(3)), encoder and
+// reference. The fixed-point build's design refuses it.
+void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
+{
+    p002_design_defaults(in);
+    shared_design_input(sc, in);
+    switch (sc.sensor.noise) {
+    case NoiseKind::kGaussian: in->sigma_i_A = sc.sensor.noise_A; break;
+    case NoiseKind::kUniform: in->sigma_i_A = sc.sensor.noise_A / std::sqrt(3.0); break;
+    default: in->sigma_i_A = 0.0; break;
+    }
+    in->encoder_counts = static_cast<long>(sc.encoder.counts_per_turn);
+    in->sigma_theta_rad = sc.encoder.noise_rad;
+    in->controller = sc.ipmsm.controller;
+    in->compensate = sc.ipmsm.compensate;
+    in->t0_s = sc.ipmsm.t0_s;
+    in->t1_s = sc.ipmsm.t1_s;
+    in->w0_rad_s = sc.ipmsm.omega_start_rad_s;
+    in->w1_rad_s = sc.ipmsm.omega_final_rad_s;
+    in->angle_source = sc.ipmsm.estimator;
+    in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
+    std::copy(std::begin(sc.ipmsm.ekf_q), std::end(sc.ipmsm.ekf_q), in->ekf_q);
+    std::copy(std::begin(sc.ipmsm.ekf_r), std::end(sc.ipmsm.ekf_r), in->ekf_r);
+}
+
+void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)
+{
+    p002_design_input_t in;
+    make_paper002_design_input(sc, &in);
+    paper002_config_t cfg;
+    std::memset(&cfg, 0, sizeof(cfg));
+    char err[256] = {0};
+    if (!p002_design(&in, &cfg, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "p002_design rejected the input"));
+    }
+    if (!paper002_drive_init(drive, &cfg)) {
+        throw ScenarioError(sc.path + ": design: paper002_drive_init rejected the derived configuration");
+    }
+}
+
 // cppcheck-suppress constParameterCallback ; HostDrive.design may set sc.pre_ticks (paper 000's does)
 void p002_design(Scenario& sc, drive_config_storage_t* out)
 {
@@ -106,7 +150,7 @@ void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 }  // namespace
 
 extern const HostDrive kPaper002Host;
-const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, &p002_select_estimator,
-                                 &p002_peak_demand};
+const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, nullptr, nullptr,
+                                 &p002_select_estimator, &p002_peak_demand, nullptr};
 
 }  // namespace mcsim

@@ -57,24 +57,13 @@ void sfoc_parse(const View* t, Scenario* sc)
     }
 }
 
+// cppcheck-suppress constParameterCallback ; HostDrive.design may set sc.pre_ticks (paper 000's does)
 void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
 {
     sfoc_design_input_t in{};
     sfoc_design_defaults(&in);
-    const MotorParams& m = sc.drive_model;
-    in.n_p = m.n_p;
-    in.R_ohm = m.R_ohm;
-    in.L_d_H = m.L_H;
-    in.L_q_H = (m.L_q_H > 0.0) ? m.L_q_H : m.L_H;
-    in.psi_Wb = m.Phi_Wb();
-    in.J_kgm2 = m.J_kgm2;
-    in.ts_s = sc.ts_s;
-    in.compute_delay_samples = sc.compute_delay_samples;
+    shared_design_input(sc, &in);
     in.v_bus_V = 2.0 * sc.v_max_V;  // three legs: v_max_V = v_bus / 2 ([supply])
-    in.i_max_A = sc.i_max_A;
-    in.i_trip_A = sc.i_trip_A;
-    in.i_trip_samples = sc.i_trip_samples;
-    in.i_rail_A = adc_rail_A(sc.sensor);
     for (const auto& [k, v] : sc.drive_params) {
         if (k == "current_bw_hz") in.current_bw_hz = v;
         if (k == "speed_bw_hz") in.speed_bw_hz = v;
@@ -82,11 +71,7 @@ void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
         if (k == "load_bw_hz") in.load_bw_hz = v;
         if (k == "position_bw_hz") in.position_bw_hz = v;
     }
-    in.n_points = sc.speed_points.size();
-    for (std::size_t k = 0; k < sc.speed_points.size() && k < SPEED_PROFILE_MAX_POINTS; ++k) {
-        in.t_s[k] = sc.speed_points[k].first;
-        in.omega_rad_s[k] = sc.speed_points[k].second;
-    }
+    speed_points_design_input(sc, &in);
     char err[256];
     if (!sfoc_design(&in, &out->sensored_foc, err, sizeof err)) {
         throw ScenarioError(sc.path + ": design: sensored_foc: " + err);
@@ -96,6 +81,7 @@ void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
 }  // namespace
 
 extern const HostDrive kSensoredFocHost;
-const HostDrive kSensoredFocHost = {"sensored_foc", "sensored_foc", true, &sfoc_parse, &sfoc_design_from, &sfoc_keys, nullptr, nullptr};
+const HostDrive kSensoredFocHost = {"sensored_foc", "sensored_foc", true, &sfoc_parse, &sfoc_design_from, &sfoc_keys,
+                                    nullptr, nullptr, nullptr, nullptr, nullptr};
 
 }  // namespace mcsim

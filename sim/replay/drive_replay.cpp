@@ -1,12 +1,21 @@
-// drive_replay - feeds recorded phase currents to the drive, open loop (the
-// drive's voltages go nowhere), and writes what it estimates. Built in every
-// host build, so the same currents can be replayed through the float and the
-// fixed-point drive and their estimates compared sample by sample without
-// the closed loop making the two runs drift apart
+// drive_replay - feeds recorded phase currents to the scenario's drive, open
+// loop (the drive's voltages go nowhere), and writes what it estimates.
+// Built in every host build, so the same currents can be replayed through
+// the float and the fixed-point drive and their estimates compared sample
+// by sample without the closed loop making the two runs drift apart
 // (tools/checks/compare_builds.py).
 //   drive_replay SCENARIO.toml CURRENTS.csv OUT.csv
-// CURRENTS.csv is a motorsim CSV (columns i_a_meas, i_b_meas, v_a, v_b); OUT.csv has
-// t_s, mode, theta_est, omega_est, v_a, v_b.
+// CURRENTS.csv is a motorsim CSV of a two-phase run (columns i_a_meas,
+// i_b_meas, v_a, v_b); OUT.csv has t_s, mode, theta_est, omega_est, v_a, v_b.
+//
+// Drive-neutral, like motorsim: the scenario's drive is designed by its
+// host part and run through the drive interface (drives/drive.h: step,
+// status); the one thing a replay asks of a drive, how to tell it the
+// voltage the recorded run really applied, is its host part's
+// HostDrive.set_applied_voltage (host_drives/host_drive.h). A drive whose
+// host part has none is refused. Chosen over moving the program into paper
+// 000's room: the program then names no drive and replays any drive that
+// answers that one question, with no copy per drive.
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -15,9 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "drives/paper000/paper000_drive.h"
+#include "host_drives/host_drive.h"
 #include "mc_convert.h"
-#include "scenario/design_input.h"
 #include "scenario/scenario.h"
 
 namespace {
@@ -76,8 +84,18 @@ int main(int argc, char** argv)
     }
     try {
         mcsim::Scenario sc = mcsim::load_scenario(argv[1]);
-        auto drive = std::make_unique<paper000_drive_t>();
-        mcsim::design_and_init_drive(sc, drive.get());
+        const mcsim::HostDrive* host = mcsim::host_drive_find(sc.drive_kind);
+        if (host == nullptr || host->set_applied_voltage == nullptr) {
+            throw std::runtime_error(sc.path + ": the " + sc.drive_kind +
+                                     " drive cannot be replayed open loop (its host part has no set_applied_voltage)");
+        }
+        auto storage = std::make_unique<drive_storage_t>();
+        auto cfg = std::make_unique<drive_config_storage_t>();
+        drive_t drive = mcsim::design_scenario_drive(sc, storage.get(), cfg.get());
+        if (sc.motor.n_phases() != 2) {
+            throw std::runtime_error(sc.path + ": a replay of a two-phase run (its motor has " +
+                                     std::to_string(sc.motor.n_phases()) + " phases)");
+        }
         const auto currents = read_currents(argv[2]);
         const std::string tmp = std::string(argv[3]) + ".tmp";
         std::FILE* f = std::fopen(tmp.c_str(), "w");
@@ -93,21 +111,21 @@ int main(int argc, char** argv)
             // this one's (the mean over the sample, as the drive forms it)
             const Sample& now = currents[k];
             const Sample prev = k > 0 ? currents[k - 1] : Sample{};
-            const double va_app = dly > 0.0 ? (1.0 - dly) * now.v_a + dly * prev.v_a : now.v_a;
-            const double vb_app = dly > 0.0 ? (1.0 - dly) * now.v_b + dly * prev.v_b : now.v_b;
-            paper000_drive_set_applied_voltage(drive.get(), mcsim::to_mc(va_app), mcsim::to_mc(vb_app));
+            const double v_app[2] = {dly > 0.0 ? (1.0 - dly) * now.v_a + dly * prev.v_a : now.v_a,
+                                     dly > 0.0 ? (1.0 - dly) * now.v_b + dly * prev.v_b : now.v_b};
+            host->set_applied_voltage(&drive, v_app, 2);
             hal_sample_t in{};
             in.n_phases = 2;
             in.i_A[0] = mcsim::to_mc(currents[k].i_a);
             in.i_A[1] = mcsim::to_mc(currents[k].i_b);
             in.tick = static_cast<std::uint32_t>(k);
             hal_command_t out{};
-            paper000_drive_step(drive.get(), &in, &out);
+            (void)drive_step(&drive, &in, &out);
             const mc_t va = out.v_V[0], vb = out.v_V[1];
-            paper000_telemetry_t t;
-            paper000_drive_get_telemetry(drive.get(), &t);
-            std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", sc.t_start_s() + static_cast<double>(k) * sc.ts_s, static_cast<int>(t.mode),
-                         mcsim::to_double(t.theta_est_rad), mcsim::to_double(t.omega_est_rad_s),
+            drive_status_t st{};
+            drive_status(&drive, &st);
+            std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", sc.t_start_s() + static_cast<double>(k) * sc.ts_s, static_cast<int>(st.mode),
+                         mcsim::to_double(st.theta_est_rad), mcsim::to_double(st.omega_est_rad_s),
                          mcsim::to_double(va), mcsim::to_double(vb));
         }
         // a write error (e.g. a full disk) must not rename a truncated file into place

@@ -1,46 +1,55 @@
-// design_input.h - maps a scenario onto drive_design_input_t
-// (design/paper000_design.h), the one place that knows the design
-// field names the [gains] and [bounds] tables may override.
+// design_input.h - what every drive's design input takes from a scenario
+// alike: the motor the drive believes in ([drive_model]) as the one motor
+// design input (design/motor_design.h), the sample time, the current limit
+// and trip, the current at the ADC's rail and the computation delay. Each
+// drive's own mapping (its supply, its table's keys, its design's
+// switches) is in its host part, sim/host_drives/<name>_host.cpp.
 #ifndef MCSIM_SCENARIO_DESIGN_INPUT_H
 #define MCSIM_SCENARIO_DESIGN_INPUT_H
 
-#include <string>
-#include <vector>
+#include <cstddef>
+#include <iterator>
 
-#include "design/paper000_design.h"
-#include "design/paper001_design.h"
-#include "design/paper002_design.h"
+#include "design/motor_design.h"
+#include "model/current_sensor.h"
+#include "model/motor_params.h"
 #include "scenario/scenario.h"
 
 namespace mcsim {
 
-// Keys accepted in [gains]: the fields of drive_gain_override_t.
+// The one design input for the motor, the same for every design.
+motor_design_input_t motor_design_input(const MotorParams& m);
+
 // The current at the ADC's rail for the fault monitor (0: no ADC, no check).
 double adc_rail_A(const SensorParams& p);
 
-const std::vector<std::string>& gain_override_keys();
-// Keys accepted in [bounds]: the bound_* fields of drive_design_input_t.
-const std::vector<std::string>& design_bound_keys();
+// The fields every drive's design input has, of these names, from the
+// scenario: motor ([drive_model]), ts_s, i_max_A, i_trip_A,
+// i_trip_samples, i_rail_A and compute_delay_samples (the board's, known
+// to its drive).
+template <typename DesignInput>
+void shared_design_input(const Scenario& sc, DesignInput* in)
+{
+    in->motor = motor_design_input(sc.drive_model);
+    in->ts_s = sc.ts_s;
+    in->i_max_A = sc.i_max_A;
+    in->i_trip_A = sc.i_trip_A;
+    in->i_trip_samples = sc.i_trip_samples;
+    in->i_rail_A = adc_rail_A(sc.sensor);
+    in->compute_delay_samples = sc.compute_delay_samples;
+}
 
-// drive_design_defaults(), then the drive model, sample time, limits,
-// segments and the scenario's overrides.
-void make_design_input(const Scenario& sc, drive_design_input_t* in);
-
-// make_design_input + drive_design + paper000_drive_init, and sc.pre_ticks = the
-// drive's alignment (so a Rig built after it starts the plant at
-// sc.t_start_s()). Throws ScenarioError ("FILE: design: reason") if the
-// design or the drive rejects the input.
-void design_and_init_drive(Scenario& sc, paper000_drive_t* drive);
-
-// The same for the speed drive of paper 001 ([speed] scenarios).
-void make_speed_design_input(const Scenario& sc, p001_design_input_t* in);
-void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep);
-
-// The same for paper 002's drive ([paper002] scenarios): the drive model,
-// limits, sensor noise (a uniform half-width a as its sigma a/sqrt(3)),
-// encoder and reference. The fixed-point build's design refuses it.
-void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in);
-void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive);
+// A speed drive's reference corners (sc.speed_points) into its design
+// input's n_points, t_s[] and omega_rad_s[] (at most their length).
+template <typename DesignInput>
+void speed_points_design_input(const Scenario& sc, DesignInput* in)
+{
+    in->n_points = sc.speed_points.size();
+    for (std::size_t k = 0; k < sc.speed_points.size() && k < std::size(in->t_s); ++k) {
+        in->t_s[k] = sc.speed_points[k].first;
+        in->omega_rad_s[k] = sc.speed_points[k].second;
+    }
+}
 
 }  // namespace mcsim
 

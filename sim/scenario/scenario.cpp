@@ -11,9 +11,7 @@
 
 #include <toml++/toml.h>
 
-#include "trajectory/trajectory.h"
 #include "trajectory/speed_profile.h"
-#include "scenario/design_input.h"
 #include "scenario/toml_view.h"
 #include "host_drives/host_drive.h"
 
@@ -399,7 +397,7 @@ MotorParams load_motor_file(const std::string& path) { return read_motor_file(pa
 // A/D range, the bus through a divider that puts 1.25 times it there, and
 // as the emulated hardware's imperfections: offsets of 2 % of full scale,
 // gain errors of 1 % (Hall sensors), 1 mV of noise (3 codes).
-void read_board(const View& root, Scenario* sc)
+void read_board(const View* v, Scenario* sc)
 {
     BoardParams& b = sc->board;
     board_chain_config_t& c = b.chain;
@@ -428,8 +426,7 @@ void read_board(const View& root, Scenario* sc)
         b.sensor_gain_error[k] = gains[k];
     }
     b.noise_V = 1e-3;
-    const auto v = root.table("board");
-    if (v) {
+    if (v != nullptr) {
         v->only({"ai_channels", "ao_channels", "current_channels", "vbus_channel", "voltage_channels", "adc_bits",
                  "dac_bits", "adc_range_V", "dac_range_V", "sensor_V_per_A", "amplifier_V_per_V", "vbus_V_per_V",
                  "offset_max_V", "calibration_samples", "sensor_offset_V", "sensor_gain_error", "noise_V"});
@@ -494,7 +491,7 @@ void read_board(const View& root, Scenario* sc)
     c.amplifier_V_per_V = c.dac_range_V > 0.0 ? v_phase / c.dac_range_V : 0.0;
     c.sensor_V_per_A = sc->i_trip_A > 0.0 ? c.adc_range_V / (1.25 * sc->i_trip_A) : 0.0;
     c.vbus_V_per_V = c.adc_range_V > 0.0 ? 1.25 * v_bus / c.adc_range_V : 0.0;
-    if (v) {
+    if (v != nullptr) {
         if (const auto x = v->number("sensor_V_per_A")) c.sensor_V_per_A = *x;
         if (const auto x = v->number("amplifier_V_per_V")) c.amplifier_V_per_V = *x;
         if (const auto x = v->number("vbus_V_per_V")) c.vbus_V_per_V = *x;
@@ -523,13 +520,9 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& parser_tabl
         {"drive_model", {"L_H", "R_ohm", "K_Nm_per_A", "L_d_H", "L_q_H", "Phi_Wb", "J_kgm2", "fv_Nms_per_rad", "n_p"}},
         {"supply", {"v_max_V", "v_bus_V"}},
         {"limits", {"i_max_A", "i_trip_A", "i_trip_samples", "omega_lim_rad_s", "i_open_loop_A"}},
-        {"design", {"load_feedforward", "identify_rl", "identify_k", "align_rotor", "gain_design", "control_law"}},
-        {"protection", {"loss_of_sync"}},
         {"sensor", {"noise", "noise_A", "adc_bits", "adc_full_scale_A"}},
         {"faults", {"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples", "nan_sample_t_s", "supply_sag", "overruns"}},
         {"load", {"steps", "pulses"}},
-        {"trajectory", {"segments"}},
-        {"trajectory.segments", {"t_start_s", "duration_s", "theta_to_rad"}},
         {"encoder", {"counts_per_turn", "noise_rad"}},
         {"drive", {"kind"}}};
     return k;
@@ -547,11 +540,19 @@ const std::vector<std::string>& table_keys(const std::string& table)
 
 std::vector<std::string> top_level_keys()
 {
-    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "protection", "design", "sensor", "load",
-               "gains", "bounds", "expect", "faults", "board", "encoder", "drive"};
+    std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "sensor", "load",
+                                    "expect", "faults", "board", "encoder", "drive"};
+    const auto add = [&top](const std::string& table) {
+        if (table.find('.') == std::string::npos && std::find(top.begin(), top.end(), table) == top.end()) {
+            top.push_back(table);
+        }
+    };
     for (const HostDrive* d : host_drives()) {
-        if (std::find(top.begin(), top.end(), d->table) == top.end()) {
-            top.emplace_back(d->table);  // each registered drive's own table
+        add(d->table);  // each registered drive's own table, and its further ones
+        if (d->extra_keys != nullptr) {
+            for (const auto& kv : d->extra_keys()) {
+                add(kv.first);
+            }
         }
     }
     return top;
@@ -562,11 +563,12 @@ std::vector<std::pair<std::string, std::vector<std::string>>> scenario_keys()
     std::vector<std::pair<std::string, std::vector<std::string>>> k = parser_tables();
     k.emplace_back("top", top_level_keys());
     k.emplace_back("motor_file", motor_file_keys());
-    k.emplace_back("gains", gain_override_keys());
-    k.emplace_back("bounds", design_bound_keys());
     for (const HostDrive* d : host_drives()) {
-        if (d->keys != nullptr) {
-            k.emplace_back(d->table, d->keys());
+        k.emplace_back(d->table, d->keys());
+        if (d->extra_keys != nullptr) {
+            for (auto& kv : d->extra_keys()) {
+                k.push_back(std::move(kv));
+            }
         }
     }
     return k;
@@ -595,19 +597,447 @@ void read_speed_profile(const View& v, Scenario* sc)
     }
 }
 
-Scenario load_scenario(const std::string& path)
-{
-    Scenario sc;
-    sc.path = path;
-    sc.stem = fs::path(path).stem().string();
+namespace {
 
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) {
-        throw ScenarioError(path + ": cannot open scenario file");
+// --- one parser per table: each reads its table (nullptr: absent) into
+// *sc, after the tables before it in kSections (their values are there).
+
+// [run] (required)
+void read_run(const View* t, Scenario* sc)
+{
+    const View& v = *t;
+    v.only(table_keys("run"));
+    sc->duration_s = v.number_req("duration_s");
+    gt(v, "duration_s", sc->duration_s, 0.0);
+    sc->ts_s = v.number_req("Ts_s");
+    gt(v, "Ts_s", sc->ts_s, 0.0);
+    le(v, "Ts_s", sc->ts_s, sc->duration_s);
+    // hal_time_us() and the firmware's tick counter are 32-bit.
+    if (sc->duration_s / sc->ts_s > 4.0e9) {
+        v.fail("duration_s", "more than 4e9 samples of Ts_s (got " + fmt_num(sc->duration_s / sc->ts_s) + ")");
     }
-    const toml::table root_t = parse_toml(path);
-    const View root(root_t, path, "");
-    root.only(top_level_keys());
+    if (const auto s = v.integer("seed")) {
+        if (*s < 0) {
+            v.fail("seed", "must be >= 0 (got " + std::to_string(*s) + ")");
+        }
+        sc->seed = static_cast<std::uint64_t>(*s);
+    }
+    if (const auto n = v.integer("substeps")) {
+        if (*n < 1 || *n > kMaxSubsteps) {
+            v.fail("substeps", "must be an integer in [1, " + std::to_string(kMaxSubsteps) + "] (got " +
+                                   std::to_string(*n) + ")");
+        }
+        sc->substeps = static_cast<int>(*n);
+        sc->substeps_given = true;
+    }
+    sc->theta0_rad = v.number("theta0_rad").value_or(0.0);
+    if (const auto d = v.number("compute_delay_samples")) {
+        if (!(*d >= 0.0 && *d <= 1.0)) {
+            v.fail("compute_delay_samples", "must be in [0, 1] (got " + fmt_num(*d) + ")");
+        }
+        sc->compute_delay_samples = *d;
+    }
+}
+
+// The plant's integration step against the motor's fastest modes: RK4 is
+// stable for h lambda < 2.78 on the real axis and 2.83 on the imaginary
+// one, and accurate well inside; h lambda <= 1 is asked here. Modes: the
+// electrical R/L (R/L_q too), the Coulomb friction's tanh slope
+// C/(w_s J), viscous f_v/J, and the electromechanical oscillation
+// sqrt(K_e K_t/(L J)). Without [run] substeps the sub-steps are chosen;
+// with it, too few is an error naming the keys.
+void choose_substeps(Scenario* sc)
+{
+    const MotorParams& m = sc->motor;
+    const double L_min = std::min(m.L_H, m.L_q());
+    const double K = m.K_Nm_per_A;
+    struct Mode {
+        double rate;
+        const char* keys;
+    } modes[] = {{m.R_ohm / L_min, "motor R_ohm / L (L_H or L_d_H, L_q_H)"},
+                 {m.coulomb_Nm / (m.coulomb_omega_s_rad_s * m.J_kgm2), "motor coulomb_Nm / (coulomb_omega_s_rad_s J_kgm2)"},
+                 {m.fv_Nms_per_rad / m.J_kgm2, "motor fv_Nms_per_rad / J_kgm2"},
+                 {std::sqrt(K * K * m.torque_scale() / (L_min * m.J_kgm2)), "motor K (Phi_Wb n_p) / sqrt(L J_kgm2)"}};
+    const Mode* fastest = &modes[0];
+    for (const Mode& md : modes) {
+        if (std::isfinite(md.rate) && md.rate > fastest->rate) {
+            fastest = &md;
+        }
+    }
+    const double need = std::ceil(sc->ts_s * fastest->rate / kRk4StepTimesRateMax);
+    if (need > static_cast<double>(sc->substeps)) {
+        const std::string why = "the plant's fastest mode (" + std::string(fastest->keys) + " = " +
+                                fmt_num(fastest->rate) + " 1/s) needs " + fmt_num(need) +
+                                " RK4 sub-steps per Ts_s = " + fmt_num(sc->ts_s) + " s";
+        if (need > static_cast<double>(kMaxSubsteps)) {
+            fail(sc->path, "motor", why + ", more than the " + std::to_string(kMaxSubsteps) +
+                                        " allowed: the motor file's values are implausible for this Ts_s");
+        }
+        if (sc->substeps_given) {
+            fail(sc->path, "run.substeps", why + " (got " + std::to_string(sc->substeps) + ")");
+        }
+        sc->substeps = static_cast<int>(need);
+    }
+}
+
+// [motor] (required): a motor file plus optional overrides; then the
+// plant's RK4 sub-steps for it
+void read_motor(const View* t, Scenario* sc)
+{
+    const View& v = *t;
+    std::vector<std::string> allowed = motor_file_keys();
+    allowed.erase(allowed.begin(), allowed.begin() + 4);  // no name/source/description/type here
+    allowed.push_back("file");
+    v.only(allowed);
+    const auto file = v.string("file");
+    if (!file) {
+        v.fail("file", "missing required field");
+    }
+    // Relative to the scenario file, so scenarios work from any cwd.
+    fs::path mp(*file);
+    if (mp.is_relative()) {
+        mp = fs::path(sc->path).parent_path() / mp;
+    }
+    sc->motor_file = mp.lexically_normal().string();
+    std::error_code ec;
+    if (!fs::is_regular_file(sc->motor_file, ec)) {
+        v.fail("file", "cannot open motor file '" + sc->motor_file + "'");
+    }
+    sc->motor = read_motor_file(sc->motor_file);
+    read_motor_fields(v, &sc->motor, false, true);
+    choose_substeps(sc);
+}
+
+// [drive_model]: what the drive is designed for; defaults to the plant.
+void read_drive_model(const View* v, Scenario* sc)
+{
+    sc->drive_model = sc->motor;
+    if (v != nullptr) {
+        v->only(table_keys("drive_model"));
+        read_motor_fields(*v, &sc->drive_model, false, false);
+    }
+}
+
+// [supply] (required)
+void read_supply(const View* t, Scenario* sc)
+{
+    const View& v = *t;
+    v.only(table_keys("supply"));
+    if (sc->motor.type == MotorType::kPmsm3) {
+        // three legs on one bus: each swings +-v_bus/2 about the midpoint
+        if (v.has("v_max_V")) {
+            v.fail("v_max_V", "only for a stepper2 motor (a pmsm3 motor takes v_bus_V)");
+        }
+        const double vb = v.number_req("v_bus_V");
+        gt(v, "v_bus_V", vb, 0.0);
+        sc->v_max_V = 0.5 * vb;
+    } else {
+        if (v.has("v_bus_V")) {
+            if (v.has("v_max_V")) {
+                v.fail("v_bus_V", "give v_max_V or v_bus_V, not both (equal for H-bridges)");
+            }
+            sc->v_max_V = v.number_req("v_bus_V");
+            gt(v, "v_bus_V", sc->v_max_V, 0.0);
+        } else {
+            sc->v_max_V = v.number_req("v_max_V");
+            gt(v, "v_max_V", sc->v_max_V, 0.0);
+        }
+    }
+}
+
+// [limits] (required)
+void read_limits(const View* t, Scenario* sc)
+{
+    const View& v = *t;
+    v.only(table_keys("limits"));
+    sc->i_max_A = v.number_req("i_max_A");
+    gt(v, "i_max_A", sc->i_max_A, 0.0);
+    sc->i_trip_A = v.number("i_trip_A").value_or(1.5 * sc->i_max_A);
+    if (v.has("i_trip_A")) {
+        ge(v, "i_trip_A", sc->i_trip_A, sc->i_max_A);
+    }
+    if (const auto n = v.integer("i_trip_samples")) {
+        if (*n < 1 || *n > 8) {
+            v.fail("i_trip_samples", "must be 1..8 (got " + std::to_string(*n) + ")");
+        }
+        sc->i_trip_samples = static_cast<int>(*n);
+    }
+    if (const auto w = v.number("omega_lim_rad_s")) {  // a drive's part may require it (paper000_host.cpp)
+        gt(v, "omega_lim_rad_s", *w, 0.0);
+        sc->omega_lim_rad_s = *w;
+    }
+    if (const auto i = v.number("i_open_loop_A")) {
+        gt(v, "i_open_loop_A", *i, 0.0);
+        le(v, "i_open_loop_A", *i, sc->i_max_A);
+        sc->i_open_loop_A = *i;
+    }
+}
+
+// [sensor] (optional: an ideal sensor)
+void read_sensor(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        return;
+    }
+    v->only(table_keys("sensor"));
+    const std::string kind = v->string("noise").value_or("none");
+    if (kind == "none") {
+        sc->sensor.noise = NoiseKind::kNone;
+    } else if (kind == "uniform") {
+        sc->sensor.noise = NoiseKind::kUniform;
+    } else if (kind == "gaussian") {
+        sc->sensor.noise = NoiseKind::kGaussian;
+    } else {
+        v->fail("noise", "must be \"none\", \"uniform\" or \"gaussian\" (got \"" + kind + "\")");
+    }
+    const auto n = v->number("noise_A");
+    if (n) {
+        ge(*v, "noise_A", *n, 0.0);
+        sc->sensor.noise_A = *n;
+    } else if (sc->sensor.noise != NoiseKind::kNone) {
+        v->fail("noise_A", "missing required field (noise is \"" + kind + "\")");
+    }
+    if (const auto b = v->integer("adc_bits")) {
+        if (*b < 0 || *b > 32) {
+            v->fail("adc_bits", "must be an integer in [0, 32] (got " + std::to_string(*b) + ")");
+        }
+        sc->sensor.adc_bits = static_cast<int>(*b);
+    }
+    const auto fsA = v->number("adc_full_scale_A");
+    if (fsA) {
+        gt(*v, "adc_full_scale_A", *fsA, 0.0);
+        sc->sensor.adc_full_scale_A = *fsA;
+    } else if (sc->sensor.adc_bits > 0) {
+        v->fail("adc_full_scale_A", "missing required field (adc_bits > 0)");
+    }
+}
+
+// [faults] (optional): injected faults (model/fault_injection.h)
+void read_faults(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        return;
+    }
+    v->only(table_keys("faults"));
+    FaultInjection& f = sc->faults;
+    const int n_ph = sc->motor.n_phases();
+    auto time_of = [](const View& t, const char* k) {
+        const double x = t.number_req(k);
+        ge(t, k, x, 0.0);
+        return x;
+    };
+    auto phase_of = [&](const View& t) {
+        const std::string ph = t.string("phase").value_or("");
+        const int k = ph == "a" ? 0 : ph == "b" ? 1 : ph == "c" ? 2 : -1;
+        if (k < 0 || k >= n_ph) {
+            t.fail("phase", "must be one of the motor's phases " + std::string(n_ph == 3 ? "\"a\", \"b\", \"c\"" : "\"a\", \"b\"") +
+                                " (got \"" + ph + "\")");
+        }
+        return k;
+    };
+    // an array of one number per phase
+    auto per_phase = [&](const View& t, const char* k, double* out) {
+        const auto x = t.numbers(k, static_cast<std::size_t>(n_ph), [](double) { return true; }, "must be finite");
+        if (!x) {
+            t.fail(k, "missing required field: an array of " + std::to_string(n_ph) + " numbers, one per phase");
+        }
+        std::copy(x->begin(), x->end(), out);
+    };
+    if (v->has("locked_rotor_t_s")) {
+        f.locked_rotor_t_s = time_of(*v, "locked_rotor_t_s");
+    }
+    if (const auto t = v->table("open_phase")) {
+        t->only({"t_s", "phase"});
+        if (n_ph != 2) {
+            v->fail("open_phase", "only for two-phase motors (type = \"stepper2\"): an open phase of a star-connected motor is not modelled");
+        }
+        f.open_phase_t_s = time_of(*t, "t_s");
+        f.open_phase = phase_of(*t);
+    }
+    if (const auto t = v->table("sensor_offset")) {
+        t->only({"t_s", "offset_A"});
+        f.offset_t_s = time_of(*t, "t_s");
+        per_phase(*t, "offset_A", f.offset_A);
+    }
+    if (const auto t = v->table("sensor_gain")) {
+        t->only({"t_s", "gain"});
+        f.gain_t_s = time_of(*t, "t_s");
+        per_phase(*t, "gain", f.gain);
+    }
+    if (const auto t = v->table("noise_burst")) {
+        t->only({"t_s", "duration_s", "noise_A"});
+        f.burst_t_s = time_of(*t, "t_s");
+        f.burst_duration_s = t->number_req("duration_s");
+        gt(*t, "duration_s", f.burst_duration_s, 0.0);
+        f.burst_noise_A = t->number_req("noise_A");
+        gt(*t, "noise_A", f.burst_noise_A, 0.0);
+    }
+    if (const auto t = v->table("stuck_samples")) {
+        t->only({"t_s", "phase"});
+        f.stuck_t_s = time_of(*t, "t_s");
+        f.stuck_phase = phase_of(*t);
+    }
+    if (v->has("nan_sample_t_s")) {
+        f.nan_t_s = time_of(*v, "nan_sample_t_s");
+    }
+    if (const auto t = v->table("supply_sag")) {
+        t->only({"t_s", "duration_s", "v_max_V"});
+        f.sag_t_s = time_of(*t, "t_s");
+        f.sag_duration_s = t->number_req("duration_s");
+        gt(*t, "duration_s", f.sag_duration_s, 0.0);
+        f.sag_v_max_V = t->number_req("v_max_V");
+        ge(*t, "v_max_V", f.sag_v_max_V, 0.0);
+        le(*t, "v_max_V", f.sag_v_max_V, sc->v_max_V);
+    }
+    if (const auto t = v->table("overruns")) {
+        t->only({"t_s", "count"});
+        f.overrun_t_s = time_of(*t, "t_s");
+        const auto c = t->integer("count");
+        if (!c || *c < 1 || *c > 1000000) {
+            t->fail("count", "must be an integer in [1, 1000000]");
+        }
+        f.overrun_count = static_cast<int>(*c);
+    }
+}
+
+// [load] (optional: no external load): steps, or a pulse train
+void read_load(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        return;
+    }
+    v->only(table_keys("load"));
+    if (v->has("steps") && v->has("pulses")) {
+        v->fail("pulses", "give either steps or pulses, not both");
+    }
+    auto edge_of = [](const View& t) {
+        const std::string e = t.string("edge").value_or("linear");
+        if (e != "linear" && e != "raised_cosine") {
+            t.fail("edge", "must be \"linear\" or \"raised_cosine\" (got \"" + e + "\")");
+        }
+        return e == "raised_cosine";
+    };
+    if (const auto steps = v->tables("steps")) {
+        double t_free = 0.0;  // earliest start of the next step
+        for (const View& s : *steps) {
+            s.only({"t_s", "torque_Nm", "ramp_s", "edge"});
+            LoadStep ls;
+            ls.t_s = s.number_req("t_s");
+            ge(s, "t_s", ls.t_s, t_free);
+            ls.torque_Nm = s.number_req("torque_Nm");
+            ls.ramp_s = s.number("ramp_s").value_or(0.0);
+            ge(s, "ramp_s", ls.ramp_s, 0.0);
+            ls.raised_cosine = edge_of(s);
+            t_free = ls.t_s + ls.ramp_s;
+            sc->load.push_back(ls);
+        }
+    }
+    // a pulse train (paper 002's load): torque_Nm from start_s every
+    // period_s for width_s (the edges inside it), until the run's end
+    if (const auto p = v->table("pulses")) {
+        p->only({"torque_Nm", "start_s", "width_s", "period_s", "edge_s", "edge"});
+        const double M = p->number_req("torque_Nm");
+        const double t0 = p->number_req("start_s");
+        const double w = p->number_req("width_s");
+        const double T = p->number_req("period_s");
+        const double e = p->number("edge_s").value_or(0.0);
+        ge(*p, "start_s", t0, 0.0);
+        gt(*p, "width_s", w, 0.0);
+        gt(*p, "period_s", T, 0.0);
+        ge(*p, "edge_s", e, 0.0);
+        if (!(2.0 * e <= w)) p->fail("edge_s", "two edges must fit in width_s (got " + fmt_num(e) + " s)");
+        if (!(w < T)) p->fail("width_s", "must be shorter than period_s");
+        const bool cosine = edge_of(*p);
+        if ((sc->duration_s - t0) / T > 10000.0) p->fail("period_s", "more than 10000 pulses in the run");
+        const auto n_pulses = static_cast<int>(std::ceil((sc->duration_s - t0) / T));
+        for (int k = 0; k < n_pulses; ++k) {
+            const double t = t0 + static_cast<double>(k) * T;
+            sc->load.push_back(LoadStep{t, M, e, cosine});
+            sc->load.push_back(LoadStep{t + w - e, 0.0, e, cosine});
+        }
+    }
+}
+
+// [expect]: bounds on the run's metrics; names are checked against the
+// drive's metrics before the run (motorsim), values here
+void read_expect(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        return;
+    }
+    for (const std::string& k : v->keys()) {
+        const auto e = v->table(k);
+        if (!e) {
+            continue;
+        }
+        e->only({"max", "min"});
+        Expectation x;
+        x.metric = k;
+        if (const auto hi = e->number("max")) {
+            x.has_max = true;
+            x.max = *hi;
+        }
+        if (const auto lo = e->number("min")) {
+            x.has_min = true;
+            x.min = *lo;
+        }
+        if (!x.has_max && !x.has_min) {
+            v->fail(k, "needs max and/or min (e.g. { max = 0.03 })");
+        }
+        if (x.has_max && x.has_min && !(x.min <= x.max)) {
+            v->fail(k, "min must be <= max (got min " + fmt_num(x.min) + ", max " + fmt_num(x.max) + ")");
+        }
+        sc->expect.push_back(x);
+    }
+}
+
+// [encoder] (optional): the HAL's position input
+void read_encoder(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        return;
+    }
+    v->only(table_keys("encoder"));
+    const auto n = v->integer("counts_per_turn");
+    if (!n) v->fail("counts_per_turn", "missing required field");
+    if (*n < 1 || *n > (std::int64_t{1} << 32)) {
+        v->fail("counts_per_turn", "must be an integer in [1, 2^32] (got " + std::to_string(*n) + ")");
+    }
+    sc->encoder.counts_per_turn = *n;
+    sc->encoder.noise_rad = v->number("noise_rad").value_or(0.0);
+    ge(*v, "noise_rad", sc->encoder.noise_rad, 0.0);
+}
+
+// The scenario's tables in the order they are read (a table may use what
+// the ones before it set), each by its parser; a required one's absence is
+// an error naming it. The drive's own tables come after them all (its host
+// part's parse).
+struct Section {
+    const char* table;
+    bool required;
+    void (*read)(const View* t, Scenario* sc);  // t: nullptr when absent (never when required)
+};
+const Section kSections[] = {
+    {"run", true, &read_run},
+    {"motor", true, &read_motor},
+    {"drive_model", false, &read_drive_model},
+    {"supply", true, &read_supply},
+    {"limits", true, &read_limits},
+    {"sensor", false, &read_sensor},
+    {"faults", false, &read_faults},
+    {"load", false, &read_load},
+    {"expect", false, &read_expect},
+    {"board", false, &read_board},
+    {"encoder", false, &read_encoder},
+};
+
+// [drive]: the scenario's drive, a drive of the host registry
+// (sim/host_drives/) with its table: [drive] kind, or without it the drive
+// whose table the scenario has ([trajectory] if none: the position
+// drive's, which its parser then requires). Checked before any other
+// table; sets sc->drive_kind and sc->drive_table.
+const HostDrive* read_drive(const View& root, Scenario* sc)
+{
     // One drive's table: the papers' tables choose their drive without
     // [drive] (so two of them are a mistake)
     {
@@ -624,10 +1054,6 @@ Scenario load_scenario(const std::string& path)
             root.fail(second, "a scenario has one of " + tables);
         }
     }
-    // The drive: [drive] kind, a drive of the host registry
-    // (sim/host_drives/) with its table; without it, the drive whose table
-    // the scenario has ([trajectory] if none: the position drive's, which
-    // its parser below then requires).
     const HostDrive* host = nullptr;
     if (const auto v = root.table("drive")) {
         v->only(table_keys("drive"));
@@ -667,502 +1093,44 @@ Scenario load_scenario(const std::string& path)
     if (host == nullptr) {
         root.fail("drive", "no drive of the registry reads [trajectory], and the scenario names none");
     }
-    sc.drive_kind = host->name;
-    sc.drive_table = host->table;
-    sc.speed_drive = sc.drive_table == "speed";
+    sc->drive_kind = host->name;
+    sc->drive_table = host->table;
+    return host;
+}
+
+}  // namespace
+
+Scenario load_scenario(const std::string& path)
+{
+    Scenario sc;
+    sc.path = path;
+    sc.stem = fs::path(path).stem().string();
+
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+        throw ScenarioError(path + ": cannot open scenario file");
+    }
+    const toml::table root_t = parse_toml(path);
+    const View root(root_t, path, "");
+    root.only(top_level_keys());
+    const HostDrive* host = read_drive(root, &sc);
     sc.description = root.string("description").value_or("");
-
-    auto required_table = [&](const char* k) {
-        auto t = root.table(k);
-        if (!t) {
-            root.fail(k, "missing required table");
+    for (const Section& s : kSections) {
+        const auto t = root.table(s.table);
+        if (!t && s.required) {
+            root.fail(s.table, "missing required table");
         }
-        return *t;
-    };
-
-    // [run]
-    {
-        const View v = required_table("run");
-        v.only(table_keys("run"));
-        sc.duration_s = v.number_req("duration_s");
-        gt(v, "duration_s", sc.duration_s, 0.0);
-        sc.ts_s = v.number_req("Ts_s");
-        gt(v, "Ts_s", sc.ts_s, 0.0);
-        le(v, "Ts_s", sc.ts_s, sc.duration_s);
-        // hal_time_us() and the firmware's tick counter are 32-bit.
-        if (sc.duration_s / sc.ts_s > 4.0e9) {
-            v.fail("duration_s", "more than 4e9 samples of Ts_s (got " + fmt_num(sc.duration_s / sc.ts_s) + ")");
-        }
-        if (const auto s = v.integer("seed")) {
-            if (*s < 0) {
-                v.fail("seed", "must be >= 0 (got " + std::to_string(*s) + ")");
-            }
-            sc.seed = static_cast<std::uint64_t>(*s);
-        }
-        if (const auto n = v.integer("substeps")) {
-            if (*n < 1 || *n > kMaxSubsteps) {
-                v.fail("substeps", "must be an integer in [1, " + std::to_string(kMaxSubsteps) + "] (got " +
-                                       std::to_string(*n) + ")");
-            }
-            sc.substeps = static_cast<int>(*n);
-            sc.substeps_given = true;
-        }
-        sc.theta0_rad = v.number("theta0_rad").value_or(0.0);
-        if (const auto d = v.number("compute_delay_samples")) {
-            if (!(*d >= 0.0 && *d <= 1.0)) {
-                v.fail("compute_delay_samples", "must be in [0, 1] (got " + fmt_num(*d) + ")");
-            }
-            sc.compute_delay_samples = *d;
+        s.read(t ? &*t : nullptr, &sc);
+    }
+    // the drives' further tables, then the drive's own table (after every
+    // shared table they may read): their host parts' (host_drive.h)
+    for (const HostDrive* d : host_drives()) {
+        if (d->parse_extra != nullptr) {
+            d->parse_extra(root, &sc);
         }
     }
-
-    // [motor]: a motor file plus optional overrides
-    {
-        const View v = required_table("motor");
-        std::vector<std::string> allowed = motor_file_keys();
-        allowed.erase(allowed.begin(), allowed.begin() + 4);  // no name/source/description/type here
-        allowed.push_back("file");
-        v.only(allowed);
-        const auto file = v.string("file");
-        if (!file) {
-            v.fail("file", "missing required field");
-        }
-        // Relative to the scenario file, so scenarios work from any cwd.
-        fs::path mp(*file);
-        if (mp.is_relative()) {
-            mp = fs::path(path).parent_path() / mp;
-        }
-        sc.motor_file = mp.lexically_normal().string();
-        if (!fs::is_regular_file(sc.motor_file, ec)) {
-            v.fail("file", "cannot open motor file '" + sc.motor_file + "'");
-        }
-        sc.motor = read_motor_file(sc.motor_file);
-        read_motor_fields(v, &sc.motor, false, true);
-    }
-
-    // The plant's integration step against the motor's fastest modes: RK4 is
-    // stable for h lambda < 2.78 on the real axis and 2.83 on the imaginary
-    // one, and accurate well inside; h lambda <= 1 is asked here. Modes: the
-    // electrical R/L (R/L_q too), the Coulomb friction's tanh slope
-    // C/(w_s J), viscous f_v/J, and the electromechanical oscillation
-    // sqrt(K_e K_t/(L J)). Without [run] substeps the sub-steps are chosen;
-    // with it, too few is an error naming the keys.
-    {
-        const MotorParams& m = sc.motor;
-        const double L_min = std::min(m.L_H, m.L_q());
-        const double K = m.K_Nm_per_A;
-        struct Mode {
-            double rate;
-            const char* keys;
-        } modes[] = {{m.R_ohm / L_min, "motor R_ohm / L (L_H or L_d_H, L_q_H)"},
-                     {m.coulomb_Nm / (m.coulomb_omega_s_rad_s * m.J_kgm2), "motor coulomb_Nm / (coulomb_omega_s_rad_s J_kgm2)"},
-                     {m.fv_Nms_per_rad / m.J_kgm2, "motor fv_Nms_per_rad / J_kgm2"},
-                     {std::sqrt(K * K * m.torque_scale() / (L_min * m.J_kgm2)), "motor K (Phi_Wb n_p) / sqrt(L J_kgm2)"}};
-        const Mode* fastest = &modes[0];
-        for (const Mode& md : modes) {
-            if (std::isfinite(md.rate) && md.rate > fastest->rate) {
-                fastest = &md;
-            }
-        }
-        const double need = std::ceil(sc.ts_s * fastest->rate / kRk4StepTimesRateMax);
-        if (need > static_cast<double>(sc.substeps)) {
-            const std::string why = "the plant's fastest mode (" + std::string(fastest->keys) + " = " +
-                                    fmt_num(fastest->rate) + " 1/s) needs " + fmt_num(need) +
-                                    " RK4 sub-steps per Ts_s = " + fmt_num(sc.ts_s) + " s";
-            if (need > static_cast<double>(kMaxSubsteps)) {
-                fail(sc.path, "motor", why + ", more than the " + std::to_string(kMaxSubsteps) +
-                                           " allowed: the motor file's values are implausible for this Ts_s");
-            }
-            if (sc.substeps_given) {
-                fail(sc.path, "run.substeps", why + " (got " + std::to_string(sc.substeps) + ")");
-            }
-            sc.substeps = static_cast<int>(need);
-        }
-    }
-
-    // [drive_model]: what the drive is designed for; defaults to the plant.
-    sc.drive_model = sc.motor;
-    if (const auto v = root.table("drive_model")) {
-        v->only(table_keys("drive_model"));
-        read_motor_fields(*v, &sc.drive_model, false, false);
-    }
-
-    // [supply]
-    {
-        const View v = required_table("supply");
-        v.only(table_keys("supply"));
-        if (sc.motor.type == MotorType::kPmsm3) {
-            // three legs on one bus: each swings +-v_bus/2 about the midpoint
-            if (v.has("v_max_V")) {
-                v.fail("v_max_V", "only for a stepper2 motor (a pmsm3 motor takes v_bus_V)");
-            }
-            const double vb = v.number_req("v_bus_V");
-            gt(v, "v_bus_V", vb, 0.0);
-            sc.v_max_V = 0.5 * vb;
-        } else {
-            if (v.has("v_bus_V")) {
-                if (v.has("v_max_V")) {
-                    v.fail("v_bus_V", "give v_max_V or v_bus_V, not both (equal for H-bridges)");
-                }
-                sc.v_max_V = v.number_req("v_bus_V");
-                gt(v, "v_bus_V", sc.v_max_V, 0.0);
-            } else {
-                sc.v_max_V = v.number_req("v_max_V");
-                gt(v, "v_max_V", sc.v_max_V, 0.0);
-            }
-        }
-    }
-
-    // [limits]
-    {
-        const View v = required_table("limits");
-        v.only(table_keys("limits"));
-        sc.i_max_A = v.number_req("i_max_A");
-        gt(v, "i_max_A", sc.i_max_A, 0.0);
-        sc.i_trip_A = v.number("i_trip_A").value_or(1.5 * sc.i_max_A);
-        if (v.has("i_trip_A")) {
-            ge(v, "i_trip_A", sc.i_trip_A, sc.i_max_A);
-        }
-        if (const auto n = v.integer("i_trip_samples")) {
-            if (*n < 1 || *n > 8) {
-                v.fail("i_trip_samples", "must be 1..8 (got " + std::to_string(*n) + ")");
-            }
-            sc.i_trip_samples = static_cast<int>(*n);
-        }
-        if (sc.position_drive() || v.has("omega_lim_rad_s")) {
-            sc.omega_lim_rad_s = v.number_req("omega_lim_rad_s");
-            gt(v, "omega_lim_rad_s", sc.omega_lim_rad_s, 0.0);
-        }
-        if (const auto i = v.number("i_open_loop_A")) {
-            gt(v, "i_open_loop_A", *i, 0.0);
-            le(v, "i_open_loop_A", *i, sc.i_max_A);
-            sc.i_open_loop_A = *i;
-        }
-    }
-
-    // [design] (optional): design switches that are neither gains nor bounds
-    if (const auto v = root.table("design")) {
-        v->only(table_keys("design"));
-        if (const auto b = v->boolean("load_feedforward")) {
-            sc.load_feedforward = *b ? 1 : 0;
-        }
-        if (const auto b = v->boolean("identify_rl")) {
-            sc.identify_rl = *b ? 1 : 0;
-        }
-        if (const auto b = v->boolean("align_rotor")) {
-            sc.align_rotor = *b ? 1 : 0;
-        }
-        if (const auto b = v->boolean("identify_k")) {
-            sc.identify_k = *b ? 1 : 0;
-        }
-        if (const auto g = v->string("gain_design")) {
-            if (*g == "continuous") {
-                sc.gain_design = 0;
-            } else if (*g == "discrete") {
-                sc.gain_design = 1;
-            } else {
-                v->fail("gain_design", "must be \"continuous\" or \"discrete\" (got \"" + *g + "\")");
-            }
-        }
-        if (const auto g = v->string("control_law")) {
-            if (*g == "twisting") {
-                sc.control_law = 0;
-            } else if (*g == "load_angle") {
-                if (!sc.position_drive()) {
-                    v->fail("control_law", "\"load_angle\" is the position drive's law ([trajectory]); the speed "
-                                           "drives have their own");
-                }
-                sc.control_law = 1;
-            } else {
-                v->fail("control_law", "must be \"twisting\" or \"load_angle\" (got \"" + *g + "\")");
-            }
-        }
-    }
-
-    // [protection] (optional): reactions to faults
-    if (const auto v = root.table("protection")) {
-        v->only(table_keys("protection"));
-        if (const auto r = v->string("loss_of_sync")) {
-            if (*r == "relock") {
-                if (!sc.position_drive()) {
-                    v->fail("loss_of_sync", "\"relock\" needs the position drive ([trajectory]); the speed drives "
-                                            "have no re-lock");
-                }
-                sc.los_relock = 1;
-            } else if (*r != "safe") {
-                v->fail("loss_of_sync", "must be \"safe\" or \"relock\" (got \"" + *r + "\")");
-            }
-        }
-    }
-
-    // [sensor] (optional: an ideal sensor)
-    if (const auto v = root.table("sensor")) {
-        v->only(table_keys("sensor"));
-        const std::string kind = v->string("noise").value_or("none");
-        if (kind == "none") {
-            sc.sensor.noise = NoiseKind::kNone;
-        } else if (kind == "uniform") {
-            sc.sensor.noise = NoiseKind::kUniform;
-        } else if (kind == "gaussian") {
-            sc.sensor.noise = NoiseKind::kGaussian;
-        } else {
-            v->fail("noise", "must be \"none\", \"uniform\" or \"gaussian\" (got \"" + kind + "\")");
-        }
-        const auto n = v->number("noise_A");
-        if (n) {
-            ge(*v, "noise_A", *n, 0.0);
-            sc.sensor.noise_A = *n;
-        } else if (sc.sensor.noise != NoiseKind::kNone) {
-            v->fail("noise_A", "missing required field (noise is \"" + kind + "\")");
-        }
-        if (const auto b = v->integer("adc_bits")) {
-            if (*b < 0 || *b > 32) {
-                v->fail("adc_bits", "must be an integer in [0, 32] (got " + std::to_string(*b) + ")");
-            }
-            sc.sensor.adc_bits = static_cast<int>(*b);
-        }
-        const auto fsA = v->number("adc_full_scale_A");
-        if (fsA) {
-            gt(*v, "adc_full_scale_A", *fsA, 0.0);
-            sc.sensor.adc_full_scale_A = *fsA;
-        } else if (sc.sensor.adc_bits > 0) {
-            v->fail("adc_full_scale_A", "missing required field (adc_bits > 0)");
-        }
-    }
-
-    // [load] (optional: no external load)
-    // [faults] (optional): injected faults (model/fault_injection.h)
-    if (const auto v = root.table("faults")) {
-        v->only(table_keys("faults"));
-        FaultInjection& f = sc.faults;
-        const int n_ph = sc.motor.n_phases();
-        auto time_of = [](const View& t, const char* k) {
-            const double x = t.number_req(k);
-            ge(t, k, x, 0.0);
-            return x;
-        };
-        auto phase_of = [&](const View& t) {
-            const std::string ph = t.string("phase").value_or("");
-            const int k = ph == "a" ? 0 : ph == "b" ? 1 : ph == "c" ? 2 : -1;
-            if (k < 0 || k >= n_ph) {
-                t.fail("phase", "must be one of the motor's phases " + std::string(n_ph == 3 ? "\"a\", \"b\", \"c\"" : "\"a\", \"b\"") +
-                                    " (got \"" + ph + "\")");
-            }
-            return k;
-        };
-        // an array of one number per phase
-        auto per_phase = [&](const View& t, const char* k, double* out) {
-            const auto v = t.numbers(k, static_cast<std::size_t>(n_ph), [](double) { return true; }, "must be finite");
-            if (!v) {
-                t.fail(k, "missing required field: an array of " + std::to_string(n_ph) + " numbers, one per phase");
-            }
-            std::copy(v->begin(), v->end(), out);
-        };
-        if (v->has("locked_rotor_t_s")) {
-            f.locked_rotor_t_s = time_of(*v, "locked_rotor_t_s");
-        }
-        if (const auto t = v->table("open_phase")) {
-            t->only({"t_s", "phase"});
-            if (n_ph != 2) {
-                v->fail("open_phase", "only for two-phase motors (type = \"stepper2\"): an open phase of a star-connected motor is not modelled");
-            }
-            f.open_phase_t_s = time_of(*t, "t_s");
-            f.open_phase = phase_of(*t);
-        }
-        if (const auto t = v->table("sensor_offset")) {
-            t->only({"t_s", "offset_A"});
-            f.offset_t_s = time_of(*t, "t_s");
-            per_phase(*t, "offset_A", f.offset_A);
-        }
-        if (const auto t = v->table("sensor_gain")) {
-            t->only({"t_s", "gain"});
-            f.gain_t_s = time_of(*t, "t_s");
-            per_phase(*t, "gain", f.gain);
-        }
-        if (const auto t = v->table("noise_burst")) {
-            t->only({"t_s", "duration_s", "noise_A"});
-            f.burst_t_s = time_of(*t, "t_s");
-            f.burst_duration_s = t->number_req("duration_s");
-            gt(*t, "duration_s", f.burst_duration_s, 0.0);
-            f.burst_noise_A = t->number_req("noise_A");
-            gt(*t, "noise_A", f.burst_noise_A, 0.0);
-        }
-        if (const auto t = v->table("stuck_samples")) {
-            t->only({"t_s", "phase"});
-            f.stuck_t_s = time_of(*t, "t_s");
-            f.stuck_phase = phase_of(*t);
-        }
-        if (v->has("nan_sample_t_s")) {
-            f.nan_t_s = time_of(*v, "nan_sample_t_s");
-        }
-        if (const auto t = v->table("supply_sag")) {
-            t->only({"t_s", "duration_s", "v_max_V"});
-            f.sag_t_s = time_of(*t, "t_s");
-            f.sag_duration_s = t->number_req("duration_s");
-            gt(*t, "duration_s", f.sag_duration_s, 0.0);
-            f.sag_v_max_V = t->number_req("v_max_V");
-            ge(*t, "v_max_V", f.sag_v_max_V, 0.0);
-            le(*t, "v_max_V", f.sag_v_max_V, sc.v_max_V);
-        }
-        if (const auto t = v->table("overruns")) {
-            t->only({"t_s", "count"});
-            f.overrun_t_s = time_of(*t, "t_s");
-            const auto c = t->integer("count");
-            if (!c || *c < 1 || *c > 1000000) {
-                t->fail("count", "must be an integer in [1, 1000000]");
-            }
-            f.overrun_count = static_cast<int>(*c);
-        }
-    }
-
-    if (const auto v = root.table("load")) {
-        v->only(table_keys("load"));
-        if (v->has("steps") && v->has("pulses")) {
-            v->fail("pulses", "give either steps or pulses, not both");
-        }
-        auto edge_of = [](const View& t) {
-            const std::string e = t.string("edge").value_or("linear");
-            if (e != "linear" && e != "raised_cosine") {
-                t.fail("edge", "must be \"linear\" or \"raised_cosine\" (got \"" + e + "\")");
-            }
-            return e == "raised_cosine";
-        };
-        if (const auto steps = v->tables("steps")) {
-            double t_free = 0.0;  // earliest start of the next step
-            for (const View& s : *steps) {
-                s.only({"t_s", "torque_Nm", "ramp_s", "edge"});
-                LoadStep ls;
-                ls.t_s = s.number_req("t_s");
-                ge(s, "t_s", ls.t_s, t_free);
-                ls.torque_Nm = s.number_req("torque_Nm");
-                ls.ramp_s = s.number("ramp_s").value_or(0.0);
-                ge(s, "ramp_s", ls.ramp_s, 0.0);
-                ls.raised_cosine = edge_of(s);
-                t_free = ls.t_s + ls.ramp_s;
-                sc.load.push_back(ls);
-            }
-        }
-        // a pulse train (paper 002's load): torque_Nm from start_s every
-        // period_s for width_s (the edges inside it), until the run's end
-        if (const auto p = v->table("pulses")) {
-            p->only({"torque_Nm", "start_s", "width_s", "period_s", "edge_s", "edge"});
-            const double M = p->number_req("torque_Nm");
-            const double t0 = p->number_req("start_s");
-            const double w = p->number_req("width_s");
-            const double T = p->number_req("period_s");
-            const double e = p->number("edge_s").value_or(0.0);
-            ge(*p, "start_s", t0, 0.0);
-            gt(*p, "width_s", w, 0.0);
-            gt(*p, "period_s", T, 0.0);
-            ge(*p, "edge_s", e, 0.0);
-            if (!(2.0 * e <= w)) p->fail("edge_s", "two edges must fit in width_s (got " + fmt_num(e) + " s)");
-            if (!(w < T)) p->fail("width_s", "must be shorter than period_s");
-            const bool cosine = edge_of(*p);
-            if ((sc.duration_s - t0) / T > 10000.0) p->fail("period_s", "more than 10000 pulses in the run");
-            const auto n_pulses = static_cast<int>(std::ceil((sc.duration_s - t0) / T));
-            for (int k = 0; k < n_pulses; ++k) {
-                const double t = t0 + static_cast<double>(k) * T;
-                sc.load.push_back(LoadStep{t, M, e, cosine});
-                sc.load.push_back(LoadStep{t + w - e, 0.0, e, cosine});
-            }
-        }
-    }
-
-    // [expect]: bounds on the run's metrics; names are checked against the
-    // drive's metrics before the run (motorsim), values here
-    if (const auto v = root.table("expect")) {
-        for (const std::string& k : v->keys()) {
-            const auto e = v->table(k);
-            if (!e) {
-                continue;
-            }
-            e->only({"max", "min"});
-            Expectation x;
-            x.metric = k;
-            if (const auto hi = e->number("max")) {
-                x.has_max = true;
-                x.max = *hi;
-            }
-            if (const auto lo = e->number("min")) {
-                x.has_min = true;
-                x.min = *lo;
-            }
-            if (!x.has_max && !x.has_min) {
-                v->fail(k, "needs max and/or min (e.g. { max = 0.03 })");
-            }
-            if (x.has_max && x.has_min && !(x.min <= x.max)) {
-                v->fail(k, "min must be <= max (got min " + fmt_num(x.min) + ", max " + fmt_num(x.max) + ")");
-            }
-            sc.expect.push_back(x);
-        }
-    }
-
-    // [trajectory]: [[trajectory.segments]]
-    if (sc.position_drive()) {
-        const View v = required_table("trajectory");
-        v.only(table_keys("trajectory"));
-        const auto segs = v.tables("segments");
-        if (!segs || segs->empty()) {
-            v.fail("segments", "missing required field (at least one [[trajectory.segments]])");
-        }
-        if (segs->size() > static_cast<std::size_t>(TRAJECTORY_MAX_SEGMENTS)) {
-            v.fail("segments", "at most " + std::to_string(TRAJECTORY_MAX_SEGMENTS) + " segments (got " +
-                                   std::to_string(segs->size()) + ")");
-        }
-        double t_free = 0.0;
-        for (const View& s : *segs) {
-            s.only(table_keys("trajectory.segments"));
-            Segment g;
-            g.t_start_s = s.number_req("t_start_s");
-            ge(s, "t_start_s", g.t_start_s, t_free);
-            g.duration_s = s.number_req("duration_s");
-            gt(s, "duration_s", g.duration_s, 0.0);
-            g.theta_to_rad = s.number_req("theta_to_rad");
-            t_free = g.t_start_s + g.duration_s;
-            sc.segments.push_back(g);
-        }
-    }
-
-    // [gains], [bounds]: design overrides by field name
-    if (const auto v = root.table("gains")) {
-        v->only(gain_override_keys());
-        for (const std::string& k : gain_override_keys()) {
-            if (const auto x = v->number(k)) {
-                ge(*v, k, *x, 0.0);  // 0 = let drive_design derive it
-                sc.gains.emplace_back(k, *x);
-            }
-        }
-    }
-    if (const auto v = root.table("bounds")) {
-        v->only(design_bound_keys());
-        for (const std::string& k : design_bound_keys()) {
-            if (const auto x = v->number(k)) {
-                gt(*v, k, *x, 0.0);
-                sc.bounds.emplace_back(k, *x);
-            }
-        }
-    }
-    read_board(root, &sc);
-    // [encoder] (optional): the HAL's position input
-    if (const auto v = root.table("encoder")) {
-        v->only(table_keys("encoder"));
-        const auto n = v->integer("counts_per_turn");
-        if (!n) v->fail("counts_per_turn", "missing required field");
-        if (*n < 1 || *n > (std::int64_t{1} << 32)) {
-            v->fail("counts_per_turn", "must be an integer in [1, 2^32] (got " + std::to_string(*n) + ")");
-        }
-        sc.encoder.counts_per_turn = *n;
-        sc.encoder.noise_rad = v->number("noise_rad").value_or(0.0);
-        ge(*v, "noise_rad", sc.encoder.noise_rad, 0.0);
-    }
-
-    // the drive's own table, when its host part parses it (after every
-    // shared table it may read)
-    if (host->parse != nullptr) {
-        const auto t = root.table(host->table);
-        host->parse(t ? &*t : nullptr, &sc);
-    }
-
+    const auto t = root.table(host->table);
+    host->parse(t ? &*t : nullptr, &sc);
     return sc;
 }
 

@@ -106,6 +106,8 @@ struct Scenario {
     int los_relock = 0;          // [protection] loss_of_sync = "relock"
 
     // [design]: switches of drive_design_input_t; -1 = the design default.
+    // ([design], [protection], [trajectory], [gains] and [bounds] are read
+    // by paper 000's host part, sim/host_drives/paper000_host.cpp.)
     int load_feedforward = -1;
     int identify_rl = -1; // [design] identify_rl; -1: design default
     int align_rotor = -1; // [design] align_rotor; -1: design default
@@ -119,9 +121,8 @@ struct Scenario {
     int gain_design = -1; // [design] gain_design: 0 continuous, 1 discrete; -1: design default
     int control_law = -1; // [design] control_law: 0 twisting, 1 load_angle; -1: design default
 
-    // [speed] (the paper-001 speed drive instead of [trajectory]):
-    // drive_table == "speed"
-    bool speed_drive = false;
+    // A speed drive's reference (profile_rpm of [speed] or [sensored_foc]),
+    // and [speed]'s choices (the paper-001 speed drive)
     std::vector<std::pair<double, double>> speed_points;  // (t [s], w [rad/s]) corners
     struct {
         double gamma = 0.0, a1 = 0.0, a2 = 0.0, r_ohm = 0.0;  // 0: the design's default
@@ -154,8 +155,6 @@ struct Scenario {
     std::string drive_kind;
     std::string drive_table;
     std::vector<std::pair<std::string, double>> drive_params;  // (key, value) of [<kind>], in file order
-    // The drive reads [trajectory] (paper 000's position drive).
-    bool position_drive() const { return drive_table == "trajectory"; }
 
     std::vector<Expectation> expect;  // [expect], in file order
 
@@ -165,7 +164,7 @@ struct Scenario {
     BoardParams board;      // [board]: defaults (DS1104-like) unless given
     EncoderParams encoder;  // [encoder]: none unless given
     bool board_given = false;
-    std::vector<Segment> segments;
+    std::vector<Segment> segments;  // [[trajectory.segments]]
 
     // [gains] and [bounds]: (field name, value) in file order; names are
     // fields of drive_gain_override_t and drive_design_input_t.
@@ -182,8 +181,8 @@ struct Scenario {
 Scenario load_scenario(const std::string& path);
 
 // Every table's keys as the parser knows them, (table, keys): its own
-// tables, "top" (the top level), "motor_file" (sim/motors/*.toml), "gains",
-// "bounds", and each drive's table from its host part. What
+// tables, "top" (the top level), "motor_file" (sim/motors/*.toml), and each
+// drive's tables from its host part (HostDrive keys and extra_keys). What
 // sim/scenarios/README.md documents is checked against it (ctest
 // docs.scenario_keys).
 std::vector<std::pair<std::string, std::vector<std::string>>> scenario_keys();

@@ -34,7 +34,7 @@
 #include "motorsim/drive_glue.h"
 #include "drives/paper000/paper000_drive.h"
 #include "mc_convert.h"
-#include "scenario/design_input.h"
+#include "host_drives/paper000_host.h"
 #include "scenario/rig.h"
 #include "scenario/scenario.h"
 
@@ -104,7 +104,7 @@ int main(int argc, char** argv)
     auto drive = std::make_unique<paper000_drive_t>();
     try {
         sc = mcsim::load_scenario(argv[1]);
-        if (sc.speed_drive || sc.motor.n_phases() != 2) throw std::runtime_error("a paper-000 (stepper) scenario");
+        if (sc.drive_kind != "paper000" || sc.motor.n_phases() != 2) throw std::runtime_error("a paper-000 (stepper) scenario");
         mcsim::design_and_init_drive(sc, drive.get());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "board_loop: %s\n", e.what());

@@ -167,11 +167,12 @@ sfoc_design_input_t sfoc_input()
 {
     sfoc_design_input_t in{};
     sfoc_design_defaults(&in);
-    in.n_p = 3;
-    in.R_ohm = 0.225;
-    in.L_d_H = in.L_q_H = 3.8e-3;
-    in.psi_Wb = 0.17;
-    in.J_kgm2 = 0.012;
+    in.motor.n_phases = 3;
+    in.motor.n_p = 3;
+    in.motor.R_ohm = 0.225;
+    in.motor.L_H = in.motor.L_q_H = 3.8e-3;
+    in.motor.K_Nm_per_A = 3 * 0.17;  // n_p Phi
+    in.motor.J_kgm2 = 0.012;
     in.ts_s = 1e-4;
     in.v_bus_V = 48;
     in.i_max_A = 8;

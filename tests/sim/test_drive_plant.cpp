@@ -9,7 +9,8 @@
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "mc_convert.h"
-#include "scenario/design_input.h"
+#include "host_drives/paper000_host.h"
+#include "host_drives/paper001_host.h"
 #include "scenario/rig.h"
 #include "scenario/scenario.h"
 

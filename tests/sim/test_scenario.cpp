@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scenario/design_input.h"
+#include "host_drives/paper000_host.h"
 #include "scenario/scenario.h"
 
 namespace {

@@ -397,7 +397,7 @@ MUTANTS = [
     m("sfoc_op_stop_unsupported", "drives/sensored_foc/sensored_foc_ops.c", "CmdStop refused as unsupported",
       ("    case DRIVE_CMD_STOP: ok = sensored_foc_stop(d); break;\n", "")),
     m("sfoc_design_kt", "design/sensored_foc_design.c", "K_t = n_p psi instead of 3/2 n_p psi",
-      ("const double kt = 1.5 * (double)in->n_p * in->psi_Wb;", "const double kt = (double)in->n_p * in->psi_Wb;")),
+      ("const double kt = 1.5 * (double)mo->n_p * psi_Wb;", "const double kt = (double)mo->n_p * psi_Wb;")),
     m("profile_design_slope_sign", "design/profile_design.c", "the profile's slopes reversed",
       ("mc_from_double((omega_rad_s[k + 1] - omega_rad_s[k]) / T)", "mc_from_double((omega_rad_s[k] - omega_rad_s[k + 1]) / T)")),
     m("delay_lead_half_sample", "control/delay_comp.h", "the output lead without the delay",

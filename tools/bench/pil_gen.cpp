@@ -40,7 +40,6 @@
 #include "host_drives/host_drive.h"
 #include "model/encoder.h"
 #include "model/fault_injection.h"
-#include "scenario/design_input.h"
 #include "scenario/rig.h"
 #include "scenario/scenario.h"
 
@@ -87,7 +86,7 @@ void design(const std::string& name, const Options& opt, mcsim::Scenario& sc, dr
         if (host->select_estimator == nullptr) throw std::runtime_error("--estimator: the " + name + " drive has one estimator");
         host->select_estimator(&sc, opt.estimator);
     }
-    if (sc.speed_drive && sc.speed_gains.identify) {
+    if (sc.speed_gains.identify) {  // [speed] identify = true (paper 001)
         // motorsim would replace the drive model by the commissioning's
         // R, L, Phi first; not reproduced here
         throw std::runtime_error(sc.path + ": [speed] identify = true is not supported by mc_pil_gen");

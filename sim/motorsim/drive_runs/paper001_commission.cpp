@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "hal_sw_plant.h"
-#include "scenario/design_input.h"
+#include "host_drives/paper001_host.h"
 #include "scenario/rig.h"
 
 extern "C" {
