@@ -14,10 +14,9 @@
 // drive with CMake MC_DRIVE) replays the samples through the drive's step
 // and compares its commands with these bits.
 //
-// The configuration comes from the drive's host part (sim/host_drives/, the
-// design motorsim runs for [drive] kind = "<name>"); the drives of papers
-// 000-002, which have none yet (issue 28), from the design motorsim runs for
-// their scenario tables ([trajectory], [speed], [paper002]).
+// The configuration comes from the drive's host part (sim/host_drives/):
+// the design motorsim runs for the scenario's drive ([drive] kind, or the
+// drive whose table the scenario has: [trajectory], [speed], [paper002]).
 // --drive defaults to the scenario's drive. --estimator flux|back_emf
 // overrides a [speed] scenario's estimator (paper 001's drive).
 //
