@@ -16,10 +16,18 @@
  * the DRV8301's nOCTW to it; leave it unconnected and it never fires.
  * Dead time 500 ns (the DRV8301's own minimum is 50 ns; 500 ns covers
  * the VESC 6's MOSFETs' turn-off). 20 kHz PWM, control at 10 kHz.
- * The drive: paper 001's speed drive; its configuration is designed on
- * the host from boards/vesc6_paper001.toml (vesc6_drive_config.c).
+ * The drive is the image's (MC_DRIVE); its configuration for this board,
+ * firmware/drives/<drive>/boards/vesc6[_<variant>]_config.c, is designed on
+ * the host from the scenario beside it.
  */
 #include "boards/board.h"
+
+/* three half-bridges: a 3-phase motor (boards/vesc6.cmake says the same
+ * to the configure-time check of a drive's needs) */
+#define VESC6_PHASES 3
+#ifdef MC_BOARD_PHASES
+_Static_assert(MC_BOARD_PHASES == VESC6_PHASES, "boards/vesc6.cmake and boards/vesc6.c disagree on the phase count");
+#endif
 
 #define PIN(port, pin, af) {(port), (pin), (af)}
 #define NO_PIN {0xFFu, 0u, 0u}
@@ -30,7 +38,7 @@ const board_t board = {
     .hse_hz = 8000000u,
     .sysclk_hz = 168000000u,
     .topology = PWM_THREE_HALF_BRIDGES,
-    .n_phases = 3u,
+    .n_phases = (uint8_t)VESC6_PHASES,
     .pwm_hz = 20000u,
     .control_hz = 10000u,
     .dead_time_ns = 500u,
