@@ -285,6 +285,9 @@ int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* give
     std::fprintf(f, "const char board_drive_cfg_source[] = \"%s (%s%s, %s)\";\n", given_path, name.c_str(),
                  estimator_note(name, *cfg).c_str(), MC_FIXED ? "fixed Q14.17" : "float32");
     std::fprintf(f, "const uint32_t board_drive_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
+    // the encoder the design assumed ([encoder]), for the board's encoder driver
+    std::fprintf(f, "const uint32_t board_encoder_counts_per_turn = %uu;\n",
+                 static_cast<unsigned>(sc.encoder.present() ? sc.encoder.counts_per_turn : 0));
     write_cfg_words(f, *cfg, ops->config_bytes, "board_drive_cfg_words");
     if (std::fclose(f) != 0 || std::rename(tmp.c_str(), out_c) != 0) {
         throw std::runtime_error(std::string("cannot write ") + out_c);

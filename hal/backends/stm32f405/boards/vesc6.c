@@ -9,7 +9,12 @@
  *   - phase currents on PC0, PC1, PC2 (ADC123_IN10, IN11, IN12): 0.5 mOhm
  *     shunts, amplifier gain 20, 3.3 V reference, zero at mid-scale;
  *   - bus voltage on PC3 (ADC123_IN13) through 39 kOhm / 2.2 kOhm;
- *   - CAN1 on PB8 (RX), PB9 (TX), AF9.
+ *   - CAN1 on PB8 (RX), PB9 (TX), AF9;
+ *   - the Hall/encoder port: hw_60.h's "Hall/encoder pins" HW_HALL_ENC_PIN1-3
+ *     PC6, PC7, PC8 on HW_ENC_TIM TIM3 (its encoder driver counts A and B on
+ *     TIM3 and takes the index on PC8); the alternate function AF2 is
+ *     TIM3_CH1, CH2, CH3 on PC6, PC7, PC8 (DS8626 table 9, alternate
+ *     function mapping): A on CH1, B on CH2, the index captured on CH3.
  * The VESC 6 routes no comparator to a TIM1 break pin (the DRV8301 limits
  * the current cycle by cycle itself): the break input is enabled on PA6
  * (TIM1_BKIN, AF1), active low with the pull-up, for a board that wires
@@ -73,4 +78,19 @@ const board_t board = {
     .can_node = 0u,
     /* 10 ms: 100 control periods; LSI at its 47 kHz worst case makes it 6.8 ms */
     .watchdog_us = 10000u,
+    .encoder_port = true,
+    .encoder_a = PIN(PC, 6, 2),
+    .encoder_b = PIN(PC, 7, 2),
+    .encoder_index = PIN(PC, 8, 2),
+    /* ICxF = 1: two samples at TIM3's 84 MHz (RM0090 18.4.7): a pulse
+     * under 24 ns is rejected; at the fastest motor below and 8192 counts a
+     * turn an edge comes every 36 ns, still counted */
+    .encoder_filter = 1u,
+    /* the index off by default: wire it to PC8 and set where it is */
+    .encoder_index_enable = false,
+    .encoder_index_count = 0u,
+    .encoder_index_tolerance = 4u,
+    /* hw_60.h's HW_LIM_ERPM, 200,000 electrical rpm: a motor with one pole
+     * pair or more turns at most 3,334 rev/s on this board */
+    .encoder_max_rev_s = 3334u,
 };

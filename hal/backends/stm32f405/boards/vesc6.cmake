@@ -10,5 +10,7 @@ set(MC_BOARD_TITLE "VESC 6 (STM32F405RG, DRV8301)")
 # full bridges (a 2-phase stepper: four legs) it does not have
 set(MC_BOARD_PHASES 3)
 set(MC_BOARD_POWER_STAGE "three half-bridges (one 3-phase motor; a 2-phase stepper needs two full bridges, four legs)")
-# no angle sensor read (yet: the Hall/encoder port is not driven)
-set(MC_BOARD_ANGLE_SENSORS "")
+# the Hall/encoder port (hw_60.h "Hall/encoder pins": PC6, PC7, PC8 on
+# HW_ENC_TIM TIM3): an incremental encoder, A and B on TIM3 CH1/CH2, the
+# index on PC8
+set(MC_BOARD_ANGLE_SENSORS encoder)
