@@ -22,6 +22,7 @@ the share on the chip).
 JSON on stdout; exit 0 PASS, 1 FAIL (a mismatch, a missed period, no
 PASS line, the image not built), 77 no ARM toolchain or qemu-system-arm."""
 import argparse
+import glob
 import json
 import os
 import re
@@ -54,51 +55,33 @@ def config_estimator(drive, board, variant):
     return (m.group(1) if m else None), path
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--drive", default="paper001", help="a drive of the registry (default paper001)")
-    ap.add_argument("--board", default="vesc6", help="a board of hal/backends/stm32f405/boards/ (default vesc6)")
-    ap.add_argument("--variant", default="", help="a variant of the drive's configuration (paper002: sensorless)")
-    ap.add_argument("--scenario", default=None,
-                    help="default: the drive's benchmark (tools/bench/pil.py), paper001_benchmark.toml for paper001")
-    ap.add_argument("--max-samples", type=int, default=12000,
-                    help="periods replayed (default 12000: 1.2 s, through the start into closed loop)")
-    ap.add_argument("--shift", type=int, default=3,
-                    help="qemu -icount shift (default 3: 8 ns an instruction, 12500 per 100 us period)")
-    ap.add_argument("--build-root", default=None, help="default build/stm32_qemu/<drive>_<board>[_<variant>]")
-    ap.add_argument("--check-budget", action="store_true",
-                    help="also fail when the interrupt exceeds its budget: at most PERIOD_SHARE_MAX of the period, "
-                         "and the drive's PIL targets of the float M4F (pil.py) where it has them")
-    ap.add_argument("--gen", help="mc_pil_gen of a host float build (default: build/host's, built if needed)")
-    a = ap.parse_args()
-    miss = cb.missing_tools()
-    if miss:
-        cb.log("stm32_qemu: missing " + ", ".join(miss))
-        return cb.SKIP
-    gen = a.gen or os.path.join(cb.ROOT, "build", "host", "tests", "firmware", "mc_pil_gen")
-    if not a.gen:
-        cb.run(["cmake", "--preset", "host"], cwd=cb.ROOT)
-        cb.run(["cmake", "--build", os.path.dirname(os.path.dirname(os.path.dirname(gen))), "--target", "mc_pil_gen"],
-               cwd=cb.ROOT)
-    import pil  # noqa: E402  (the drives' default scenarios)
-    scenario = a.scenario or pil.default_scenario(a.drive)
-    if scenario is None:
-        ap.error("--drive %s: give --scenario" % a.drive)
-    image = "_".join([a.drive, a.board] + ([a.variant] if a.variant else []))
+def recorded_estimator(vec):
+    """The estimator the vectors were recorded with (mc_pil_gen names it in
+    pil_source), or None."""
+    m = re.search(r'pil_source\[\] = "[^"]*estimator (\w+)', open(vec).read())
+    return m.group(1) if m else None
+
+
+def run_image(a, drive, board, variant, gen, scenario):
+    """Configures, builds and runs the image of (drive, board, variant);
+    its result (the JSON fields below) with "pass"."""
+    import pil  # noqa: E402  (the drives' targets: one place)
+    image = "_".join([drive, board] + ([variant] if variant else []))
     build_root = a.build_root or os.path.join(cb.ROOT, "build", "stm32_qemu", image)
+    if a.build_root and a.all:
+        build_root = os.path.join(a.build_root, image)
     os.makedirs(build_root, exist_ok=True)
-    estimator, config_toml = config_estimator(a.drive, a.board, a.variant)
+    estimator, config_toml = config_estimator(drive, board, variant)
     vec = os.path.join(build_root, "pil_vectors_%s.c" % image)
-    cb.run([gen, "--drive", a.drive] + (["--estimator", estimator] if estimator else []) +
+    cb.run([gen, "--drive", drive] + (["--estimator", estimator] if estimator else []) +
            [scenario, vec, str(a.max_samples)])
     bdir = os.path.join(build_root, "stm32f405")
-    defs = {"MC_PIL_VECTORS": vec, "MC_DRIVE": a.drive, "MC_BOARD": a.board, "MC_DRIVE_VARIANT": a.variant}
+    defs = {"MC_PIL_VECTORS": vec, "MC_DRIVE": drive, "MC_BOARD": board, "MC_DRIVE_VARIANT": variant}
     try:
         cb.cross_build("stm32f405", bdir, defs, targets=["firmware", "stm32_qemu", "stm32_qemu_hse"])
     except RuntimeError as e:
         # the configure-time refusal of a pair, or a build error: printed by cb.run
-        print(json.dumps({"image": image, "built": False, "error": str(e), "pass": False}, indent=2))
-        return 1
+        return {"image": image, "built": False, "error": str(e), "pass": False}
     # the flashable image of the pair read back: vector table, reset, handlers
     elf_check = subprocess.run([sys.executable, os.path.join(cb.ROOT, "tools", "bench", "check_stm32_elf.py"),
                                 os.path.join(bdir, "firmware.elf")], stdout=subprocess.PIPE,
@@ -161,7 +144,7 @@ def main():
     clocks_ok = (abs(nop_ratio - 1.0) < 0.01 and abs(mean_us - 100.0) < 0.5 and abs(period_us[0] - 100.0) < 0.5)
     ok = rc == 0 and "STM32QEMU PASS" in out and clocks_ok and hse_ok and elf_ok
     res = {"image": image, "machine": MACHINE, "icount_shift": a.shift, "scenario": os.path.relpath(scenario, cb.ROOT),
-           "drive": a.drive, "board": a.board, "variant": a.variant, "estimator": estimator or "the scenario's",
+           "drive": drive, "board": board, "variant": variant, "estimator": recorded_estimator(vec) or estimator or "the drive's",
            "board_config": os.path.relpath(config_toml, cb.ROOT), "flash_image_checked": elf_ok,
            "periods": int(info.get("periods", "0")), "steps": int(info.get("steps", "0")),
            "mismatches": int(info.get("mismatches", "-1")), "overruns": int(info.get("overruns", "-1")),
@@ -185,11 +168,11 @@ def main():
         # paper 001's on the whole interrupt (mean and max, as before the
         # images were per pair), the others' on their step
         budget = {"isr_period_share_max": PERIOD_SHARE_MAX}
-        if a.drive == "paper001":
+        if drive == "paper001":
             t = pil.TARGETS["float"]
             budget.update({"isr_instr_mean": t["mean"], "isr_instr_max": t["max"]})
-        for k, lim in pil.DRIVE_TARGETS.get((a.drive, "float"), {}).items():
-            if not a.variant:  # the targets are of the drive's own estimator
+        for k, lim in pil.DRIVE_TARGETS.get((drive, "float"), {}).items():
+            if not variant:  # the targets are of the drive's own estimator
                 budget["drive_step_" + k] = lim
         res["budget"] = budget
         misses = [k for k, lim in budget.items() if res.get(k, 1e9) > lim]
@@ -197,10 +180,107 @@ def main():
         if misses:
             res["budget_missed"] = misses
         ok = ok and not misses
-    print(json.dumps(res, indent=2))
     if not ok:
         cb.log(out[-3000:])
-    return 0 if ok else 1
+    res["pass"] = ok
+    return res
+
+
+def images():
+    """Every image: (drive, board, variant) of each board configuration
+    firmware/drives/<drive>/boards/<board>[_<variant>].toml (as
+    tests/firmware/CMakeLists.txt finds them)."""
+    out = []
+    for path in sorted(glob.glob(os.path.join(cb.ROOT, "firmware", "drives", "*", "boards", "*.toml"))):
+        m = re.match(r"([a-z0-9]+)(?:_([a-z0-9_]+))?$", os.path.splitext(os.path.basename(path))[0])
+        if m:
+            out.append((os.path.basename(os.path.dirname(os.path.dirname(path))), m.group(1), m.group(2) or ""))
+    return out
+
+
+def preset_of(drive, board, variant):
+    """The configure preset of an image (CMakePresets.json), or None."""
+    presets = json.load(open(os.path.join(cb.ROOT, "CMakePresets.json")))["configurePresets"]
+    byname = {p["name"]: p for p in presets}
+
+    def var(p, k):
+        while p is not None:
+            if k in p.get("cacheVariables", {}):
+                return p["cacheVariables"][k]
+            p = byname.get(p.get("inherits"))
+        return None
+    for p in presets:
+        if var(p, "MC_STM32F405") == "ON" and (var(p, "MC_DRIVE"), var(p, "MC_BOARD"),
+                                                var(p, "MC_DRIVE_VARIANT") or "") == (drive, board, variant):
+            return p["name"]
+    return None
+
+
+def markdown(results):
+    """The cost table of the board README (hal/backends/stm32f405/README.md)."""
+    period = SYSCLK_HZ * CONTROL_PERIOD_S
+    lines = ["| image (preset) | drive's estimator | periods, bit for bit | drive step: mean / max | "
+             "control interrupt: mean / max | share of the 100 us period at 168 MHz: mean / max |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    for r in results:
+        name = "`%s`" % r["image"] + (" (`%s`)" % r["preset"] if r.get("preset") else "")
+        lines.append("| %s | %s | %s | %s / %s | %s / %s | %.1f %% / %.1f %% |" % (
+            name,
+            r.get("estimator"), "%d, %s" % (r.get("periods", 0), "yes" if r.get("mismatches") == 0 else "NO"),
+            "{:,.1f}".format(r.get("drive_step_instr_mean", 0)), "{:,}".format(r.get("drive_step_instr_max", 0)),
+            "{:,.1f}".format(r.get("isr_instr_mean", 0)), "{:,}".format(r.get("isr_instr_max", 0)),
+            100.0 * r.get("isr_instr_mean", 0) / period, 100.0 * r.get("isr_instr_max", 0) / period))
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--drive", default="paper001", help="a drive of the registry (default paper001)")
+    ap.add_argument("--board", default="vesc6", help="a board of hal/backends/stm32f405/boards/ (default vesc6)")
+    ap.add_argument("--variant", default="", help="a variant of the drive's configuration (paper002: sensorless)")
+    ap.add_argument("--scenario", default=None,
+                    help="default: the drive's benchmark (tools/bench/pil.py), paper001_benchmark.toml for paper001")
+    ap.add_argument("--max-samples", type=int, default=12000,
+                    help="periods replayed (default 12000: 1.2 s, through the start into closed loop)")
+    ap.add_argument("--shift", type=int, default=3,
+                    help="qemu -icount shift (default 3: 8 ns an instruction, 12500 per 100 us period)")
+    ap.add_argument("--build-root", default=None, help="default build/stm32_qemu/<drive>_<board>[_<variant>]")
+    ap.add_argument("--check-budget", action="store_true",
+                    help="also fail when the interrupt exceeds its budget: at most PERIOD_SHARE_MAX of the period, "
+                         "and the drive's PIL targets of the float M4F (pil.py) where it has them")
+    ap.add_argument("--gen", help="mc_pil_gen of a host float build (default: build/host's, built if needed)")
+    ap.add_argument("--all", action="store_true",
+                    help="every image (every board configuration firmware/drives/*/boards/*.toml), one after another")
+    ap.add_argument("--markdown", action="store_true",
+                    help="the cost table of hal/backends/stm32f405/README.md instead of the JSON")
+    a = ap.parse_args()
+    miss = cb.missing_tools()
+    if miss:
+        cb.log("stm32_qemu: missing " + ", ".join(miss))
+        return cb.SKIP
+    gen = a.gen or os.path.join(cb.ROOT, "build", "host", "tests", "firmware", "mc_pil_gen")
+    if not a.gen:
+        cb.run(["cmake", "--preset", "host"], cwd=cb.ROOT)
+        cb.run(["cmake", "--build", os.path.dirname(os.path.dirname(os.path.dirname(gen))), "--target", "mc_pil_gen"],
+               cwd=cb.ROOT)
+    import pil  # noqa: E402  (the drives' default scenarios)
+    if a.all:
+        results = []
+        for drive, board, variant in images():
+            scenario = a.scenario or pil.default_scenario(drive)
+            r = run_image(a, drive, board, variant, gen, scenario)
+            r["preset"] = preset_of(drive, board, variant)
+            results.append(r)
+        ok = all(r["pass"] for r in results)
+        print(markdown(results) if a.markdown else json.dumps(results, indent=2))
+        return 0 if ok else 1
+    scenario = a.scenario or pil.default_scenario(a.drive)
+    if scenario is None:
+        ap.error("--drive %s: give --scenario" % a.drive)
+    res = run_image(a, a.drive, a.board, a.variant, gen, scenario)
+    res["preset"] = preset_of(a.drive, a.board, a.variant)
+    print(markdown([res]) if a.markdown else json.dumps(res, indent=2))
+    return 0 if res["pass"] else 1
 
 
 if __name__ == "__main__":
