@@ -18,6 +18,8 @@ PRESETS=(
     cortex-m4f
     cortex-m3-fixed
     stm32f405
+    stm32f405-paper002-vesc6
+    stm32f405-paper002-vesc6-sensorless
 )
 
 usage() {

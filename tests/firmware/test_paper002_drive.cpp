@@ -513,3 +513,33 @@ TEST(Paper002Drive, ComputationDelayLeadAndAppliedMean)
     EXPECT_LT(mean_err, 1e-4);
     EXPECT_LT(std::fabs(err_w), 0.5);
 }
+
+// A sample without the encoder's angle (what the STM32F405 backend hands
+// once its encoder erred: a step beyond the fastest motor, an index away
+// from the count; hal/backends/stm32f405/encoder_tim.h) is bad input: the
+// drive latches BAD_INPUT and holds 0 V from that sample on.
+TEST(Paper002Drive, SampleWithoutTheEncodersAngleIsBadInput)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    static paper002_drive_t d;
+    const paper002_config_t cfg = config(P002_SOSMC, true);
+    ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+    Truth tr;
+    std::mt19937_64 rng(3);
+    double err = 0.0;
+    for (int k = 0; k < 100; ++k) ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &err)) << k;
+    hal_sample_t in{};
+    in.n_phases = 3;
+    in.v_bus_V = M(48.0);
+    in.has_angle = false;
+    hal_command_t out{};
+    out.v_V[0] = M(1.0);
+    EXPECT_FALSE(paper002_drive_step(&d, &in, &out));
+    EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_BAD_INPUT);
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0);
+    in.has_angle = true;
+    EXPECT_FALSE(paper002_drive_step(&d, &in, &out)) << "latched: the angle back does not restart it";
+}

@@ -5,7 +5,9 @@
 // fault state with the bridges off (TIM1 MOE = 0, the DRV8301's EN_GATE
 // low) and its code: a crystal that does not start, a watchdog reset, a
 // current sensor's zero out of range, the over-current break after a good
-// start; and hal_start() then refuses to run.
+// start, the encoder's timer that does not answer; and hal_start() then
+// refuses to run. The encoder's angle in the control sample, and withheld
+// once the encoder erred.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -18,12 +20,16 @@ extern "C" {
 #include "stm32_backend.h"
 }
 
+// the motor's encoder as a drive configuration for the VESC 6 would give it
+// (firmware/drives/<drive>/boards/vesc6_config.c): 2048 lines
+extern "C" const uint32_t board_encoder_counts_per_turn = 8192u;
+
 namespace {
 
 struct Regs {
     rcc_regs_t rcc;
     flash_regs_t flash;
-    tim_regs_t tim1, tim2;
+    tim_regs_t tim1, tim2, tim3;
     adc_common_regs_t adc_common;
     adc_regs_t adc[3];
     can_regs_t can1;
@@ -34,12 +40,13 @@ struct Regs {
 struct FakeChip : Regs {
     stm32_periph_t hw;
     std::atomic<bool> stop{false};
+    std::atomic<bool> tim3_clock{true};  // false: TIM3 never answers its update
     std::thread hardware;
 
     explicit FakeChip(uint32_t zero_code)
     {
         std::memset(static_cast<void*>(static_cast<Regs*>(this)), 0, sizeof(Regs));
-        hw = {&rcc, &flash, &tim1, &tim2, &adc_common, {&adc[0], &adc[1], &adc[2]}, &can1, &iwdg,
+        hw = {&rcc, &flash, &tim1, &tim2, &tim3, &adc_common, {&adc[0], &adc[1], &adc[2]}, &can1, &iwdg,
               {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}};
         for (auto& a : adc) {
             a.JDR[0] = zero_code;
@@ -51,6 +58,11 @@ struct FakeChip : Regs {
                     if ((a.CR2 & ADC_CR2_JSWSTART) != 0u) a.SR = a.SR | ADC_SR_JEOC;
                 }
                 can1.MSR = (can1.MCR & CAN_MCR_INRQ) ? CAN_MSR_INAK : 0u;
+                // an update event sets UIF (RM0090 18.4.5) when the timer's clock runs
+                if (tim3_clock.load() && (tim3.EGR & TIM_EGR_UG) != 0u) {
+                    tim3.EGR = 0u;
+                    tim3.SR = tim3.SR | TIM_SR_UIF;
+                }
                 std::this_thread::yield();
             }
         });
@@ -130,4 +142,66 @@ TEST(Stm32Backend, GoodStartThenOvercurrentBreak)
     EXPECT_EQ(chip.tim1.SR & TIM_SR_BIF, 0u);
     EXPECT_FALSE(hal_start(&dummy_control, nullptr));
     EXPECT_EQ(std::string(hal_last_error()), "over-current: TIM1 break input");
+}
+
+// The VESC 6's encoder port (TIM3, PC6/PC7 AF2) started with the counts per
+// turn of the drive's configuration, in encoder mode 3; each control sample
+// then carries the angle: a quarter turn at count 2048 of 8192.
+TEST(Stm32Backend, EncoderStartsAndItsAngleReachesTheSample)
+{
+    FakeChip chip(2048);
+    chip.clocks_ok();
+    ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();
+    EXPECT_TRUE(chip.rcc.APB1ENR & RCC_APB1ENR_TIM3EN);
+    EXPECT_EQ(chip.tim3.SMCR, 3u);
+    EXPECT_EQ(chip.tim3.CR1 & TIM_CR1_CEN, TIM_CR1_CEN);
+    EXPECT_EQ((chip.gpio[2].MODER >> 12) & 0xFu, 0xAu) << "PC6, PC7 alternate function";
+    EXPECT_EQ(chip.gpio[2].AFR[0] >> 24, 0x22u) << "AF2: TIM3_CH1, TIM3_CH2";
+    ASSERT_NE(stm32_backend_encoder(), nullptr);
+    EXPECT_EQ(stm32_backend_encoder()->cfg.max_step_counts, 2733u) << "8192 x 3334 rev/s / 10 kHz, up, + 1";
+    chip.tim3.CNT = 2048u;
+    hal_sample_t in;
+    stm32_backend_sample(&in);
+    EXPECT_TRUE(in.has_angle);
+    EXPECT_FLOAT_EQ(static_cast<float>(in.angle_rad), 1.5707964f);
+    EXPECT_EQ(in.n_phases, 3u);
+}
+
+// The encoder's timer that never answers its update (its clock not
+// running): the start-up's fault, bridges off, nothing starts.
+TEST(Stm32Backend, EncoderTimerThatDoesNotAnswerIsAFaultWithBridgesOff)
+{
+    FakeChip chip(2048);
+    chip.tim3_clock = false;
+    chip.clocks_ok();
+    EXPECT_FALSE(stm32_backend_init(&chip.hw));
+    EXPECT_EQ(stm32_backend_status(), STM32_FAULT_ENCODER_TIMEOUT);
+    EXPECT_EQ(std::string(hal_last_error()), "encoder: its timer did not answer the update");
+    EXPECT_FALSE(chip.moe());
+    EXPECT_TRUE(chip.gate_low());
+    EXPECT_FALSE(hal_start(&dummy_control, nullptr));
+}
+
+// A count that jumps beyond the board's fastest motor: the sample comes
+// without the angle (a drive that reads it refuses the sample: its
+// BAD_INPUT, the safe state), the encoder's error kept and named; the
+// backend itself runs on (a sensorless drive does not need the encoder).
+TEST(Stm32Backend, EncoderErrorWithholdsTheAngle)
+{
+    FakeChip chip(2048);
+    chip.clocks_ok();
+    ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();
+    hal_sample_t in;
+    chip.tim3.CNT = 2000u;
+    stm32_backend_sample(&in);
+    EXPECT_TRUE(in.has_angle);
+    chip.tim3.CNT = 2000u + 2734u;
+    stm32_backend_sample(&in);
+    EXPECT_FALSE(in.has_angle);
+    EXPECT_EQ(stm32_backend_encoder()->status, STM32_FAULT_ENCODER_STEP);
+    EXPECT_EQ(std::string(hal_last_error()), "encoder: count moved faster than any motor on the board");
+    EXPECT_EQ(stm32_backend_status(), STM32_OK);
+    chip.tim3.CNT = 2000u;
+    stm32_backend_sample(&in);
+    EXPECT_FALSE(in.has_angle) << "latched";
 }

@@ -1,17 +1,25 @@
 // The STM32F405 backend's peripheral drivers (hal/backends/stm32f405)
 // against fake register blocks in RAM: the values written for the clock
 // tree, a 20 kHz centre-aligned PWM with dead time, the ADC's injected
-// trigger, CAN at 1 Mbit/s and the watchdog, each checked bit by bit
-// against RM0090 by hand, and every timeout path (a flag that never comes
-// ends in the fault code, nothing waits for ever).
+// trigger, CAN at 1 Mbit/s, the watchdog and the encoder's timer, each
+// checked bit by bit against RM0090 by hand, and every timeout path (a flag
+// that never comes ends in the fault code, nothing waits for ever); the
+// encoder's counts, direction, the 16-bit counter's wrap, the index and its
+// errors, and its angle against the simulator's encoder.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cmath>
 #include <cstring>
+#include <thread>
+
+#include "model/encoder.h"
 
 extern "C" {
 #include "adc_inj.h"
 #include "bxcan.h"
 #include "clock.h"
+#include "encoder_tim.h"
 #include "gpio.h"
 #include "iwdg.h"
 #include "pwm_tim1.h"
@@ -326,4 +334,253 @@ TEST(Stm32Gpio, AlternateFunction)
     EXPECT_EQ(g.AFR[0], 0u);
     gpio_write(&g, 8, false);
     EXPECT_EQ(g.BSRR, 1u << 24);
+}
+
+namespace {
+// 2048 lines (8192 counts a turn), the index at count 100, 4 counts of
+// tolerance; one timer clock's filter; 1000 counts a read at most
+encoder_config_t enc_cfg(bool index)
+{
+    encoder_config_t c{};
+    c.counts_per_turn = 8192u;
+    c.filter = 1u;
+    c.invert = false;
+    c.start_count = 0u;
+    c.max_step_counts = 1000u;
+    c.index = index;
+    c.index_count = 100u;
+    c.index_tolerance = 4u;
+    return c;
+}
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+// encoder_init on a fake TIM3 whose "hardware" (a thread) answers the
+// update the driver asks for (EGR UG) with its flag (SR UIF), as a timer
+// whose clock runs does; the driver clears SR first, so a flag already
+// there would not do. Polls enough for a loaded host to schedule the thread.
+stm32_status_t init_answered(encoder_t* e, tim_regs_t* t, const encoder_config_t& c)
+{
+    std::atomic<bool> stop{false};
+    std::thread hw([&] {
+        while (!stop.load()) {
+            if ((t->EGR & TIM_EGR_UG) != 0u) {
+                t->SR = t->SR | TIM_SR_UIF;
+            }
+            std::this_thread::yield();
+        }
+    });
+    const stm32_status_t st = encoder_init(e, t, &c, 1000000000u);
+    stop = true;
+    hw.join();
+    return st;
+}
+tim_regs_t started(encoder_t* e, const encoder_config_t& c)
+{
+    auto t = zeroed<tim_regs_t>();
+    EXPECT_EQ(init_answered(e, &t, c), STM32_OK);
+    return t;
+}
+}  // namespace
+
+// Encoder interface mode 3 (RM0090 18.3.12): SMCR SMS = 011; CCMR1 CC1S =
+// CC2S = 01 (IC1 on TI1, IC2 on TI2) with IC1F = IC2F = 1: 0x1111; the
+// index on CH3 (CCMR2 CC3S = 01, IC3F = 1: 0x11; CCER CC3E, bit 8, rising:
+// CC3P = 0); the count over 16 bits (ARR 0xFFFF, PSC 0); an update (UG)
+// answered (UIF), then the counter on (CEN). Inverted: CCER CC1P (bit 1).
+TEST(Stm32Encoder, RegistersOfEncoderModeAndTheIndexCapture)
+{
+    encoder_t e;
+    auto t = started(&e, enc_cfg(true));
+    EXPECT_EQ(t.SMCR, 3u);
+    EXPECT_EQ(t.CCMR1, 0x1111u);
+    EXPECT_EQ(t.CCMR2, 0x11u);
+    EXPECT_EQ(t.CCER, 0x100u);
+    EXPECT_EQ(t.ARR, 0xFFFFu);
+    EXPECT_EQ(t.PSC, 0u);
+    EXPECT_EQ(t.EGR, TIM_EGR_UG);
+    EXPECT_EQ(t.CR1, TIM_CR1_CEN);
+    EXPECT_EQ(t.SR & TIM_SR_UIF, 0u) << "the update's flag cleared";
+    EXPECT_EQ(t.DIER, 0u) << "no interrupt: the control step reads it";
+    auto c = enc_cfg(false);
+    c.invert = true;
+    c.filter = 15u;
+    t = started(&e, c);
+    EXPECT_EQ(t.CCER, 0x2u) << "CC1P: TI1 inverted, the count the other way; no capture without the index";
+    EXPECT_EQ(t.CCMR1, 0xF1F1u);
+    EXPECT_EQ(t.CCMR2, 0u);
+}
+
+// Counts and direction: +100, then back by 150 through zero (CNT wraps to
+// 65486): the unwrapped count -50, the last step's sign the direction.
+// Then 100 reads of +2000 (200,000 counts: the 16-bit counter wraps three
+// times, 24 turns and 3392 counts) and back: every count kept.
+TEST(Stm32Encoder, CountsDirectionAndTheWrapOfTheCounter)
+{
+    encoder_t e;
+    auto c = enc_cfg(false);
+    c.max_step_counts = 2000u;
+    auto t = started(&e, c);
+    float a = 99.0f;
+    t.CNT = 100u;
+    ASSERT_TRUE(encoder_read(&e, &t, &a));
+    EXPECT_EQ(encoder_count(&e), 100);
+    EXPECT_GT(e.last_step, 0) << "forward";
+    EXPECT_FLOAT_EQ(a, static_cast<float>(100.0 * kTwoPi / 8192.0));
+    t.CNT = 65486u;  // 100 - 150 modulo 2^16
+    ASSERT_TRUE(encoder_read(&e, &t, &a));
+    EXPECT_EQ(encoder_count(&e), -50);
+    EXPECT_EQ(e.last_step, -150) << "backward";
+    EXPECT_EQ(e.turns, -1);
+    EXPECT_EQ(e.pos, 8142u);
+    EXPECT_FLOAT_EQ(a, static_cast<float>(-50.0 * kTwoPi / 8192.0));
+    int64_t want = -50;
+    uint32_t cnt = 65486u;
+    for (int k = 0; k < 100; ++k) {
+        cnt = (cnt + 2000u) & 0xFFFFu;
+        want += 2000;
+        t.CNT = cnt;
+        ASSERT_TRUE(encoder_read(&e, &t, &a));
+        ASSERT_EQ(encoder_count(&e), want) << "read " << k;
+    }
+    EXPECT_EQ(encoder_count(&e), 199950);
+    EXPECT_EQ(e.turns, 24);
+    EXPECT_EQ(e.pos, 3342u);
+    for (int k = 0; k < 100; ++k) {
+        cnt = (cnt - 2000u) & 0xFFFFu;
+        t.CNT = cnt;
+        ASSERT_TRUE(encoder_read(&e, &t, &a));
+    }
+    EXPECT_EQ(encoder_count(&e), -50);
+    EXPECT_LT(e.last_step, 0);
+}
+
+// The angle as paper 002's drive reads it in the simulator
+// (sim/model/encoder.h, no noise): the count the rotor has passed times
+// 2 pi / n, wrapped into [-pi, pi); for 8192 and 1000 counts a turn, over
+// three turns both ways, within two float roundings of the simulator's
+// (modulo 2 pi: at half a turn the simulator's double may wrap to +pi
+// where this gives -pi, the same angle).
+TEST(Stm32Encoder, AngleAsTheSimulatorsEncoderGivesIt)
+{
+    for (uint32_t n : {8192u, 1000u}) {
+        mcsim::EncoderParams p;
+        p.counts_per_turn = n;
+        mcsim::Encoder sim(p, 1u);
+        for (int k = -3000; k <= 3000; ++k) {
+            const double theta = k * (3.0 * kTwoPi / 3000.0) + 1e-9;
+            const double step = kTwoPi / n;
+            const int64_t count = static_cast<int64_t>(std::floor(theta / step));
+            const uint32_t pos = static_cast<uint32_t>(((count % n) + n) % n);
+            const float mine = encoder_angle_of(pos, n);
+            const float theirs = static_cast<float>(sim.measure(theta));
+            double d = static_cast<double>(mine) - static_cast<double>(theirs);
+            d -= kTwoPi * std::round(d / kTwoPi);
+            ASSERT_NEAR(d, 0.0, 2.0 * 4.8e-7) << "n " << n << " theta " << theta << ": " << mine << " " << theirs;
+            ASSERT_GE(mine, -static_cast<float>(M_PI));
+            ASSERT_LT(mine, static_cast<float>(M_PI));
+        }
+    }
+}
+
+// The index (captured on CH3): the first, at count 250 while the count says
+// 250, moves the zero so that it sits at 100 (-150 counts); the next turn's
+// at the same place passes; one 10 counts off (beyond 4) is an error: the
+// angle withheld from then on. The capture's flags are cleared each time.
+TEST(Stm32Encoder, IndexFixesTheZeroThenChecksEveryTurn)
+{
+    encoder_t e;
+    auto t = started(&e, enc_cfg(true));
+    float a = 0.0f;
+    t.CNT = 300u;
+    t.CCR[2] = 250u;
+    t.SR = TIM_SR_CCIF(2u) | TIM_SR_CCOF(2u);
+    ASSERT_TRUE(encoder_read(&e, &t, &a));
+    EXPECT_TRUE(e.referenced);
+    EXPECT_EQ(e.index_correction, -150);
+    EXPECT_EQ(encoder_count(&e), 150) << "300 counts on, the index (at 250) now at 100";
+    EXPECT_EQ(t.SR & (TIM_SR_CCIF(2u) | TIM_SR_CCOF(2u)), 0u);
+    EXPECT_FLOAT_EQ(a, static_cast<float>(150.0 * kTwoPi / 8192.0));
+    // a turn on in steps of 1000 counts, the index at 250 + 8192 modulo 2^16
+    uint32_t cnt = 300u;
+    for (int k = 0; k < 9; ++k) {
+        cnt += 1000u;
+        t.CNT = cnt;
+        if (k == 8) {
+            t.CCR[2] = 250u + 8192u;
+            t.SR = TIM_SR_CCIF(2u);
+        }
+        ASSERT_TRUE(encoder_read(&e, &t, &a)) << k;
+    }
+    EXPECT_EQ(e.index_seen, 2u);
+    EXPECT_EQ(e.status, STM32_OK);
+    // the next turn's 2 counts early: within the tolerance
+    for (int k = 0; k < 8; ++k) {
+        cnt += 1000u;
+        t.CNT = cnt & 0xFFFFu;
+        if (k == 7) {
+            t.CCR[2] = (250u + 2u * 8192u - 2u) & 0xFFFFu;
+            t.SR = TIM_SR_CCIF(2u);
+        }
+        ASSERT_TRUE(encoder_read(&e, &t, &a)) << k;
+    }
+    EXPECT_EQ(e.index_seen, 3u);
+    // the next turn's index 10 counts late: counts were lost
+    cnt += 1000u * 8u;
+    for (int k = 0; k < 8; ++k) {
+        t.CNT = (cnt - 1000u * (7u - k)) & 0xFFFFu;
+        ASSERT_TRUE(encoder_read(&e, &t, &a)) << k;
+    }
+    t.CNT = (cnt + 1000u) & 0xFFFFu;
+    t.CCR[2] = (250u + 3u * 8192u + 10u) & 0xFFFFu;
+    t.SR = TIM_SR_CCIF(2u);
+    EXPECT_FALSE(encoder_read(&e, &t, &a));
+    EXPECT_EQ(e.status, STM32_FAULT_ENCODER_INDEX);
+    EXPECT_FALSE(encoder_read(&e, &t, &a)) << "latched";
+}
+
+// A count that moved more than the fastest motor can between two reads
+// (noise on A or B, or a step the 16-bit difference cannot tell): an
+// error, latched; exactly the limit passes.
+TEST(Stm32Encoder, StepBeyondTheFastestMotorIsAnError)
+{
+    encoder_t e;
+    auto t = started(&e, enc_cfg(false));
+    float a = 0.0f;
+    t.CNT = 1000u;
+    ASSERT_TRUE(encoder_read(&e, &t, &a));
+    t.CNT = 0u;
+    ASSERT_TRUE(encoder_read(&e, &t, &a));
+    t.CNT = (0u - 1001u) & 0xFFFFu;
+    EXPECT_FALSE(encoder_read(&e, &t, &a));
+    EXPECT_EQ(e.status, STM32_FAULT_ENCODER_STEP);
+    t.CNT = 0u;
+    EXPECT_FALSE(encoder_read(&e, &t, &a)) << "latched";
+}
+
+// Every configuration the timer cannot run, and the update that never
+// comes (no clock): the counter is not started, nothing is read.
+TEST(Stm32Encoder, ConfigurationErrorsAndTheTimeout)
+{
+    encoder_t e;
+    const encoder_config_t good = enc_cfg(true);
+    auto bad = [&](auto edit) {
+        encoder_config_t c = good;
+        edit(c);
+        auto t = zeroed<tim_regs_t>();
+        return init_answered(&e, &t, c);
+    };
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.counts_per_turn = 3u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.counts_per_turn = (1u << 24) + 1u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.filter = 16u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.start_count = 8192u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.max_step_counts = 0u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.max_step_counts = ENCODER_STEP_MAX + 1u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.index_count = 8192u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.index_tolerance = 4096u; }), STM32_FAULT_ENCODER_CONFIG);
+    EXPECT_EQ(bad([](encoder_config_t& c) { c.index = false; c.index_count = 9000u; }), STM32_OK)
+        << "the index's place matters only with the index";
+    auto t = zeroed<tim_regs_t>();  // UIF never comes
+    EXPECT_EQ(encoder_init(&e, &t, &good, kPolls), STM32_FAULT_ENCODER_TIMEOUT);
+    EXPECT_EQ(t.CR1 & TIM_CR1_CEN, 0u) << "not started";
+    float a = 0.0f;
+    EXPECT_FALSE(encoder_read(&e, &t, &a));
 }

@@ -18,9 +18,10 @@
 // the design motorsim runs for the scenario's drive ([drive] kind, or the
 // drive whose table the scenario has: [trajectory], [speed], [paper002]).
 // --drive defaults to the scenario's drive. --estimator flux|back_emf
-// overrides a [speed] scenario's estimator (paper 001's drive).
+// overrides a [speed] scenario's estimator (paper 001's drive), encoder|flux
+// a [paper002] scenario's (its drive's host part checks which it takes).
 //
-// Usage: mc_pil_gen [--drive NAME] [--estimator flux|back_emf] SCENARIO.toml OUT.c [MAX_SAMPLES]
+// Usage: mc_pil_gen [--drive NAME] [--estimator flux|back_emf|encoder] SCENARIO.toml OUT.c [MAX_SAMPLES]
 //        mc_pil_gen --board-config [--drive NAME] [--estimator ...] SCENARIO.toml OUT.c
 //                   (an MCU board's drive configuration only, see write_board_config)
 #include <array>
@@ -95,6 +96,9 @@ void design(const std::string& name, const Options& opt, mcsim::Scenario& sc, dr
 
 std::string estimator_note(const std::string& name, const drive_config_storage_t& cfg)
 {
+    if (name == "paper002") {
+        return std::string(", estimator ") + (cfg.paper002.angle_source == P002_ANGLE_FLUX ? "flux" : "encoder");
+    }
     if (name != "paper001") return "";
     return std::string(", estimator ") + (cfg.paper001.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux");
 }
@@ -281,6 +285,9 @@ int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* give
     std::fprintf(f, "const char board_drive_cfg_source[] = \"%s (%s%s, %s)\";\n", given_path, name.c_str(),
                  estimator_note(name, *cfg).c_str(), MC_FIXED ? "fixed Q14.17" : "float32");
     std::fprintf(f, "const uint32_t board_drive_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
+    // the encoder the design assumed ([encoder]), for the board's encoder driver
+    std::fprintf(f, "const uint32_t board_encoder_counts_per_turn = %uu;\n",
+                 static_cast<unsigned>(sc.encoder.present() ? sc.encoder.counts_per_turn : 0));
     write_cfg_words(f, *cfg, ops->config_bytes, "board_drive_cfg_words");
     if (std::fclose(f) != 0 || std::rename(tmp.c_str(), out_c) != 0) {
         throw std::runtime_error(std::string("cannot write ") + out_c);
@@ -293,8 +300,8 @@ int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* give
 int main(int argc, char** argv)
 {
     const char* usage =
-        "usage: %s [--drive NAME] [--estimator flux|back_emf] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
-        "       %s --board-config [--drive NAME] [--estimator flux|back_emf] SCENARIO.toml OUT.c\n"
+        "usage: %s [--drive NAME] [--estimator flux|back_emf|encoder] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
+        "       %s --board-config [--drive NAME] [--estimator flux|back_emf|encoder] SCENARIO.toml OUT.c\n"
         "NAME: a drive of the registry (default: the scenario's):";
     Options opt;
     bool board = false;
@@ -313,7 +320,8 @@ int main(int argc, char** argv)
         }
     }
     const bool bad_drive = !opt.drive.empty() && drive_find(opt.drive.c_str()) == nullptr;
-    const bool bad_est = !opt.estimator.empty() && opt.estimator != "flux" && opt.estimator != "back_emf";
+    const bool bad_est =
+        !opt.estimator.empty() && opt.estimator != "flux" && opt.estimator != "back_emf" && opt.estimator != "encoder";
     if (pos.size() < 2 || pos.size() > (board ? 2u : 3u) || bad_drive || bad_est) {
         if (bad_drive) std::fprintf(stderr, "error: --drive %s: not a drive of the registry\n", opt.drive.c_str());
         std::fprintf(stderr, usage, argv[0], argv[0]);

@@ -6,6 +6,7 @@
 #include "boards/board.h"
 #include "bxcan.h"
 #include "clock.h"
+#include "encoder_tim.h"
 #include "gpio.h"
 #include "iwdg.h"
 #include "pwm_tim1.h"
@@ -18,6 +19,7 @@ const stm32_periph_t stm32_hw = {
     .flash = (flash_regs_t *)STM32_FLASH_IF_BASE,
     .tim1 = (tim_regs_t *)STM32_TIM1_BASE,
     .tim2 = (tim_regs_t *)STM32_TIM2_BASE,
+    .tim3 = (tim_regs_t *)STM32_TIM3_BASE,
     .adc_common = (adc_common_regs_t *)STM32_ADC_COMMON_BASE,
     .adc = {(adc_regs_t *)STM32_ADC1_BASE, (adc_regs_t *)STM32_ADC2_BASE, (adc_regs_t *)STM32_ADC3_BASE},
     .can1 = (can_regs_t *)STM32_CAN1_BASE,
@@ -30,6 +32,7 @@ const stm32_periph_t stm32_hw = {
 #define FLASH_IF (g.hw->flash)
 #define TIM1 (g.hw->tim1)
 #define TIM2 (g.hw->tim2)
+#define TIM3 (g.hw->tim3)
 #define ADC_COMMON (g.hw->adc_common)
 #define CAN1 (g.hw->can1)
 #define IWDG (g.hw->iwdg)
@@ -73,6 +76,8 @@ static struct {
     pwm_plan_t pwm;
     clock_plan_t clocks;
     bool watchdog;
+    bool encoder_on;            /* the board's encoder runs (encoder_tim.h) */
+    encoder_t enc;
     hal_can_frame_t can_rx[16];
     uint32_t can_rx_head, can_rx_count, can_rx_dropped;
 } g = {.hw = &stm32_hw};
@@ -119,6 +124,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     g.fault = STM32_OK;
     g.running = false;
     g.error = "";
+    g.encoder_on = false;
     /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
     const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
     RCC->CSR |= RCC_CSR_RMVF;
@@ -175,7 +181,32 @@ bool stm32_backend_init(const stm32_periph_t *hw)
             adc_inj_init(ADC_COMMON, adc_of[k], &seq, true, k == 0u);
         }
     }
-    /* 5. CAN */
+    /* 5. the encoder, when the board has its port and the drive's
+     * configuration gives its counts per turn */
+    if (board.encoder_port && board_encoder_counts_per_turn > 0u) {
+        RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
+        pin_af(board.encoder_a, GPIO_PULL_UP);
+        pin_af(board.encoder_b, GPIO_PULL_UP);
+        if (board.encoder_index_enable) pin_af(board.encoder_index, GPIO_PULL_DOWN);
+        /* the largest count change between two control samples at the
+         * board's fastest motor, rounded up, one count of margin */
+        const uint64_t step = ((uint64_t)board_encoder_counts_per_turn * board.encoder_max_rev_s + board.control_hz - 1u) /
+                              board.control_hz + 1u;
+        const encoder_config_t ec = {
+            .counts_per_turn = board_encoder_counts_per_turn,
+            .filter = board.encoder_filter,
+            .invert = false,
+            .start_count = 0u,
+            .max_step_counts = step > ENCODER_STEP_MAX ? ENCODER_STEP_MAX + 1u : (uint32_t)step,
+            .index = board.encoder_index_enable,
+            .index_count = board.encoder_index_count,
+            .index_tolerance = board.encoder_index_tolerance,
+        };
+        const stm32_status_t st = encoder_init(&g.enc, TIM3, &ec, STM32_TIMEOUT_POLLS);
+        if (st != STM32_OK) return fail(st);
+        g.encoder_on = true;
+    }
+    /* 6. CAN */
     if (board.can_enable) {
         bxcan_timing_t t;
         if (!bxcan_timing(apb1, board.can_bitrate, BXCAN_SAMPLE_PERMILLE, &t)) return fail(STM32_FAULT_CAN_TIMING);
@@ -184,7 +215,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         const stm32_status_t st = bxcan_init(CAN1, &t, board.can_node, STM32_TIMEOUT_POLLS);
         if (st != STM32_OK) return fail(st);
     }
-    /* 6. the watchdog, last: from here the control step must come */
+    /* 7. the watchdog, last: from here the control step must come */
     if (board.watchdog_us != 0u) {
         uint32_t pr, rlr;
         if (!iwdg_plan(IWDG_LSI_NOMINAL_HZ, board.watchdog_us, &pr, &rlr)) return fail(STM32_FAULT_IWDG_TIMEOUT);
@@ -301,17 +332,11 @@ void stm32_backend_control(hal_sample_t *in)
     g.steps += 1u;
 }
 
-void ADC_IRQHandler(void)
+const encoder_t *stm32_backend_encoder(void) { return g.encoder_on ? &g.enc : 0; }
+
+void stm32_backend_sample(hal_sample_t *in)
 {
-    const uint32_t t0 = SYST_CVR;
     adc_regs_t *a1 = adc_of[0];
-    /* a conversion every PWM period; the control step takes every
-     * decimation-th (f_pwm / f_ctrl) */
-    g.conversions += 1u;
-    if ((g.conversions % g.pwm.decimation) != 0u) {
-        for (uint32_t k = 0; k < board.n_phases; ++k) adc_of[k]->SR = 0u;
-        return;
-    }
     uint32_t status = 0u;
     if ((a1->SR & ADC_SR_OVR) != 0u) status |= HAL_STATUS_ADC_FAULT;
     uint16_t c0[2] = {0u, 0u}, c1 = 0u, c2 = 0u;
@@ -323,14 +348,41 @@ void ADC_IRQHandler(void)
         adc_inj_read(adc_of[2], &c2, 1u);
         adc_of[2]->SR = 0u;
     }
-    hal_sample_t in = {0};
-    in.n_phases = board.n_phases;
-    in.i_A[0] = (mc_t)(((float)c0[0] - (float)g.zero[0]) * g.amps_per_code);
-    in.i_A[1] = (mc_t)(((float)c1 - (float)g.zero[1]) * g.amps_per_code);
-    if (board.n_phases == 3u) in.i_A[2] = (mc_t)(((float)c2 - (float)g.zero[2]) * g.amps_per_code);
-    in.v_bus_V = (mc_t)((float)c0[1] * g.volts_per_code);
-    in.status = status;
-    if ((TIM1->SR & TIM_SR_BIF) != 0u) in.status |= HAL_STATUS_PWM_TRIP;
+    *in = (hal_sample_t){0};
+    in->n_phases = board.n_phases;
+    in->i_A[0] = (mc_t)(((float)c0[0] - (float)g.zero[0]) * g.amps_per_code);
+    in->i_A[1] = (mc_t)(((float)c1 - (float)g.zero[1]) * g.amps_per_code);
+    if (board.n_phases == 3u) in->i_A[2] = (mc_t)(((float)c2 - (float)g.zero[2]) * g.amps_per_code);
+    in->v_bus_V = (mc_t)((float)c0[1] * g.volts_per_code);
+    in->status = status;
+    if ((TIM1->SR & TIM_SR_BIF) != 0u) in->status |= HAL_STATUS_PWM_TRIP;
+    if (g.encoder_on) {
+        /* the count a few microseconds after the currents' sampling
+         * instant (the conversions' 2.6 us and the interrupt's entry) */
+        float angle = 0.0f;
+        if (encoder_read(&g.enc, TIM3, &angle)) {
+            in->has_angle = true;
+            in->angle_rad = (mc_t)angle;
+        } else {
+            /* withheld: a drive that reads the angle refuses the sample
+             * (its BAD_INPUT, the safe state); the code is kept */
+            g.error = stm32_status_text(g.enc.status);
+        }
+    }
+}
+
+void ADC_IRQHandler(void)
+{
+    const uint32_t t0 = SYST_CVR;
+    /* a conversion every PWM period; the control step takes every
+     * decimation-th (f_pwm / f_ctrl) */
+    g.conversions += 1u;
+    if ((g.conversions % g.pwm.decimation) != 0u) {
+        for (uint32_t k = 0; k < board.n_phases; ++k) adc_of[k]->SR = 0u;
+        return;
+    }
+    hal_sample_t in;
+    stm32_backend_sample(&in);
     stm32_backend_control(&in);
     /* the step longer than a control period (SysTick at SYSCLK, free-running
      * 24-bit down counter: main starts it) */

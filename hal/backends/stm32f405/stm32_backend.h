@@ -4,7 +4,9 @@
  *
  * stm32_backend_init() reads why the chip was reset, sets the clocks, the
  * pins, the PWM with its outputs off, the ADC, measures the current
- * sensors' zero with the bridges off, starts CAN and the watchdog. Any
+ * sensors' zero with the bridges off, starts the encoder (the board's port,
+ * when the drive's configuration gives its counts per turn), CAN and the
+ * watchdog. Any
  * failure ends in the fault state: bridges off (TIM1 MOE = 0, the gate
  * driver disabled), the fault code kept and blinked on the fault LED.
  * Then hal_start() enables the outputs and the control interrupt: at each
@@ -19,6 +21,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "encoder_tim.h"
 #include "hal/hal.h"
 #include "stm32_status.h"
 #include "stm32f405_regs.h"
@@ -28,7 +31,7 @@
 typedef struct {
     rcc_regs_t *rcc;
     flash_regs_t *flash;
-    tim_regs_t *tim1, *tim2;
+    tim_regs_t *tim1, *tim2, *tim3;
     adc_common_regs_t *adc_common;
     adc_regs_t *adc[3];
     can_regs_t *can1;
@@ -55,6 +58,17 @@ stm32_status_t stm32_backend_status(void);
 /* The body of the control interrupt: sample in, callback, PWM out.
  * Called by the board's interrupt (ADC or TIM2) with the sample it read. */
 void stm32_backend_control(hal_sample_t *in);
+
+/* The sample of one control period as the board's converters and
+ * sensors give it (the ADC interrupt's part before the callback): the
+ * phase currents and the bus from the injected conversions, the trip and
+ * converter status, and with the board's encoder running its angle
+ * (has_angle; withheld once the encoder latched an error, whose code
+ * stm32_backend_encoder() keeps and hal_last_error() names). */
+void stm32_backend_sample(hal_sample_t *in);
+
+/* The encoder's state (encoder_tim.h), or NULL if the image runs none. */
+const encoder_t *stm32_backend_encoder(void);
 
 /* Counters for telemetry and tests. */
 uint32_t stm32_backend_overruns(void);

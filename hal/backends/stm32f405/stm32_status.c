@@ -18,6 +18,10 @@ const char *stm32_status_text(stm32_status_t s)
     case STM32_FAULT_PWM_PLAN: return "PWM frequency or dead time not settable";
     case STM32_FAULT_DRIVE: return "the drive refused its configuration or latched a fault";
     case STM32_FAULT_UNEXPECTED_IRQ: return "unexpected interrupt or CPU fault";
+    case STM32_FAULT_ENCODER_CONFIG: return "encoder: configuration the timer cannot run";
+    case STM32_FAULT_ENCODER_TIMEOUT: return "encoder: its timer did not answer the update";
+    case STM32_FAULT_ENCODER_STEP: return "encoder: count moved faster than any motor on the board";
+    case STM32_FAULT_ENCODER_INDEX: return "encoder: index away from the count (counts lost)";
     default: return "unknown fault";
     }
 }

@@ -24,7 +24,13 @@ typedef enum {
     STM32_FAULT_OVERCURRENT_BREAK = 11, /* TIM1's break input fired: bridges off by hardware */
     STM32_FAULT_PWM_PLAN = 12,       /* the PWM frequency or dead time cannot be set */
     STM32_FAULT_DRIVE = 13,          /* the drive refused its configuration or latched a fault */
-    STM32_FAULT_UNEXPECTED_IRQ = 14  /* an interrupt without a handler, or a CPU fault */
+    STM32_FAULT_UNEXPECTED_IRQ = 14, /* an interrupt without a handler, or a CPU fault */
+    /* the encoder (encoder_tim.h): at start-up a fault; while running the
+     * angle is withheld (samples without has_angle) and the code kept */
+    STM32_FAULT_ENCODER_CONFIG = 15,  /* counts per turn, filter or limits the timer cannot run */
+    STM32_FAULT_ENCODER_TIMEOUT = 16, /* the encoder's timer did not answer its update (UIF) */
+    STM32_FAULT_ENCODER_STEP = 17,    /* the count moved more than max_step_counts between two reads */
+    STM32_FAULT_ENCODER_INDEX = 18    /* an index away from where the count puts it */
 } stm32_status_t;
 
 /* A short English text for status s, never NULL. */

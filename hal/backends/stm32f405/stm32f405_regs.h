@@ -53,6 +53,7 @@ STM32_ASSERT(offsetof(rcc_regs_t, APB2ENR) == 0x44, "RCC_APB2ENR at 0x44");
 #define RCC_CSR_WWDGRSTF (1u << 30)
 #define RCC_AHB1ENR_GPIO(port) (1u << (port)) /* port 0 = A */
 #define RCC_APB1ENR_TIM2EN (1u << 0)
+#define RCC_APB1ENR_TIM3EN (1u << 1) /* RM0090 7.3.13 */
 #define RCC_APB1ENR_CAN1EN (1u << 25)
 #define RCC_APB2ENR_TIM1EN (1u << 0)
 #define RCC_APB2ENR_ADC1EN (1u << 8)
@@ -75,7 +76,7 @@ typedef struct {
 } gpio_regs_t;
 STM32_ASSERT(offsetof(gpio_regs_t, AFR) == 0x20, "GPIO_AFRL at 0x20");
 
-/* ---- TIM1 (advanced) and TIM2 (general purpose), RM0090 17.4, 18.4 ---- */
+/* ---- TIM1 (advanced); TIM2, TIM3 (general purpose), RM0090 17.4, 18.4 ---- */
 typedef struct {
     REG CR1, CR2, SMCR, DIER, SR, EGR, CCMR1, CCMR2, CCER, CNT, PSC, ARR, RCR;
     REG CCR[4];
@@ -88,17 +89,27 @@ STM32_ASSERT(offsetof(tim_regs_t, BDTR) == 0x44, "TIM1_BDTR at 0x44");
 #define TIM_CR1_CMS_CENTER1 (1u << 5) /* centre-aligned mode 1 */
 #define TIM_CR1_CMS_MASK (3u << 5)
 #define TIM_CR1_ARPE (1u << 7)
+#define TIM_CR1_DIR (1u << 4)         /* counting down; read-only in encoder mode (RM0090 18.4.1) */
+#define TIM_SMCR_SMS_ENCODER3 (3u << 0) /* encoder mode 3: both edges of TI1FP1 and TI2FP2 (RM0090 18.4.3) */
+#define TIM_SMCR_SMS_MASK (7u << 0)
 #define TIM_CR2_MMS_UPDATE (2u << 4)  /* TRGO on the update event */
 #define TIM_CR2_MMS_OC4REF (7u << 4)  /* TRGO = OC4REF */
 #define TIM_DIER_UIE (1u << 0)
 #define TIM_DIER_BIE (1u << 7)
 #define TIM_SR_UIF (1u << 0)
 #define TIM_SR_BIF (1u << 7)
+#define TIM_SR_CCIF(ch) (1u << (1u + (ch)))  /* CCxIF, ch 0-3 (RM0090 18.4.5) */
+#define TIM_SR_CCOF(ch) (1u << (9u + (ch)))  /* CCxOF: a capture while CCxIF was set */
 #define TIM_EGR_UG (1u << 0)
 #define TIM_CCMR_OC_PWM1(ch) ((6u << 4) << (8u * ((ch) & 1u))) /* in CCMR1 (ch 0, 1) or CCMR2 (2, 3) */
 #define TIM_CCMR_OC_PWM2(ch) ((7u << 4) << (8u * ((ch) & 1u)))
 #define TIM_CCMR_OC_PE(ch) ((1u << 3) << (8u * ((ch) & 1u)))
+/* input capture (RM0090 18.4.7, 18.4.8): CCxS = 01, ICx mapped on TIx;
+ * ICxF the digital filter, 0..15 */
+#define TIM_CCMR_CC_IN_TI(ch) (1u << (8u * ((ch) & 1u)))
+#define TIM_CCMR_IC_F(ch, f) (((uint32_t)(f) & 0xFu) << (4u + 8u * ((ch) & 1u)))
 #define TIM_CCER_CCE(ch) (1u << (4u * (ch)))
+#define TIM_CCER_CCP(ch) (1u << (4u * (ch) + 1u)) /* input: TIx inverted (RM0090 18.4.9) */
 #define TIM_CCER_CCNE(ch) (1u << (4u * (ch) + 2u))
 #define TIM_BDTR_DTG_MASK 0xFFu
 #define TIM_BDTR_OSSI (1u << 10)
@@ -191,6 +202,7 @@ typedef struct {
 
 /* ---- memory map, RM0090 2.3 ---- */
 #define STM32_TIM2_BASE 0x40000000u
+#define STM32_TIM3_BASE 0x40000400u
 #define STM32_IWDG_BASE 0x40003000u
 #define STM32_CAN1_BASE 0x40006400u
 #define STM32_TIM1_BASE 0x40010000u

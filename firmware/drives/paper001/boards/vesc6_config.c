@@ -9,6 +9,7 @@ _Static_assert(MC_FIXED == 0, "made for the other numeric type");
 
 const char board_drive_cfg_source[] = "firmware/drives/paper001/boards/vesc6.toml (paper001, estimator flux, float32)";
 const uint32_t board_drive_cfg_bytes = 796u;
+const uint32_t board_encoder_counts_per_turn = 0u;
 const uint32_t board_drive_cfg_words[199] = {
   0x00000003u,0x00000000u,0x00000003u,0x00002710u,0x38d1b717u,0x3e666666u,0x3b79096cu,0x3b79096cu,
   0x3b79096cu,0x3e2e147bu,0x3c449ba6u,0x3cd79436u,0x3c3ac711u,0x3f028f5cu,0x00000000u,0x42a6aaabu,

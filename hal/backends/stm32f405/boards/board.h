@@ -54,6 +54,19 @@ typedef struct {
     uint8_t can_node;
     /* watchdog: 0 = none */
     uint32_t watchdog_us;
+    /* an incremental encoder's port on TIM3 (encoder_tim.h; the one
+     * encoder timer this backend drives): A on CH1, B on CH2, the index on
+     * CH3 (captured). Run when the board has the port and the image's
+     * drive configuration gives counts per turn
+     * (board_encoder_counts_per_turn > 0); each control sample then
+     * carries its angle (has_angle, angle_rad). */
+    bool encoder_port;
+    gpio_pin_t encoder_a, encoder_b, encoder_index;
+    uint8_t encoder_filter;           /* ICxF, 0..15 */
+    bool encoder_index_enable;        /* an encoder with an index wired to encoder_index */
+    uint32_t encoder_index_count;     /* where the index is, counts from the rotor's angle zero */
+    uint32_t encoder_index_tolerance; /* counts a later index may be off */
+    uint32_t encoder_max_rev_s;       /* no motor on the board turns faster: a larger step is an error */
 } board_t;
 
 extern const board_t board;
@@ -64,5 +77,9 @@ extern const board_t board;
 extern const uint32_t board_drive_cfg_words[];
 extern const uint32_t board_drive_cfg_bytes;
 extern const char board_drive_cfg_source[];
+/* The motor's encoder as the drive's configuration was designed for it
+ * (the scenario's [encoder] counts_per_turn; 0: the drive reads none),
+ * from the same generated file. */
+extern const uint32_t board_encoder_counts_per_turn;
 
 #endif /* STM32_BOARD_H */

@@ -48,4 +48,10 @@ const board_t board = {
     .can_rx = NO_PIN,
     .can_tx = NO_PIN,
     .watchdog_us = 0u,
+    /* QEMU's timer model counts its clock only (no encoder or capture
+     * mode): the recorded sample brings the angle */
+    .encoder_port = false,
+    .encoder_a = NO_PIN,
+    .encoder_b = NO_PIN,
+    .encoder_index = NO_PIN,
 };

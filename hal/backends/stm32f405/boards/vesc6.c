@@ -9,17 +9,30 @@
  *   - phase currents on PC0, PC1, PC2 (ADC123_IN10, IN11, IN12): 0.5 mOhm
  *     shunts, amplifier gain 20, 3.3 V reference, zero at mid-scale;
  *   - bus voltage on PC3 (ADC123_IN13) through 39 kOhm / 2.2 kOhm;
- *   - CAN1 on PB8 (RX), PB9 (TX), AF9.
+ *   - CAN1 on PB8 (RX), PB9 (TX), AF9;
+ *   - the Hall/encoder port: hw_60.h's "Hall/encoder pins" HW_HALL_ENC_PIN1-3
+ *     PC6, PC7, PC8 on HW_ENC_TIM TIM3 (its encoder driver counts A and B on
+ *     TIM3 and takes the index on PC8); the alternate function AF2 is
+ *     TIM3_CH1, CH2, CH3 on PC6, PC7, PC8 (DS8626 table 9, alternate
+ *     function mapping): A on CH1, B on CH2, the index captured on CH3.
  * The VESC 6 routes no comparator to a TIM1 break pin (the DRV8301 limits
  * the current cycle by cycle itself): the break input is enabled on PA6
  * (TIM1_BKIN, AF1), active low with the pull-up, for a board that wires
  * the DRV8301's nOCTW to it; leave it unconnected and it never fires.
  * Dead time 500 ns (the DRV8301's own minimum is 50 ns; 500 ns covers
  * the VESC 6's MOSFETs' turn-off). 20 kHz PWM, control at 10 kHz.
- * The drive: paper 001's speed drive; its configuration is designed on
- * the host from boards/vesc6_paper001.toml (vesc6_drive_config.c).
+ * The drive is the image's (MC_DRIVE); its configuration for this board,
+ * firmware/drives/<drive>/boards/vesc6[_<variant>]_config.c, is designed on
+ * the host from the scenario beside it.
  */
 #include "boards/board.h"
+
+/* three half-bridges: a 3-phase motor (boards/vesc6.cmake says the same
+ * to the configure-time check of a drive's needs) */
+#define VESC6_PHASES 3
+#ifdef MC_BOARD_PHASES
+_Static_assert(MC_BOARD_PHASES == VESC6_PHASES, "boards/vesc6.cmake and boards/vesc6.c disagree on the phase count");
+#endif
 
 #define PIN(port, pin, af) {(port), (pin), (af)}
 #define NO_PIN {0xFFu, 0u, 0u}
@@ -30,7 +43,7 @@ const board_t board = {
     .hse_hz = 8000000u,
     .sysclk_hz = 168000000u,
     .topology = PWM_THREE_HALF_BRIDGES,
-    .n_phases = 3u,
+    .n_phases = (uint8_t)VESC6_PHASES,
     .pwm_hz = 20000u,
     .control_hz = 10000u,
     .dead_time_ns = 500u,
@@ -65,4 +78,19 @@ const board_t board = {
     .can_node = 0u,
     /* 10 ms: 100 control periods; LSI at its 47 kHz worst case makes it 6.8 ms */
     .watchdog_us = 10000u,
+    .encoder_port = true,
+    .encoder_a = PIN(PC, 6, 2),
+    .encoder_b = PIN(PC, 7, 2),
+    .encoder_index = PIN(PC, 8, 2),
+    /* ICxF = 1: two samples at TIM3's 84 MHz (RM0090 18.4.7): a pulse
+     * under 24 ns is rejected; at the fastest motor below and 8192 counts a
+     * turn an edge comes every 36 ns, still counted */
+    .encoder_filter = 1u,
+    /* the index off by default: wire it to PC8 and set where it is */
+    .encoder_index_enable = false,
+    .encoder_index_count = 0u,
+    .encoder_index_tolerance = 4u,
+    /* hw_60.h's HW_LIM_ERPM, 200,000 electrical rpm: a motor with one pole
+     * pair or more turns at most 3,334 rev/s on this board */
+    .encoder_max_rev_s = 3334u,
 };
