@@ -26,6 +26,7 @@ struct Backend {
     const hal_sw_plant_can_t* can = nullptr;  // CAN bus, or none
     mcsim::BoardEmulation* board = nullptr;   // DAC/ADC board, or none
     mcsim::Encoder* encoder = nullptr;        // position encoder, or none
+    const mcsim::Inverter* inverter = nullptr;  // PWM inverter, or the amplifier
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -64,6 +65,8 @@ void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus) { g_hal.can = bus; }
 void hal_sw_plant_set_board(mcsim::BoardEmulation* board) { g_hal.board = board; }
 
 void hal_sw_plant_set_encoder(mcsim::Encoder* encoder) { g_hal.encoder = encoder; }
+
+void hal_sw_plant_set_inverter(const mcsim::Inverter* inverter) { g_hal.inverter = inverter; }
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
@@ -150,6 +153,15 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         amp.v_max_V = v_supply;
         if (g_hal.board != nullptr) {
             g_hal.board->apply(n_ph, v_cmd, v_supply, v_app);
+        } else if (g_hal.inverter != nullptr) {
+            // the leg currents at the sampling instant, held over the period
+            if (n_ph == 3) {
+                g_hal.inverter->apply(3, v_cmd, i_true, v_bus_true, v_app);
+            } else {
+                for (int k = 0; k < n_ph; ++k) {
+                    v_app[k] = g_hal.inverter->winding_voltage(v_cmd[k], i_true[k], v_bus_true);
+                }
+            }
         } else {
             for (int k = 0; k < n_ph; ++k) {
                 v_app[k] = amp.apply(v_cmd[k]);

@@ -96,6 +96,10 @@ double PmPlant::torque_Nm() const
 {
     const double i_d = cos_e_ * x_[kIa] + sin_e_ * x_[kIb];
     const double i_q = cos_e_ * x_[kIb] - sin_e_ * x_[kIa];
+    if (sat_) {
+        // k_m n_p (psi_d i_q - psi_q i_d) (saturation.h)
+        return m_.torque_scale() * static_cast<double>(m_.n_p) * sat_->torque_per_np(i_d, i_q);
+    }
     return m_.torque_scale() * (m_.K_Nm_per_A * i_q + static_cast<double>(m_.n_p) * (m_.L_H - m_.L_q()) * i_d * i_q);
 }
 
@@ -159,8 +163,12 @@ PmPlant::State PmPlant::derivative(const State& x, double t_s, double v_a_V, dou
     const double c = std::cos(e);
     const double w = x[kOmega];
     State dx;
-    if (salient_) {
-        salient_rates(x, s, c, v_a_V, v_b_V, &dx);
+    if (sat_ || salient_) {
+        if (sat_) {
+            saturated_rates(x, s, c, v_a_V, v_b_V, &dx);
+        } else {
+            salient_rates(x, s, c, v_a_V, v_b_V, &dx);
+        }
         dx[kOmega] -= m_.fv_Nms_per_rad * inv_J_ * w + inv_J_ * load_torque_Nm(w, t_s);
         dx[kTheta] = w;
         return dx;
@@ -191,11 +199,62 @@ void PmPlant::salient_rates(const State& x, double s, double c, double v_a_V, do
     (*dx)[kOmega] = inv_J_ * m_.torque_scale() * np * (Phi * i_q + (Ld - Lq) * i_d * i_q);
 }
 
+void PmPlant::saturated_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const
+{
+    // saturation.h: d psi/dt = v - R i - w_e J psi in the rotor frame,
+    // di = L_inc^-1 (that), turned back to alpha-beta as salient_rates does
+    const double np = static_cast<double>(m_.n_p);
+    const double we = np * x[kOmega];
+    const double i_d = c * x[kIa] + s * x[kIb];
+    const double i_q = c * x[kIb] - s * x[kIa];
+    const double v_d = c * v_a_V + s * v_b_V;
+    const double v_q = c * v_b_V - s * v_a_V;
+    double psi_d;
+    double psi_q;
+    sat_->flux(i_d, i_q, &psi_d, &psi_q);
+    double did;
+    double diq;
+    sat_->solve(i_d, i_q, v_d - m_.R_ohm * i_d + we * psi_q, v_q - m_.R_ohm * i_q - we * psi_d, &did, &diq);
+    (*dx)[kIa] = c * did - s * diq - we * x[kIb];
+    (*dx)[kIb] = s * did + c * diq + we * x[kIa];
+    (*dx)[kOmega] = inv_J_ * m_.torque_scale() * np * (psi_d * i_q - psi_q * i_d);
+}
+
+void PmPlant::set_saturation(const SaturationParams& p)
+{
+    if (p.enabled()) {
+        sat_.emplace(p, m_.L_H, m_.L_q(), m_.Phi_Wb());
+    } else {
+        sat_.reset();
+    }
+}
+
+void PmPlant::set_thermal(const ThermalParams& p)
+{
+    if (!p.enabled()) {
+        thermal_.reset();
+        return;
+    }
+    thermal_.emplace(p, m_.R_ohm, m_.Phi_Wb(), m_.torque_scale());
+    apply_temperature();
+}
+
+void PmPlant::apply_temperature()
+{
+    m_.R_ohm = thermal_->R_ohm();
+    m_.K_Nm_per_A = static_cast<double>(m_.n_p) * thermal_->Phi_Wb();
+    K_over_L_ = m_.K_Nm_per_A / m_.L_H;
+    K_over_J_ = m_.torque_scale() * m_.K_Nm_per_A / m_.J_kgm2;
+    if (sat_) {
+        sat_->set_Phi_Wb(thermal_->Phi_Wb());
+    }
+}
+
 double PmPlant::accel_rad_s2() const
 {
     // eq. (1), third line, with the cached sin/cos of n_p theta
     const double w = x_[kOmega];
-    if (salient_) {
+    if (salient_ || sat_) {
         return inv_J_ * (torque_Nm() - m_.fv_Nms_per_rad * w - load_torque_Nm(w, t_s_));
     }
     return K_over_J_ * (x_[kIb] * cos_e_ - x_[kIa] * sin_e_) - m_.fv_Nms_per_rad * inv_J_ * w -
@@ -221,6 +280,8 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
     const bool has_lugre = m_.lugre();
     double T_lugre = 0.0;  // LuGre's torque, held over each sub-step (below)
     const bool faulted = locked_ || open_winding_ >= 0;
+    const bool saturated = sat_.has_value();
+    const double i_sq0 = thermal_ ? x_[kIa] * x_[kIa] + x_[kIb] * x_[kIb] : 0.0;
 
     auto f = [&](const State& x, double t) -> State {
         double sd;
@@ -236,6 +297,19 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
         }
         T_ext += T_lugre;
         State dx;
+        if (saturated) {
+            saturated_rates(x, s, c, v_a_V, v_b_V, &dx);
+            dx[kOmega] -= fv_J * w + inv_J_ * T_ext;
+            dx[kTheta] = w;
+            if (locked_) {
+                dx[kOmega] = 0.0;
+                dx[kTheta] = 0.0;
+            }
+            if (open_winding_ >= 0) {
+                dx[open_winding_] = 0.0;
+            }
+            return dx;
+        }
         if (salient_) {
             salient_rates(x, s, c, v_a_V, v_b_V, &dx);
             dx[kOmega] -= fv_J * w + inv_J_ * T_ext;
@@ -314,6 +388,12 @@ void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
     // Fresh from libm (not rotated) so no error accumulates over a run.
     sin_e_ = std::sin(np * x_[kTheta]);
     cos_e_ = std::cos(np * x_[kTheta]);
+    if (thermal_) {
+        // the copper loss held over the step at the mean of its ends' |i|^2
+        const double i_sq1 = x_[kIa] * x_[kIa] + x_[kIb] * x_[kIb];
+        thermal_->step(0.5 * (i_sq0 + i_sq1), dt_s);
+        apply_temperature();
+    }
 }
 
 }  // namespace mcsim
