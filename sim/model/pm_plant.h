@@ -171,6 +171,12 @@ private:
     // the same through the saturation model (saturation.h's rotor-frame
     // equations), salient or not
     void saturated_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const;
+    // step() of the plant with the optional parts (saturation, temperature)
+    void step_optional(double v_a_V, double v_b_V, double dt_s);
+    // the RK4 step itself, linear (the default) or saturated
+    template <bool kSaturated>
+    void step_impl(double v_a_V, double v_b_V, double dt_s);
+    bool optional_parts_ = false;  // sat_ or thermal_ set: step() takes step_optional
     std::optional<Saturation> sat_;
     std::optional<ThermalModel> thermal_;
     // R and Phi (K = n_p Phi) from the thermal model, with the folded constants
