@@ -265,7 +265,7 @@ double PmPlant::accel_rad_s2() const
 
 void PmPlant::step(double v_a_V, double v_b_V, double dt_s)
 {
-    if (optional_parts_) {
+    if (__builtin_expect(optional_parts_, false)) {
         step_optional(v_a_V, v_b_V, dt_s);
         return;
     }
