@@ -211,10 +211,9 @@ void PmPlant::saturated_rates(const State& x, double s, double c, double v_a_V, 
     const double v_q = c * v_b_V - s * v_a_V;
     double psi_d;
     double psi_q;
-    sat_->flux(i_d, i_q, &psi_d, &psi_q);
     double did;
     double diq;
-    sat_->solve(i_d, i_q, v_d - m_.R_ohm * i_d + we * psi_q, v_q - m_.R_ohm * i_q - we * psi_d, &did, &diq);
+    sat_->rates(i_d, i_q, v_d - m_.R_ohm * i_d, v_q - m_.R_ohm * i_q, we, &did, &diq, &psi_d, &psi_q);
     (*dx)[kIa] = c * did - s * diq - we * x[kIb];
     (*dx)[kIb] = s * did + c * diq + we * x[kIa];
     (*dx)[kOmega] = inv_J_ * m_.torque_scale() * np * (psi_d * i_q - psi_q * i_d);

@@ -67,6 +67,20 @@ void Saturation::solve(double i_d_A, double i_q_A, double r_d_V, double r_q_V, d
     *di_q = inv_k * (r_q_V / L_q0_ + i_q_A * ir);
 }
 
+void Saturation::rates(double i_d_A, double i_q_A, double a_d_V, double a_q_V, double w_e_rad_s, double* di_d,
+                       double* di_q, double* psi_d_Wb, double* psi_q_Wb) const
+{
+    const double inv_k = std::sqrt(1.0 + u_ratio(i_d_A, i_q_A));
+    const double k = 1.0 / inv_k;  // factor()'s expression, so the same bits
+    *psi_d_Wb = Phi_ + k * L_d0_ * i_d_A;
+    *psi_q_Wb = k * L_q0_ * i_q_A;
+    const double r_d = a_d_V + w_e_rad_s * *psi_q_Wb;
+    const double r_q = a_q_V - w_e_rad_s * *psi_d_Wb;
+    const double ir = (i_d_A * r_d + i_q_A * r_q) * inv_2us_;
+    *di_d = inv_k * (r_d / L_d0_ + i_d_A * ir);
+    *di_q = inv_k * (r_q / L_q0_ + i_q_A * ir);
+}
+
 double Saturation::torque_per_np(double i_d_A, double i_q_A) const
 {
     return Phi_ * i_q_A + factor(i_d_A, i_q_A) * (L_d0_ - L_q0_) * i_d_A * i_q_A;

@@ -90,6 +90,11 @@ public:
     void incremental(double i_d_A, double i_q_A, double L[3]) const;
     // (S3): the current rates di = L_inc^-1 r for the voltage r [V].
     void solve(double i_d_A, double i_q_A, double r_d_V, double r_q_V, double* di_d, double* di_q) const;
+    // The plant's rates in one pass (one square root): the flux linkages
+    // (S2), then (S3) for r = (a_d + w_e psi_q, a_q - w_e psi_d), the rotor
+    // frame's d psi/dt with a = v - R i; bit for bit flux() then solve().
+    void rates(double i_d_A, double i_q_A, double a_d_V, double a_q_V, double w_e_rad_s, double* di_d,
+               double* di_q, double* psi_d_Wb, double* psi_q_Wb) const;
     // The electromagnetic torque per k_m n_p: psi_d i_q - psi_q i_d [Wb A].
     double torque_per_np(double i_d_A, double i_q_A) const;
 

@@ -113,6 +113,15 @@ TEST(Model, FluxIsTheCoenergyGradientAndReciprocal)
             s.solve(id, iq, r_d, r_q, &did, &diq);
             EXPECT_NEAR(L[0] * did + L[1] * diq, r_d, 1e-12);
             EXPECT_NEAR(L[1] * did + L[2] * diq, r_q, 1e-12);
+            // the plant's one-pass rates: flux() then solve(), bit for bit
+            const double a_d = 2.0, a_q = -5.0, we = 130.0;
+            double rd, rq, rpd, rpq, sd, sq;
+            s.rates(id, iq, a_d, a_q, we, &rd, &rq, &rpd, &rpq);
+            s.solve(id, iq, a_d + we * pq, a_q - we * pd, &sd, &sq);
+            EXPECT_EQ(rpd, pd);
+            EXPECT_EQ(rpq, pq);
+            EXPECT_EQ(rd, sd);
+            EXPECT_EQ(rq, sq);
         }
     }
 }
