@@ -26,6 +26,8 @@ struct Backend {
     const hal_sw_plant_can_t* can = nullptr;  // CAN bus, or none
     mcsim::BoardEmulation* board = nullptr;   // DAC/ADC board, or none
     mcsim::Encoder* encoder = nullptr;        // position encoder, or none
+    const mcsim::Inverter* inverter = nullptr;  // PWM inverter, or the amplifier
+    bool amp_output = true;  // neither a board nor an inverter: the amplifier model (one test a period)
     hal_sw_plant_period_t last{};
     const char* error = "";
 };
@@ -61,9 +63,19 @@ void hal_sw_plant_set_faults(mcsim::FaultInjector* faults) { g_hal.faults = faul
 
 void hal_sw_plant_set_can(const hal_sw_plant_can_t* bus) { g_hal.can = bus; }
 
-void hal_sw_plant_set_board(mcsim::BoardEmulation* board) { g_hal.board = board; }
+void hal_sw_plant_set_board(mcsim::BoardEmulation* board)
+{
+    g_hal.board = board;
+    g_hal.amp_output = g_hal.board == nullptr && g_hal.inverter == nullptr;
+}
 
 void hal_sw_plant_set_encoder(mcsim::Encoder* encoder) { g_hal.encoder = encoder; }
+
+void hal_sw_plant_set_inverter(const mcsim::Inverter* inverter)
+{
+    g_hal.inverter = inverter;
+    g_hal.amp_output = g_hal.board == nullptr && g_hal.inverter == nullptr;
+}
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
 {
@@ -148,11 +160,21 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         double v_app[3] = {0.0, 0.0, 0.0};
         mcsim::Amplifier amp = g_hal.amp;
         amp.v_max_V = v_supply;
-        if (g_hal.board != nullptr) {
-            g_hal.board->apply(n_ph, v_cmd, v_supply, v_app);
-        } else {
+        if (g_hal.amp_output) {
             for (int k = 0; k < n_ph; ++k) {
                 v_app[k] = amp.apply(v_cmd[k]);
+            }
+        } else if (g_hal.board != nullptr) {
+            g_hal.board->apply(n_ph, v_cmd, v_supply, v_app);
+        } else {
+            // the inverter, with the leg currents at the sampling instant
+            // held over the period
+            if (n_ph == 3) {
+                g_hal.inverter->apply(3, v_cmd, i_true, v_bus_true, v_app);
+            } else {
+                for (int k = 0; k < n_ph; ++k) {
+                    v_app[k] = g_hal.inverter->winding_voltage(v_cmd[k], i_true[k], v_bus_true);
+                }
             }
         }
         p.v_a_cmd_V = v_cmd[0];

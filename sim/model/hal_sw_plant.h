@@ -21,6 +21,7 @@
 #include "model/encoder.h"
 #include "model/current_sensor.h"
 #include "model/fault_injection.h"
+#include "model/inverter.h"
 #include "model/pm_plant.h"
 
 // What happened in one period, in double precision (for logs and tests).
@@ -82,6 +83,16 @@ void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx);
 // converters and amplifiers instead of the amplifier model. nullptr (or
 // none set since attach): the sensor and amplifier models. Not owned.
 void hal_sw_plant_set_board(mcsim::BoardEmulation* board);
+
+// A PWM inverter's averaged nonlinearity (model/inverter.h: dead time and
+// switching delays, device drops, minimum pulse) instead of the amplifier
+// model: each leg's voltage from its command, the bus (the supply as the
+// amplifier's, sags included) and the plant's current at the sampling
+// instant, held over the period; 3 phases: three legs about the midpoint,
+// 2 phases: an H-bridge per winding (Inverter::winding_voltage). nullptr
+// (or none set since attach): the amplifier model, as today. A board
+// (hal_sw_plant_set_board) takes precedence. Not owned.
+void hal_sw_plant_set_inverter(const mcsim::Inverter* inverter);
 
 // A position encoder (model/encoder.h): each sample then carries
 // has_angle = true and its reading of the rotor's angle; nullptr: none.

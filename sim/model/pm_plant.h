@@ -13,6 +13,10 @@
 //   L_q di_q/dt = v_q - R i_q - n_p w L_d i_d - n_p w Phi,
 //   torque = k_m n_p (Phi i_q + (L_d - L_q) i_d i_q),
 // and turned back to alpha-beta, so the state and the interface are the same.
+// Optional (issue 30; absent, the equations above bit for bit): magnetic
+// saturation and cross-saturation, the same rotor-frame integration with
+// the flux linkages of model/saturation.h (set_saturation), and a winding
+// temperature that R and Phi follow (model/thermal.h, set_thermal).
 //
 // Phases: the stepper's windings are driven by their own H-bridges
 // (v_a, v_b are the winding voltages); the PMSM's legs are voltages about
@@ -30,10 +34,14 @@
 #ifndef MCSIM_MODEL_PM_PLANT_H
 #define MCSIM_MODEL_PM_PLANT_H
 
+#include <optional>
+
 #include <Eigen/Core>
 
 #include "model/load_profile.h"
 #include "model/motor_params.h"
+#include "model/saturation.h"
+#include "model/thermal.h"
 
 namespace mcsim {
 
@@ -117,6 +125,24 @@ public:
     void set_speed(double omega_rad_s) { x_[kOmega] = omega_rad_s; }
 
     const MotorParams& motor() const { return m_; }
+
+    // Magnetic saturation and cross-saturation (model/saturation.h): from
+    // now on the currents follow the co-energy model built on the motor's
+    // L_d, L_q and Phi; p.enabled() false (i_sat 0) restores the linear
+    // equations, bit for bit today's. Call before reset() or between steps.
+    void set_saturation(const SaturationParams& p);
+    bool saturated() const { return sat_.has_value(); }
+    // The saturation model in use, or nullptr.
+    const Saturation* saturation() const { return sat_ ? &*sat_ : nullptr; }
+    // The winding's temperature (model/thermal.h): from now on R and Phi
+    // follow it, advanced after each step() with the mean of |i_ab|^2 at
+    // the step's start and end (the loss held over the step; the thermal
+    // time constants are seconds to minutes, a step 100 us). The motor's
+    // R and Phi as given are taken as R_20 and Phi_20; R and Phi are set to
+    // their values at T0 at once. p.enabled() false: none (R and Phi as given).
+    void set_thermal(const ThermalParams& p);
+    // The thermal model in use, or nullptr.
+    const ThermalModel* thermal() const { return thermal_ ? &*thermal_ : nullptr; }
     int substeps() const { return substeps_; }
     void set_substeps(int n) { substeps_ = (n < 1) ? 1 : n; }
 
@@ -142,6 +168,19 @@ private:
     // alpha-beta current rates and the electromagnetic part of dw/dt of a
     // salient motor at state x with sin/cos s, c of the electrical angle
     void salient_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const;
+    // the same through the saturation model (saturation.h's rotor-frame
+    // equations), salient or not
+    void saturated_rates(const State& x, double s, double c, double v_a_V, double v_b_V, State* dx) const;
+    // step() of the plant with the optional parts (saturation, temperature)
+    void step_optional(double v_a_V, double v_b_V, double dt_s);
+    // the RK4 step itself, linear (the default) or saturated
+    template <bool kSaturated>
+    void step_impl(double v_a_V, double v_b_V, double dt_s);
+    bool optional_parts_ = false;  // sat_ or thermal_ set: step() takes step_optional
+    std::optional<Saturation> sat_;
+    std::optional<ThermalModel> thermal_;
+    // R and Phi (K = n_p Phi) from the thermal model, with the folded constants
+    void apply_temperature();
 };
 
 }  // namespace mcsim

@@ -137,13 +137,22 @@ def _wrap(theta):
 
 def replay(params: dict, v_abc_V, omega_mech_rad_s: float, ts_s: float,
            theta0_elec_rad: float = 0.0, *, mode: str = "model", substeps: int = 1,
-           rtol: float = 1e-12, atol: float = 1e-12) -> dict:
+           rtol: float = 1e-12, atol: float = 1e-12, interlocking_time_s: float = 0.0,
+           u_dc_V: float | None = None) -> dict:
     """Replay held leg voltages through GEM's PMSM at constant mechanical speed.
 
     Returns a dict of arrays of length N (state at t = k*ts, before row k):
     t_s, i_a_A, i_b_A, i_c_A, i_d_A, i_q_A, theta_elec_rad (electrical angle,
-    unwrapped, theta0 + n_p*omega*t); plus scalars u_dc_V, mode and
+    unwrapped, theta0 + n_p*omega*t), v_applied_V (N x 3, model mode: the
+    converter's leg voltages over row k); plus scalars u_dc_V, mode and
     max_voltage_error_V (|GEM converter output - requested|, model mode).
+
+    interlocking_time_s (model mode): GEM's converter interlocking (dead)
+    time, which its continuous converters subtract from each leg's duty as
+    sign(i_leg) * interlocking_time / tau, tau = ts (one switching period
+    per step), the leg current taken at the step's start; the voltages are
+    then no longer the requested ones. u_dc_V: the bus (default: the power
+    of two of _u_dc).
     """
     p, v = _check(params, v_abc_V, omega_mech_rad_s, ts_s, theta0_elec_rad, mode, substeps)
     ps, SynchronousMotorSystem = _import_gem()
@@ -151,16 +160,20 @@ def replay(params: dict, v_abc_V, omega_mech_rad_s: float, ts_s: float,
     ts = float(ts_s)
     theta0 = float(theta0_elec_rad)
     n = v.shape[0]
-    u_dc = _u_dc(v)
+    u_dc = _u_dc(v) if u_dc_V is None else float(u_dc_V)
+    if not (u_dc > 2.0 * float(np.max(np.abs(v)))):
+        raise ReplayInputError(f"u_dc_V {u_dc!r} must exceed twice the largest |voltage|")
+    if mode != "model" and interlocking_time_s:
+        raise ReplayInputError("interlocking_time_s needs mode 'model'")
     actions = v * (2.0 / u_dc)  # Cont-B6C: leg voltage = a * u_dc / 2 (exact scaling, u_dc = 2^k)
     t = np.arange(n) * ts
     out = dict(t_s=t, i_a_A=np.zeros(n), i_b_A=np.zeros(n), i_c_A=np.zeros(n),
                i_d_A=np.zeros(n), i_q_A=np.zeros(n), theta_elec_rad=theta0 + p["n_p"] * omega * t,
-               u_dc_V=u_dc, mode=mode, max_voltage_error_V=float("nan"))
+               u_dc_V=u_dc, mode=mode, max_voltage_error_V=float("nan"), v_applied_V=np.zeros((n, 3)))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if mode == "model":
-            _replay_model(ps, p, actions, v, omega, ts, theta0, u_dc, rtol, atol, out)
+            _replay_model(ps, p, actions, v, omega, ts, theta0, u_dc, rtol, atol, out, interlocking_time_s)
         else:
             _replay_env(ps, SynchronousMotorSystem, p, actions, omega, ts, theta0, u_dc,
                         int(substeps), rtol, atol, out)
@@ -173,10 +186,10 @@ def _store(out, k, motor, i_dq, eps):
     out["i_d_A"][k], out["i_q_A"][k] = i_dq
 
 
-def _replay_model(ps, p, actions, v, omega, ts, theta0, u_dc, rtol, atol, out):
+def _replay_model(ps, p, actions, v, omega, ts, theta0, u_dc, rtol, atol, out, interlocking_time_s=0.0):
     motor = _motor(ps, p, omega, u_dc, _wrap(theta0))
     supply = ps.IdealVoltageSupply(u_nominal=u_dc)
-    conv = ps.ContB6BridgeConverter(tau=ts)
+    conv = ps.ContB6BridgeConverter(tau=ts, interlocking_time=float(interlocking_time_s))
     conv.reset()
 
     def rhs(_t, y, u_ab):
@@ -198,6 +211,7 @@ def _replay_model(ps, p, actions, v, omega, ts, theta0, u_dc, rtol, atol, out):
         conv.set_action(actions[k], k * ts)
         u_sup = supply.get_voltage(k * ts, conv.i_sup(i_abc))
         u_abc = np.array([u * u_sup[0] for u in conv.convert(i_abc, k * ts)])
+        out["v_applied_V"][k] = u_abc
         verr = max(verr, float(np.max(np.abs(u_abc - v[k]))))
         solver.set_f_params(motor.t_23(u_abc))
         solver.integrate((k + 1) * ts)
