@@ -107,12 +107,24 @@ def host_generator(typ, given):
     return exe
 
 
+def ci_files(build_dir):
+    """The call-graph files of the code the PIL image runs: with link-time
+    optimisation (CMake MC_LTO) the link's own, <image>.elf.ltrans*.ci
+    beside the image (written by this link: not older than the image),
+    else the firmware library's objects'."""
+    elf = os.path.join(build_dir, "hal", "backends", "mcu", "mc_pil.elf")
+    ltrans = glob.glob(elf + ".ltrans*.ci")
+    if ltrans and os.path.exists(elf) and all(os.path.getmtime(f) >= os.path.getmtime(elf) - 5 for f in ltrans):
+        return ltrans
+    return glob.glob(os.path.join(build_dir, "firmware", "**", "*.ci"), recursive=True)
+
+
 def parse_ci_stack(build_dir, root_fn="paper000_drive_step"):
     """Worst stack depth from root_fn over the call graph GCC wrote with
     -fcallgraph-info=su (static frame sizes; calls into libgcc/newlib
     helpers that have no .ci entry count as 0 and are listed)."""
     frames, edges, dynamic = {}, {}, set()
-    for ci in glob.glob(os.path.join(build_dir, "firmware", "**", "*.ci"), recursive=True):
+    for ci in ci_files(build_dir):
         text = open(ci).read()
         for m in re.finditer(r'node: \{ title: "([^"]+)" label: "([^"]*)"', text):
             title, label = m.group(1), m.group(2)
@@ -335,7 +347,9 @@ def linked_firmware_bytes(map_path):
             flash += size
         if sec.startswith((".data", ".bss")):
             ram += size
-    return {"flash": flash, "ram": ram}
+    # none with link-time optimisation (CMake MC_LTO): the map names the
+    # link's ltrans objects, not the library's, so there is no such split
+    return {"flash": flash, "ram": ram} if flash else None
 
 
 def run_p001(typ, est, args):
