@@ -275,6 +275,8 @@ def common_keys(p, run, args, bdir, elf, vec, drive, machine):
         # the part of the library the drive pulls in
         res[p + "_image_firmware_flash_bytes"] = linked["flash"]
         res[p + "_image_firmware_ram_static_bytes"] = linked["ram"]
+    # link-time optimisation (CMake MC_LTO): the link wrote its own call graph
+    res[p + "_lto"] = bool(glob.glob(elf + ".ltrans*.ci"))
     stack_and_qemu(res, p, parse_ci_stack(bdir, drive + "_drive_step"), info,
                    "%s -icount shift=%d" % (machine, args.shift))
     if not ok_run:
@@ -428,8 +430,10 @@ def markdown_table(path):
     row("periods, bit-exact with the host build",
         lambda p: "%s, %s" % (n(r[p + "_periods"]), "yes" if r.get(p + "_bit_exact_vs_host") else "NO"))
     print()
-    print("%s, %s, GCC %s, -O3; `%s`. Targets missed: %s."
-          % (r.get("scenario", "?"), r.get("date", "?"), r.get("gcc", "?"), os.path.relpath(os.path.abspath(path), cb.ROOT),
+    lto = all(r.get(p + "_lto") for p, _ in cols)
+    print("%s, %s, GCC %s, -O3%s; `%s`. Targets missed: %s."
+          % (r.get("scenario", "?"), r.get("date", "?"), r.get("gcc", "?"),
+             " -flto (MC_LTO)" if lto else "", os.path.relpath(os.path.abspath(path), cb.ROOT),
              "; ".join(r.get("target_misses", [])) or "none"))
     return 0
 
