@@ -12,6 +12,8 @@
 # to the x86-64 host build), -fno-math-errno (sqrtf is one vsqrt.f32),
 # -fno-short-enums (struct layouts equal the host's, so a host-built config
 # blob can be loaded on the target; newlib never sees our enums).
+# Link-time optimisation of the qemu images is the option MC_LTO
+# (CMakeLists.txt; presets cortex-m4f and cortex-m3-fixed), not a flag here.
 set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR arm)
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)

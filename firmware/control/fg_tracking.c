@@ -15,9 +15,11 @@ void fg_tracking_init(fg_tracking_t *t, const fg_tracking_config_t *cfg)
 /* Reference currents and voltages of the flat outputs, eqs. (38)-(39):
  * i_g,r = (J theta_r'' + f_v theta_r')/K, and the voltages from the
  * reference model (38) with i_f,r constant. */
-void fg_tracking_references(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
-                            const trajectory_point_t *rn, mc_t load_est_Nm, mc_t *i_fr, mc_t *i_gr, mc_t *v_fr,
-                            mc_t *v_gr)
+/* The reference currents alone (the first half of
+ * fg_tracking_references, which fg_tracking_start needs without the
+ * voltages); returns the clamped load C_r of the feed-forward. */
+static inline mc_t fg_tracking_currents(const fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A,
+                                        const trajectory_point_t *r, mc_t load_est_Nm, mc_t *i_fr, mc_t *i_gr)
 {
     const fg_tracking_config_t *c = &t->cfg;
     /* i_f,r: constant plus the decaying switch offset (a free flat output) */
@@ -27,6 +29,15 @@ void fg_tracking_references(fg_tracking_t *t, const motor_model_t *m, mc_t i_max
     const mc_t load_ff = mc_clamp(load_est_Nm, mc_neg(c->load_ff_max_Nm), c->load_ff_max_Nm);
     i_g = mc_mac(i_g, c->load_ff_A_per_Nm, load_ff);
     *i_gr = mc_clamp(mc_add(i_g, t->i_g_off_A), mc_neg(i_max_A), i_max_A);
+    return load_ff;
+}
+
+void fg_tracking_references(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *r,
+                            const trajectory_point_t *rn, mc_t load_est_Nm, mc_t *i_fr, mc_t *i_gr, mc_t *v_fr,
+                            mc_t *v_gr)
+{
+    const fg_tracking_config_t *c = &t->cfg;
+    const mc_t load_ff = fg_tracking_currents(t, m, i_max_A, r, load_est_Nm, i_fr, i_gr);
     /* L di_g,r/dt of (39), (JL/K) theta_r''' + (L f_v/K) theta_r'', taken as
      * the change of i_g,r over the sample (L/Ts times the difference of the
      * references at k+1 and k): the voltage is held over that sample, so its
@@ -55,12 +66,15 @@ void fg_tracking_references(fg_tracking_t *t, const motor_model_t *m, mc_t i_max
 void fg_tracking_start(fg_tracking_t *t, const motor_model_t *m, mc_t i_max_A, const trajectory_point_t *ref,
                        const trajectory_point_t *ref_next, mc_t load_est_Nm, mc_t i_d_A, mc_t i_q_A)
 {
+    (void)ref_next; /* the voltages of the switch sample come from fg_tracking_step */
     super_twisting_reset(&t->cur, MC_ZERO);
     t->i_f_off_A = MC_ZERO;
     t->i_g_off_A = MC_ZERO;
-    t->load_ff_Nm = mc_clamp(load_est_Nm, mc_neg(t->cfg.load_ff_max_Nm), t->cfg.load_ff_max_Nm);
-    mc_t i_fr0, i_gr0, v_fr0, v_gr0;
-    fg_tracking_references(t, m, i_max_A, ref, ref_next, load_est_Nm, &i_fr0, &i_gr0, &v_fr0, &v_gr0);
+    /* the references' currents at the switch, without their voltages
+     * (fg_tracking_references would also store this clamped load as
+     * load_ff_Nm: the same value) */
+    mc_t i_fr0, i_gr0;
+    t->load_ff_Nm = fg_tracking_currents(t, m, i_max_A, ref, load_est_Nm, &i_fr0, &i_gr0);
     t->i_f_off_A = mc_sub(i_d_A, i_fr0);
     t->i_g_off_A = mc_sub(i_q_A, i_gr0);
 }

@@ -390,18 +390,23 @@ static inline mc_t mc_sub(mc_t a, mc_t b)
 }
 
 /* Round (half up) and saturate a Q34 64-bit product sum to Q17: the result
- * fits iff the high word of p + 2^16 is in [-2^16, 2^16). Written so that
- * it compiles to smull/adds/adc/lsrs/orr + one compare on Cortex-M3. */
+ * fits iff the high word hi of p + 2^16 is in [-2^16, 2^16). The candidate
+ * r = p >> 17 (low 32 bits) holds hi's low 17 bits in its top 17, so
+ * r >> 15 (arithmetic) is hi sign-extended from its bit 16, which equals hi
+ * exactly when hi is in that range: the test is one compare against r with
+ * a shifted operand (adds/adc/lsl/orr/cmp + branch on Cortex-M3, one
+ * instruction less than testing hi + 2^16 < 2^17, the same value for every p). */
 static inline int32_t mc__round_sat_q34(int64_t p)
 {
     p += (int64_t)1 << (MC_FRAC_BITS - 1);
     const uint32_t hi = (uint32_t)((uint64_t)p >> 32);
-    if (hi + 0x10000u >= 0x20000u) {
+    const int32_t r = (int32_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
+    if ((int32_t)hi != (r >> (32 - MC_FRAC_BITS))) {
         /* cppcheck-suppress knownConditionTrueFalse ; false positive: hi is the high word of a
          * signed 64-bit sum, >= 2^31 (negative as int32_t) whenever p < 0 */
         return ((int32_t)hi < 0) ? -INT32_MAX : INT32_MAX;
     }
-    return (int32_t)(((uint32_t)p >> MC_FRAC_BITS) | (hi << (32 - MC_FRAC_BITS)));
+    return r;
 }
 
 static inline mc_t mc_mul(mc_t a, mc_t b) { return MC__MK(mc__round_sat_q34(mc__smul64(MC__RAW(a), MC__RAW(b)))); }

@@ -107,12 +107,24 @@ def host_generator(typ, given):
     return exe
 
 
+def ci_files(build_dir):
+    """The call-graph files of the code the PIL image runs: with link-time
+    optimisation (CMake MC_LTO) the link's own, <image>.elf.ltrans*.ci
+    beside the image (written by this link: not older than the image),
+    else the firmware library's objects'."""
+    elf = os.path.join(build_dir, "hal", "backends", "mcu", "mc_pil.elf")
+    ltrans = glob.glob(elf + ".ltrans*.ci")
+    if ltrans and os.path.exists(elf) and all(os.path.getmtime(f) >= os.path.getmtime(elf) - 5 for f in ltrans):
+        return ltrans
+    return glob.glob(os.path.join(build_dir, "firmware", "**", "*.ci"), recursive=True)
+
+
 def parse_ci_stack(build_dir, root_fn="paper000_drive_step"):
     """Worst stack depth from root_fn over the call graph GCC wrote with
     -fcallgraph-info=su (static frame sizes; calls into libgcc/newlib
     helpers that have no .ci entry count as 0 and are listed)."""
     frames, edges, dynamic = {}, {}, set()
-    for ci in glob.glob(os.path.join(build_dir, "firmware", "**", "*.ci"), recursive=True):
+    for ci in ci_files(build_dir):
         text = open(ci).read()
         for m in re.finditer(r'node: \{ title: "([^"]+)" label: "([^"]*)"', text):
             title, label = m.group(1), m.group(2)
@@ -263,6 +275,8 @@ def common_keys(p, run, args, bdir, elf, vec, drive, machine):
         # the part of the library the drive pulls in
         res[p + "_image_firmware_flash_bytes"] = linked["flash"]
         res[p + "_image_firmware_ram_static_bytes"] = linked["ram"]
+    # link-time optimisation (CMake MC_LTO): the link wrote its own call graph
+    res[p + "_lto"] = bool(glob.glob(elf + ".ltrans*.ci"))
     stack_and_qemu(res, p, parse_ci_stack(bdir, drive + "_drive_step"), info,
                    "%s -icount shift=%d" % (machine, args.shift))
     if not ok_run:
@@ -335,7 +349,9 @@ def linked_firmware_bytes(map_path):
             flash += size
         if sec.startswith((".data", ".bss")):
             ram += size
-    return {"flash": flash, "ram": ram}
+    # none with link-time optimisation (CMake MC_LTO): the map names the
+    # link's ltrans objects, not the library's, so there is no such split
+    return {"flash": flash, "ram": ram} if flash else None
 
 
 def run_p001(typ, est, args):
@@ -414,8 +430,10 @@ def markdown_table(path):
     row("periods, bit-exact with the host build",
         lambda p: "%s, %s" % (n(r[p + "_periods"]), "yes" if r.get(p + "_bit_exact_vs_host") else "NO"))
     print()
-    print("%s, %s, GCC %s, -O3; `%s`. Targets missed: %s."
-          % (r.get("scenario", "?"), r.get("date", "?"), r.get("gcc", "?"), os.path.relpath(os.path.abspath(path), cb.ROOT),
+    lto = all(r.get(p + "_lto") for p, _ in cols)
+    print("%s, %s, GCC %s, -O3%s; `%s`. Targets missed: %s."
+          % (r.get("scenario", "?"), r.get("date", "?"), r.get("gcc", "?"),
+             " -flto (MC_LTO)" if lto else "", os.path.relpath(os.path.abspath(path), cb.ROOT),
              "; ".join(r.get("target_misses", [])) or "none"))
     return 0
 

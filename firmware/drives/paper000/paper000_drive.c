@@ -302,6 +302,7 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     trajectory_eval(&d->traj, drive_traj_tick(d, 1), &d->ref_next);
     d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, cfg->model.n_p));
     d->rot_next = d->rot_k;
+    d->rot_resync = d->rot_k; /* formed at sample P000_FRAME_RESYNC - 1 before its use */
     return true;
 }
 
@@ -343,13 +344,22 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
          * P000_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
         if ((d->tick % P000_FRAME_RESYNC) == 0u) {
-            d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, d->model.n_p));
+            /* U(n_p theta_r[k]) formed exactly by the last sample, from
+             * this sample's reference (its ref_next, which nothing changes
+             * in between: a move starts after it), the same value as
+             * forming it here; spread so, the sincos does not land on
+             * this sample, which also runs the decimated checks (their
+             * period divides P000_FRAME_RESYNC) */
+            d->rot_k = d->rot_resync;
             /* the observer's gain at the reference speed (discrete-time
              * design; a no-op otherwise): the speed moves by at most
              * |w'|max 32 Ts = 0.1 rad/s in between for the rig */
             fg_estimator_schedule(&d->est, d->ref.omega_rad_s);
         } else {
             d->rot_k = d->rot_next;
+            if (((d->tick + 1u) % P000_FRAME_RESYNC) == 0u) {
+                d->rot_resync = mc_rot_from_angle(mc_elec_angle(d->ref_next.theta_rad, d->model.n_p));
+            }
         }
     }
     /* the estimator's front (estimators/fg_estimator.h): the frame (6)-(8)

@@ -217,6 +217,8 @@ typedef struct {
     trajectory_point_t ref_next; /* reference of the next sample */
     mc_rot_t rot_k;              /* U(n_p theta_r) of this sample, eq. (8) */
     mc_rot_t rot_next;           /* the same for the next sample */
+    mc_rot_t rot_resync;         /* U(n_p theta_r) of the next resync sample, exactly, formed
+                                  * one sample ahead from ref_next (paper000_drive.c) */
     /* what the last step computed that is not kept in a block's state */
     struct {
         uint32_t tick;
