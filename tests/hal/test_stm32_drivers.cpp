@@ -181,6 +181,100 @@ TEST(Stm32Pwm, TwoFullBridgesRegisters)
     EXPECT_EQ(t.DIER, 0u);
 }
 
+// Two timers' legs B and C (the ODrive v3.6's PWM_TWO_BRIDGES_TIM1_TIM8):
+// CH2/CH2N and CH3/CH3N driven, CH1 (leg A) left disabled, CH4 TIM1's ADC
+// trigger (TRGO = OC4REF); TIM8 the same legs, no break, its own TRGO
+// unused, TIM1's slave in trigger mode on ITR0 (SMCR TS = 000, SMS = 110,
+// RM0090 17.4.3); the dead time of 20 clocks at 168 MHz (DTG = 20).
+TEST(Stm32Pwm, TwoTimersLegsBAndCRegisters)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 119u, &p));
+    EXPECT_EQ(p.dtg, 20u);
+    EXPECT_EQ(p.dead_ns, 119u);
+    auto t1 = zeroed<tim_regs_t>();
+    auto t8 = zeroed<tim_regs_t>();
+    pwm_init(&t1, &p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    EXPECT_EQ(t1.CCMR1, 0x6800u) << "CH2 PWM mode 1 with preload, CH1 unused";
+    EXPECT_EQ(t1.CCMR2, 0x7868u) << "CH3 PWM mode 1, CH4 PWM mode 2";
+    EXPECT_EQ(t1.CCER, 0x0550u) << "CC2E, CC2NE, CC3E, CC3NE";
+    EXPECT_EQ(t1.CR2, 0x70u);
+    EXPECT_EQ(t1.CCR[1], 2100u);
+    EXPECT_EQ(t1.CCR[2], 2100u);
+    EXPECT_EQ(t1.CCR[0], 0u);
+    EXPECT_EQ(t1.BDTR, 0x0C00u | 20u);
+    EXPECT_EQ(t1.CR1, 0xA4u);
+    pwm_init_slave(&t8, &p);
+    EXPECT_EQ(t8.CCER, 0x0550u);
+    EXPECT_EQ(t8.CR2, 0u);
+    EXPECT_EQ(t8.SMCR, 0x06u) << "TS = ITR0 (TIM1's TRGO), SMS = trigger mode";
+    EXPECT_EQ(t8.BDTR, 0x0C00u | 20u) << "no break";
+    EXPECT_EQ(t8.DIER, 0u);
+    EXPECT_EQ(t8.CR1 & TIM_CR1_CEN, 0u) << "stopped until TIM1 starts it";
+    // a winding across legs B and C: leg B at d, leg C at 1 - d
+    pwm_set_bridge_bc(&t8, &p, 0.75f);
+    EXPECT_EQ(t8.CCR[1], 3150u);
+    EXPECT_EQ(t8.CCR[2], 1050u);
+    pwm_set_bridge_bc(&t8, &p, 1.5f);
+    EXPECT_EQ(t8.CCR[1], 4200u) << "clamped to 1";
+    EXPECT_EQ(t8.CCR[2], 0u);
+    pwm_set_bridge_bc(&t8, &p, NAN);
+    EXPECT_EQ(t8.CCR[1], 0u) << "not a number: 0";
+    EXPECT_EQ(t8.CCR[2], 4200u);
+}
+
+// Both timers started together: at the moment TIM1's CEN is set, TIM1's
+// TRGO is its enable (MMS = 001) and TIM8 waits in trigger mode, both
+// counters at 0 (a thread plays TIM8's trigger input: it starts TIM8 when
+// it sees TIM1 enabled, and notes what it saw then); after TIM8 runs,
+// TIM1's TRGO is OC4REF again (the ADC trigger) and TIM8's slave mode off.
+// A TIM8 that never starts: STM32_FAULT_PWM_SYNC, TIM1 stopped again.
+TEST(Stm32Pwm, SynchronisedStartAndItsTimeout)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 119u, &p));
+    auto t1 = zeroed<tim_regs_t>();
+    auto t8 = zeroed<tim_regs_t>();
+    pwm_init(&t1, &p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    pwm_init_slave(&t8, &p);
+    t1.CNT = 17u;
+    t8.CNT = 99u;
+    std::atomic<bool> seen{false};
+    std::atomic<uint32_t> mms{0}, smcr{0}, cnt1{1}, cnt8{1};
+    std::thread trigger([&] {
+        for (long k = 0; k < 2000000000L && !seen.load(); ++k) {
+            if ((t1.CR1 & TIM_CR1_CEN) != 0u) {
+                mms = t1.CR2 & TIM_CR2_MMS_MASK;
+                smcr = t8.SMCR;
+                cnt1 = t1.CNT;
+                cnt8 = t8.CNT;
+                if ((t8.SMCR & TIM_SMCR_SMS_MASK) == TIM_SMCR_SMS_TRIGGER) t8.CR1 = t8.CR1 | TIM_CR1_CEN;
+                seen = true;
+            }
+            std::this_thread::yield();
+        }
+    });
+    const stm32_status_t st = pwm_start_synchronised(&t1, &t8, 2000000000u);
+    trigger.join();
+    EXPECT_EQ(st, STM32_OK);
+    EXPECT_EQ(mms.load(), TIM_CR2_MMS_ENABLE);
+    EXPECT_EQ(smcr.load(), 0x06u);
+    EXPECT_EQ(cnt1.load(), 0u);
+    EXPECT_EQ(cnt8.load(), 0u);
+    EXPECT_EQ(t1.CR2 & TIM_CR2_MMS_MASK, TIM_CR2_MMS_OC4REF) << "TRGO back to the ADC trigger";
+    EXPECT_EQ(t8.SMCR, 0u);
+    EXPECT_TRUE(t1.CR1 & TIM_CR1_CEN);
+    EXPECT_TRUE(t8.CR1 & TIM_CR1_CEN);
+    // the timeout: TIM8 never starts
+    auto u1 = zeroed<tim_regs_t>();
+    auto u8 = zeroed<tim_regs_t>();
+    pwm_init(&u1, &p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    pwm_init_slave(&u8, &p);
+    EXPECT_EQ(pwm_start_synchronised(&u1, &u8, kPolls), STM32_FAULT_PWM_SYNC);
+    EXPECT_EQ(u1.CR1 & TIM_CR1_CEN, 0u) << "TIM1 stopped again";
+    EXPECT_EQ(u1.CR2 & TIM_CR2_MMS_MASK, TIM_CR2_MMS_OC4REF);
+}
+
 // Current on IN10 and the bus on IN13 (the VESC 6's PC0 and PC3): SCAN and
 // JEOCIE, 15-cycle sampling of both (SMPR1 bits 0-2 and 9-11), JSQR = JL
 // 1 | IN10 in JSQ3 | IN13 in JSQ4, JEXTSEL = TIM1 TRGO, rising edge, ADON;

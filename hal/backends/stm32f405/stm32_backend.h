@@ -37,6 +37,8 @@ typedef struct {
     can_regs_t *can1;
     iwdg_regs_t *iwdg;
     gpio_regs_t *gpio[5]; /* ports A-E */
+    tim_regs_t *tim8;     /* the second bridge timer (PWM_TWO_BRIDGES_TIM1_TIM8) */
+    tim_regs_t *tim5;     /* the step/dir input's counter (step_dir.h) */
 } stm32_periph_t;
 
 extern const stm32_periph_t stm32_hw;

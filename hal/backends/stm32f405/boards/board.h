@@ -29,7 +29,10 @@ typedef struct {
     pwm_topology_t topology;
     uint8_t n_phases;                 /* 3 (three half-bridges) or 2 (two full bridges) */
     uint32_t pwm_hz, control_hz, dead_time_ns;
-    gpio_pin_t pwm_pins[6];           /* CH1-3 then CH1N-3N (3 phases), or CH1-4 (2 phases) */
+    gpio_pin_t pwm_pins[6];           /* CH1-3 then CH1N-3N (3 phases), or CH1-4 (2 phases),
+                                       * or TIM1's CH2, CH3, CH2N, CH3N (PWM_TWO_BRIDGES_TIM1_TIM8) */
+    gpio_pin_t pwm_pins_2[6];         /* PWM_TWO_BRIDGES_TIM1_TIM8: TIM8's CH2, CH3, CH2N, CH3N; else none */
+    gpio_pin_t pins_held_low[4];      /* gate inputs of legs no winding uses: outputs held low (switches off) */
     bool break_enable, break_active_high;
     gpio_pin_t break_pin;
     bool has_gate_enable;
