@@ -226,6 +226,19 @@ typedef struct {
 #define STM32_RCC_BASE 0x40023800u
 #define STM32_FLASH_IF_BASE 0x40023C00u
 
+/* ---- EXTI and SYSCFG's EXTI line selection (RM0090 12.3, 9.2.3) ---- */
+typedef struct {
+    REG IMR, EMR, RTSR, FTSR, SWIER, PR;
+} exti_regs_t;
+STM32_ASSERT(offsetof(exti_regs_t, PR) == 0x14, "EXTI_PR at 0x14");
+typedef struct {
+    REG MEMRMP, PMC, EXTICR[4];
+} syscfg_regs_t;
+STM32_ASSERT(offsetof(syscfg_regs_t, EXTICR) == 0x08, "SYSCFG_EXTICR1 at 0x08");
+#define STM32_EXTI_BASE 0x40013C00u
+#define STM32_SYSCFG_BASE 0x40013800u
+#define RCC_APB2ENR_SYSCFGEN (1u << 14) /* RM0090 7.3.14 */
+
 /* ---- Cortex-M4 system control (ARMv7-M ARM B3) ---- */
 #define SCB_CPACR (*(volatile uint32_t *)(uintptr_t)0xE000ED88u)
 #define SCB_VTOR (*(volatile uint32_t *)(uintptr_t)0xE000ED08u)
