@@ -34,19 +34,22 @@ struct Regs {
     can_regs_t can1;
     iwdg_regs_t iwdg;
     gpio_regs_t gpio[5];
+    exti_regs_t exti;
+    syscfg_regs_t syscfg;
 };
 
 struct FakeChip : Regs {
     stm32_periph_t hw;
     std::atomic<bool> stop{false};
     std::atomic<bool> tim8_trigger{true};  // false: TIM8 never sees TIM1's trigger
+    std::atomic<bool> tim5_clock{true};    // false: TIM5 never answers its update
     std::thread hardware;
 
     explicit FakeChip(uint32_t zero_code)
     {
         std::memset(static_cast<void*>(static_cast<Regs*>(this)), 0, sizeof(Regs));
         hw = {&rcc,  &flash, &tim1, &tim2, &tim3, &adc_common, {&adc[0], &adc[1], &adc[2]}, &can1, &iwdg,
-              {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}, &tim8, &tim5};
+              {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}, &tim8, &tim5, &exti, &syscfg};
         for (auto& a : adc) {
             a.JDR[0] = zero_code;
             a.JDR[1] = 1000;  // the bus on ADC1
@@ -62,6 +65,11 @@ struct FakeChip : Regs {
                     (tim1.CR2 & TIM_CR2_MMS_MASK) == TIM_CR2_MMS_ENABLE &&
                     (tim8.SMCR & (TIM_SMCR_SMS_MASK | TIM_SMCR_TS_MASK)) == TIM_SMCR_SMS_TRIGGER) {
                     tim8.CR1 = tim8.CR1 | TIM_CR1_CEN;
+                }
+                // an update event sets UIF (RM0090 18.4.5) when TIM5's clock runs
+                if (tim5_clock.load() && (tim5.EGR & TIM_EGR_UG) != 0u) {
+                    tim5.EGR = 0u;
+                    tim5.SR = tim5.SR | TIM_SR_UIF;
                 }
                 std::this_thread::yield();
             }
@@ -193,4 +201,54 @@ TEST(Stm32BackendOdrive36, CurrentSensorZeroOutOfRangeIsAFaultWithBridgesOff)
     EXPECT_FALSE(chip.moe1());
     EXPECT_FALSE(chip.moe8());
     EXPECT_TRUE(chip.gate_low());
+}
+
+// The step/dir input (GPIO1 = PA0 STEP on TIM5_CH1 AF2, GPIO2 = PA1 DIR on
+// EXTI line 1): TIM5 counting STEP's rising edges (external clock mode 1),
+// DIR's line on both edges, its interrupt enabled by hal_start; a DIR
+// edge turns the count's direction from the pin's level; the count is
+// what stm32_backend_step_count gives the application.
+TEST(Stm32BackendOdrive36, StepDirInputCountsOnTim5)
+{
+    FakeChip chip(2048);
+    chip.clocks_ok();
+    chip.gpio[0].IDR = 1u << 1;  // DIR high at start: counting up
+    ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();
+    EXPECT_TRUE(chip.rcc.APB1ENR & RCC_APB1ENR_TIM5EN);
+    EXPECT_TRUE(chip.rcc.APB2ENR & RCC_APB2ENR_SYSCFGEN);
+    EXPECT_EQ(chip.tim5.SMCR, 0x57u);
+    EXPECT_EQ(chip.tim5.CCMR1, 0x31u) << "TI1, 8 samples at 84 MHz";
+    EXPECT_EQ(chip.tim5.CR1, TIM_CR1_CEN);
+    EXPECT_EQ((chip.gpio[0].MODER >> 0) & 0xFu, 0x2u) << "PA0 alternate function, PA1 input";
+    EXPECT_EQ(chip.gpio[0].AFR[0] & 0xFu, 0x2u) << "AF2: TIM5_CH1";
+    EXPECT_EQ(chip.syscfg.EXTICR[0] & 0xF0u, 0u) << "line 1 on port A";
+    EXPECT_EQ(chip.exti.IMR, 2u);
+    EXPECT_EQ(chip.exti.RTSR & chip.exti.FTSR, 2u);
+    int32_t count = -1;
+    chip.tim5.CNT = 40u;  // 40 steps counted
+    ASSERT_TRUE(stm32_backend_step_count(&count));
+    EXPECT_EQ(count, 40);
+    chip.gpio[0].IDR = 0u;  // DIR low: its edge's interrupt
+    stm32_backend_dir_edge();
+    EXPECT_TRUE(chip.tim5.CR1 & TIM_CR1_DIR) << "counting down";
+    EXPECT_EQ(chip.exti.PR, 2u);
+    chip.tim5.CNT = 0xFFFFFFF6u;
+    ASSERT_TRUE(stm32_backend_step_count(&count));
+    EXPECT_EQ(count, -10);
+}
+
+// TIM5 that does not answer its update: the start-up's fault (21), bridges off.
+TEST(Stm32BackendOdrive36, StepCounterThatDoesNotAnswerIsAFaultWithBridgesOff)
+{
+    FakeChip chip(2048);
+    chip.tim5_clock = false;
+    chip.clocks_ok();
+    EXPECT_FALSE(stm32_backend_init(&chip.hw));
+    EXPECT_EQ(stm32_backend_status(), STM32_FAULT_STEP_DIR_TIMEOUT);
+    EXPECT_EQ(std::string(hal_last_error()), "step/dir input: its timer did not answer the update");
+    EXPECT_FALSE(chip.moe1());
+    EXPECT_FALSE(chip.moe8());
+    EXPECT_TRUE(chip.gate_low());
+    int32_t count = 0;
+    EXPECT_FALSE(stm32_backend_step_count(&count));
 }

@@ -28,6 +28,8 @@ const stm32_periph_t stm32_hw = {
              (gpio_regs_t *)STM32_GPIO_BASE(3), (gpio_regs_t *)STM32_GPIO_BASE(4)},
     .tim8 = (tim_regs_t *)STM32_TIM8_BASE,
     .tim5 = (tim_regs_t *)STM32_TIM5_BASE,
+    .exti = (exti_regs_t *)STM32_EXTI_BASE,
+    .syscfg = (syscfg_regs_t *)STM32_SYSCFG_BASE,
 };
 
 #define RCC (g.hw->rcc)
@@ -36,6 +38,8 @@ const stm32_periph_t stm32_hw = {
 #define TIM2 (g.hw->tim2)
 #define TIM3 (g.hw->tim3)
 #define TIM8 (g.hw->tim8)
+#define TIM5 (g.hw->tim5)
+#define EXTI (g.hw->exti)
 #define ADC_COMMON (g.hw->adc_common)
 #define CAN1 (g.hw->can1)
 #define IWDG (g.hw->iwdg)
@@ -80,6 +84,8 @@ static struct {
     clock_plan_t clocks;
     bool watchdog;
     bool encoder_on;            /* the board's encoder runs (encoder_tim.h) */
+    bool step_dir_on;           /* the board's step/dir input runs (step_dir.h) */
+    step_dir_t sd;
     encoder_t enc;
     hal_can_frame_t can_rx[16];
     uint32_t can_rx_head, can_rx_count, can_rx_dropped;
@@ -132,6 +138,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     g.running = false;
     g.error = "";
     g.encoder_on = false;
+    g.step_dir_on = false;
     /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
     const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
     RCC->CSR |= RCC_CSR_RMVF;
@@ -227,6 +234,27 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         if (st != STM32_OK) return fail(st);
         g.encoder_on = true;
     }
+    /* 5b. the step/dir input: STEP on TIM5_CH1, DIR's line 0-4 (each its
+     * own interrupt; lines 5-15 share theirs: not taken) */
+    if (board.step_dir_enable) {
+        if (board.dir_pin.port == 0xFFu || board.dir_pin.pin > 4u || board.step_pin.port == 0xFFu) {
+            return fail(STM32_FAULT_STEP_DIR_CONFIG);
+        }
+        RCC->APB1ENR |= RCC_APB1ENR_TIM5EN;
+        RCC->APB2ENR |= RCC_APB2ENR_SYSCFGEN;
+        pin_af(board.step_pin, GPIO_PULL_DOWN);
+        gpio_config(GPIO(board.dir_pin.port), board.dir_pin.pin, GPIO_INPUT, 0, GPIO_PULL_DOWN);
+        const step_dir_config_t sc = {
+            .filter = board.step_filter,
+            .dir_invert = board.dir_invert,
+            .dir_line = board.dir_pin.pin,
+            .dir_port = board.dir_pin.port,
+        };
+        const bool level = (GPIO(board.dir_pin.port)->IDR & (1u << board.dir_pin.pin)) != 0u;
+        const stm32_status_t st = step_dir_init(&g.sd, TIM5, EXTI, g.hw->syscfg, &sc, level, STM32_TIMEOUT_POLLS);
+        if (st != STM32_OK) return fail(st);
+        g.step_dir_on = true;
+    }
     /* 6. CAN */
     if (board.can_enable) {
         bxcan_timing_t t;
@@ -301,6 +329,10 @@ bool hal_start(hal_control_fn fn, void *ctx)
         TIM2->DIER = TIM_DIER_UIE;
         TIM2->CR1 = TIM_CR1_CEN;
         nvic_enable(IRQ_TIM2, 0x10u);
+    }
+    if (g.step_dir_on) {
+        /* the direction before the next step: above everything but the break */
+        nvic_enable(IRQ_EXTI0 + board.dir_pin.pin, 0x00u);
     }
     if (board.can_enable) {
         CAN1->IER = CAN_IER_FMPIE0 | CAN_IER_BOFIE | CAN_IER_ERRIE;
@@ -378,6 +410,29 @@ void stm32_backend_control(hal_sample_t *in)
 }
 
 const encoder_t *stm32_backend_encoder(void) { return g.encoder_on ? &g.enc : 0; }
+
+bool stm32_backend_step_count(int32_t *count)
+{
+    if (!g.step_dir_on) return false;
+    *count = step_dir_count(TIM5);
+    return true;
+}
+
+void stm32_backend_dir_edge(void)
+{
+    if (!g.step_dir_on) {
+        EXTI->PR = 0x1Fu;
+        return;
+    }
+    const bool level = (GPIO(board.dir_pin.port)->IDR & (1u << board.dir_pin.pin)) != 0u;
+    step_dir_direction(&g.sd, TIM5, EXTI, level);
+}
+
+void EXTI0_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI1_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI2_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI3_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI4_IRQHandler(void) { stm32_backend_dir_edge(); }
 
 void stm32_backend_sample(hal_sample_t *in)
 {

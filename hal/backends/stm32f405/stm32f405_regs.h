@@ -256,7 +256,7 @@ STM32_ASSERT(offsetof(syscfg_regs_t, EXTICR) == 0x08, "SYSCFG_EXTICR1 at 0x08");
 #define IRQ_CAN1_SCE 22
 #define IRQ_TIM1_BRK_TIM9 24
 #define IRQ_TIM2 28
-#define IRQ_EXTI1 7 /* EXTI line 1 (RM0090 table 61) */
+#define IRQ_EXTI0 6 /* EXTI lines 0-4: 6-10 (RM0090 table 61) */
 #define STM32F405_N_IRQ 82
 
 /* Interrupts off and on around a short critical section (no-ops in a host

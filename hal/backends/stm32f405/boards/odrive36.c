@@ -32,7 +32,12 @@
  *   - CAN1 on PB8 (RX), PB9 (TX), AF9 (board.cpp gpios CAN_R, CAN_D);
  *   - dead time: TIM_1_8_DEADTIME_CLOCKS = 20 timer clocks at 168 MHz
  *     (main.h): 119 ns;
- *   - no MCU-driven LED (the board's LEDs are power indicators).
+ *   - no MCU-driven LED (the board's LEDs are power indicators);
+ *   - step/dir: the vendor's axis 0 takes STEP on GPIO1 and DIR on GPIO2
+ *     (board.cpp: step_gpio_pin 1, dir_gpio_pin 2), PA0 and PA1 (board.cpp
+ *     gpios[]); PA0's AF2 is TIM5_CH1 (board.cpp alternate_functions:
+ *     GPIO1 GPIO_AF2_TIM5; DS8626 table 9): STEP clocks TIM5, DIR is EXTI
+ *     line 1.
  * The vendor runs 24 kHz (TIM_1_8_PERIOD_CLOCKS 3500) with TIM8 a quarter
  * period behind TIM1 (board.cpp start_synchronised offsets); this image
  * runs the backend's 20 kHz with both timers in phase and the control
@@ -110,4 +115,22 @@ const board_t board = {
     .encoder_a = NO_PIN,
     .encoder_b = NO_PIN,
     .encoder_index = NO_PIN,
+    .step_dir_enable = true,
+    .step_pin = PIN(PA, 0, 2u),
+    .dir_pin = PIN(PA, 1, 0),
+    /* IC1F = 3: 8 samples at TIM5's 84 MHz (RM0090 18.4.7): a STEP pulse
+     * under 95 ns is rejected (step/dir senders hold STEP high 1 us or
+     * more) */
+    .step_filter = 3u,
+    .dir_invert = false,
+    /* 1/16 microsteps of a 200-step motor (paper 000's stepper: 50 pole
+     * pairs, 200 full steps a turn): 2 pi / 3200 rad a step; set it for
+     * your motor and your sender's microstepping */
+    .step_angle_rad = 6.28318530718f / 3200.0f,
+    /* the move limits of paper 000's configuration for this board
+     * (firmware/drives/paper000/boards/odrive36.toml [bounds]: 20 rad/s,
+     * 40 rad/s^2, which design/paper000_design.c makes its
+     * move_speed_max_rad_s, move_accel_max_rad_s2): no faster */
+    .step_speed_max_rad_s = 20.0f,
+    .step_accel_max_rad_s2 = 40.0f,
 };
