@@ -23,6 +23,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kFs = 10000;
 constexpr double kPhi = 2.0 * kPi / 3200.0;  // 1/16 microsteps of a 200-step motor
 constexpr double kWmax = 20.0, kAmax = 40.0;  // the ODrive's configuration's [bounds]
+// the step angle as the shaper holds it (fixed point: to 2^-17 rad, 0.14 %
+// off kPhi; the target is the count times this)
+double phi_held() { return mc_to_double(mc_from_double(kPhi)); }
 
 // The drive's move command as paper000_drive_move judges it, and eq. (70)
 // played out from where the reference rests.
@@ -124,7 +127,7 @@ TEST(StepShaper, SlowTrainIsFollowedWithoutExcess)
     EXPECT_EQ(s.excess_steps, 0u);
     EXPECT_EQ(d.refused_limits, 0);
     EXPECT_FALSE(d.busy());
-    EXPECT_NEAR(d.ref(), 200 * kPhi, 1e-4);
+    EXPECT_NEAR(d.ref(), 200 * phi_held(), 1e-4);
     EXPECT_EQ(step_shaper_backlog(&s), 0);
     EXPECT_LE(d.peak_speed, kWmax);
 }
@@ -163,7 +166,7 @@ TEST(StepShaper, BurstBeyondTheDesignIsFollowedAtTheLimitAndCounted)
     for (int k = 0; k < 10 * kFs && (d.busy() || step_shaper_backlog(&s) != 0); ++k) sample(s, d, count);
     EXPECT_FALSE(d.busy());
     EXPECT_EQ(step_shaper_backlog(&s), 0);
-    EXPECT_NEAR(d.ref(), 3000 * kPhi, 2e-4) << "the reference at the count: 4000 - 1000 steps";
+    EXPECT_NEAR(d.ref(), 3000 * phi_held(), 2e-4) << "the reference at the count: 4000 - 1000 steps";
     EXPECT_EQ(d.refused_limits, 0) << "every move within the design's limits";
     EXPECT_LE(d.peak_speed, kWmax * (1 + 1e-6));
     EXPECT_GT(d.peak_share, 0.98) << "the long move at a limit of the design (here a_max: 7.85 rad is under "
@@ -184,6 +187,6 @@ TEST(StepShaper, WaitsForTheDrivesMoveAndMeasuresFromItsRest)
     for (int k = 0; k < 3 * kFs; ++k) accepted += sample(s, d, 10) ? 1 : 0;
     EXPECT_EQ(accepted, 1) << "offered each sample, taken once the CAN move ended";
     EXPECT_EQ(d.refused_limits, 0);
-    EXPECT_NEAR(d.ref(), 10 * kPhi, 1e-4) << "back from 5 rad to the step target";
+    EXPECT_NEAR(d.ref(), 10 * phi_held(), 1e-4) << "back from 5 rad to the step target";
     EXPECT_EQ(s.moves, 1u);
 }
