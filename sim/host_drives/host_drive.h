@@ -16,13 +16,17 @@
 #include <vector>
 
 #include "scenario/scenario.h"
-#include "scenario/toml_view.h"
 
 extern "C" {
 #include "drives/registry.h"
 }
 
 namespace mcsim {
+
+// One TOML table with its file and key prefix (scenario/toml_view.h, which a
+// host part's parser includes; the programs that only run drives do not
+// compile toml++).
+class View;
 
 struct HostDrive {
     const char* name;   // the firmware registry's name, and [drive] kind's

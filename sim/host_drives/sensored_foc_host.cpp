@@ -17,6 +17,7 @@
 
 #include "host_drives/host_drive.h"
 #include "scenario/design_input.h"
+#include "scenario/toml_view.h"
 
 extern "C" {
 #include "design/sensored_foc_design.h"

@@ -10,7 +10,6 @@
 
 namespace mcsim {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // the metric windows of paper002_recorder.h: RMSE over [0, 1] s, and from
 // 50 ms
 constexpr double kRmseEnd_s = 1.0;
