@@ -20,6 +20,7 @@ PRESETS=(
     stm32f405
     stm32f405-paper002-vesc6
     stm32f405-paper002-vesc6-sensorless
+    stm32f405-paper000-odrive36
 )
 
 usage() {

@@ -143,6 +143,7 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
         s.overruns = t->drive.overruns;
         s.relocks = t->drive.relocks;
         s.first_fault = t->drive.first_fault;
+        s.excess_steps = t->excess_steps;
         id = DRIVE_CAN_TIMING_FRAME_ID;
         n = drive_can_timing_pack(f->data, &s, sizeof f->data);
         break;

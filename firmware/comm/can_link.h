@@ -24,7 +24,7 @@
 extern "C" {
 #endif
 
-#define CAN_LINK_MSG_SET_VERSION 2u   /* the DBC's MsgSetVersion; VERSION "drive-can 2" (1 + Version) */
+#define CAN_LINK_MSG_SET_VERSION 3u   /* the DBC's MsgSetVersion; VERSION "drive-can 3" (1 + Version + ExcessSteps) */
 #define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
 
 /* One classic CAN frame: the HAL's (hal/hal_types.h). */
@@ -54,6 +54,7 @@ typedef struct {
     uint8_t rejected_commands;   /* the node's */
     uint16_t counter;            /* the heartbeat's */
     mc_t v_bus_V, step_time_us;  /* the backend's */
+    uint16_t excess_steps;       /* the step/dir input's (trajectory/step_shaper.h), wrapping; 0 without one */
 } can_telemetry_t;
 
 /* Packs telemetry message m of node into *f. Returns false for an unknown m

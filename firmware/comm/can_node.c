@@ -9,6 +9,7 @@ void can_node_init(can_node_t *n, const can_tx_config_t *cfg)
     n->last_reject = CAN_REJECT_NONE;
     n->last_reject_id = 0;
     n->heartbeats = 0;
+    n->excess_steps = 0;
 }
 
 can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f, can_apply_fn apply, void *drive)
@@ -96,6 +97,7 @@ void can_node_drive_telemetry(const drive_t *d, mc_t v_bus_V, mc_t step_time_us,
     t->drive_kind = d->ops->can_kind;
     t->v_bus_V = v_bus_V;
     t->step_time_us = step_time_us;
+    t->excess_steps = 0u;
 }
 
 void can_node_step_drive(can_node_t *n, const drive_t *d, uint32_t tick, mc_t v_bus_V, mc_t step_time_us)
@@ -105,5 +107,6 @@ void can_node_step_drive(can_node_t *n, const drive_t *d, uint32_t tick, mc_t v_
     }
     can_telemetry_t t;
     can_node_drive_telemetry(d, v_bus_V, step_time_us, &t);
+    t.excess_steps = (uint16_t)(n->excess_steps & 0xFFFFu);
     can_node_transmit(n, tick, &t);
 }

@@ -41,6 +41,7 @@ typedef struct {
     can_reject_t last_reject;   /* the latest refusal's reason */
     uint32_t last_reject_id;    /* and its identifier */
     uint32_t heartbeats;        /* the heartbeat's Counter (wrapping at 16 bits on the bus) */
+    uint32_t excess_steps;      /* the step/dir input's excess steps, set by its owner (0 without one) */
 } can_node_t;
 
 void can_node_init(can_node_t *n, const can_tx_config_t *cfg);

@@ -53,6 +53,7 @@ int tlm()
         t.drive.overruns = 1234;
         t.drive.relocks = 3;
         t.drive.first_fault = 11;
+        t.excess_steps = 4321;
         for (int m = 0; m < CAN_TLM_COUNT; ++m) {
             can_frame_t f;
             if (!can_link_pack(static_cast<can_tlm_msg_t>(m), 3, &t, &f)) {

@@ -13,6 +13,7 @@ endif()
 # drive|board|variant|words the refusal must contain
 set(cases
   "paper000|vesc6||MC_DRIVE=paper000 cannot run on MC_BOARD=vesc6: the drive needs 2 phase(s)"
+  "paper002|odrive36|sensorless|MC_DRIVE=paper002 cannot run on MC_BOARD=odrive36: the drive needs 3 phase(s)"
   "paper001|vesc6|sensorless|not a variant of the drive paper001"
   "paper001|nosuchboard||MC_BOARD='nosuchboard': not a board")
 set(failed "")

@@ -23,6 +23,8 @@ extern "C" {
 #include "gpio.h"
 #include "iwdg.h"
 #include "pwm_tim1.h"
+#include "step_dir.h"
+#include "trajectory/step_shaper.h"
 }
 
 namespace {
@@ -179,6 +181,100 @@ TEST(Stm32Pwm, TwoFullBridgesRegisters)
     EXPECT_EQ(t.CCER, 0x0055u);
     EXPECT_EQ(t.BDTR, 0x0C00u | 84u);
     EXPECT_EQ(t.DIER, 0u);
+}
+
+// Two timers' legs B and C (the ODrive v3.6's PWM_TWO_BRIDGES_TIM1_TIM8):
+// CH2/CH2N and CH3/CH3N driven, CH1 (leg A) left disabled, CH4 TIM1's ADC
+// trigger (TRGO = OC4REF); TIM8 the same legs, no break, its own TRGO
+// unused, TIM1's slave in trigger mode on ITR0 (SMCR TS = 000, SMS = 110,
+// RM0090 17.4.3); the dead time of 20 clocks at 168 MHz (DTG = 20).
+TEST(Stm32Pwm, TwoTimersLegsBAndCRegisters)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 119u, &p));
+    EXPECT_EQ(p.dtg, 20u);
+    EXPECT_EQ(p.dead_ns, 119u);
+    auto t1 = zeroed<tim_regs_t>();
+    auto t8 = zeroed<tim_regs_t>();
+    pwm_init(&t1, &p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    EXPECT_EQ(t1.CCMR1, 0x6800u) << "CH2 PWM mode 1 with preload, CH1 unused";
+    EXPECT_EQ(t1.CCMR2, 0x7868u) << "CH3 PWM mode 1, CH4 PWM mode 2";
+    EXPECT_EQ(t1.CCER, 0x0550u) << "CC2E, CC2NE, CC3E, CC3NE";
+    EXPECT_EQ(t1.CR2, 0x70u);
+    EXPECT_EQ(t1.CCR[1], 2100u);
+    EXPECT_EQ(t1.CCR[2], 2100u);
+    EXPECT_EQ(t1.CCR[0], 0u);
+    EXPECT_EQ(t1.BDTR, 0x0C00u | 20u);
+    EXPECT_EQ(t1.CR1, 0xA4u);
+    pwm_init_slave(&t8, &p);
+    EXPECT_EQ(t8.CCER, 0x0550u);
+    EXPECT_EQ(t8.CR2, 0u);
+    EXPECT_EQ(t8.SMCR, 0x06u) << "TS = ITR0 (TIM1's TRGO), SMS = trigger mode";
+    EXPECT_EQ(t8.BDTR, 0x0C00u | 20u) << "no break";
+    EXPECT_EQ(t8.DIER, 0u);
+    EXPECT_EQ(t8.CR1 & TIM_CR1_CEN, 0u) << "stopped until TIM1 starts it";
+    // a winding across legs B and C: leg B at d, leg C at 1 - d
+    pwm_set_bridge_bc(&t8, &p, 0.75f);
+    EXPECT_EQ(t8.CCR[1], 3150u);
+    EXPECT_EQ(t8.CCR[2], 1050u);
+    pwm_set_bridge_bc(&t8, &p, 1.5f);
+    EXPECT_EQ(t8.CCR[1], 4200u) << "clamped to 1";
+    EXPECT_EQ(t8.CCR[2], 0u);
+    pwm_set_bridge_bc(&t8, &p, NAN);
+    EXPECT_EQ(t8.CCR[1], 0u) << "not a number: 0";
+    EXPECT_EQ(t8.CCR[2], 4200u);
+}
+
+// Both timers started together: at the moment TIM1's CEN is set, TIM1's
+// TRGO is its enable (MMS = 001) and TIM8 waits in trigger mode, both
+// counters at 0 (a thread plays TIM8's trigger input: it starts TIM8 when
+// it sees TIM1 enabled, and notes what it saw then); after TIM8 runs,
+// TIM1's TRGO is OC4REF again (the ADC trigger) and TIM8's slave mode off.
+// A TIM8 that never starts: STM32_FAULT_PWM_SYNC, TIM1 stopped again.
+TEST(Stm32Pwm, SynchronisedStartAndItsTimeout)
+{
+    pwm_plan_t p;
+    ASSERT_TRUE(pwm_plan(168000000u, 20000u, 10000u, 119u, &p));
+    auto t1 = zeroed<tim_regs_t>();
+    auto t8 = zeroed<tim_regs_t>();
+    pwm_init(&t1, &p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    pwm_init_slave(&t8, &p);
+    t1.CNT = 17u;
+    t8.CNT = 99u;
+    std::atomic<bool> seen{false};
+    std::atomic<uint32_t> mms{0}, smcr{0}, cnt1{1}, cnt8{1};
+    std::thread trigger([&] {
+        for (long k = 0; k < 2000000000L && !seen.load(); ++k) {
+            if ((t1.CR1 & TIM_CR1_CEN) != 0u) {
+                mms = t1.CR2 & TIM_CR2_MMS_MASK;
+                smcr = t8.SMCR;
+                cnt1 = t1.CNT;
+                cnt8 = t8.CNT;
+                if ((t8.SMCR & TIM_SMCR_SMS_MASK) == TIM_SMCR_SMS_TRIGGER) t8.CR1 = t8.CR1 | TIM_CR1_CEN;
+                seen = true;
+            }
+            std::this_thread::yield();
+        }
+    });
+    const stm32_status_t st = pwm_start_synchronised(&t1, &t8, 2000000000u);
+    trigger.join();
+    EXPECT_EQ(st, STM32_OK);
+    EXPECT_EQ(mms.load(), TIM_CR2_MMS_ENABLE);
+    EXPECT_EQ(smcr.load(), 0x06u);
+    EXPECT_EQ(cnt1.load(), 0u);
+    EXPECT_EQ(cnt8.load(), 0u);
+    EXPECT_EQ(t1.CR2 & TIM_CR2_MMS_MASK, TIM_CR2_MMS_OC4REF) << "TRGO back to the ADC trigger";
+    EXPECT_EQ(t8.SMCR, 0u);
+    EXPECT_TRUE(t1.CR1 & TIM_CR1_CEN);
+    EXPECT_TRUE(t8.CR1 & TIM_CR1_CEN);
+    // the timeout: TIM8 never starts
+    auto u1 = zeroed<tim_regs_t>();
+    auto u8 = zeroed<tim_regs_t>();
+    pwm_init(&u1, &p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    pwm_init_slave(&u8, &p);
+    EXPECT_EQ(pwm_start_synchronised(&u1, &u8, kPolls), STM32_FAULT_PWM_SYNC);
+    EXPECT_EQ(u1.CR1 & TIM_CR1_CEN, 0u) << "TIM1 stopped again";
+    EXPECT_EQ(u1.CR2 & TIM_CR2_MMS_MASK, TIM_CR2_MMS_OC4REF);
 }
 
 // Current on IN10 and the bus on IN13 (the VESC 6's PC0 and PC3): SCAN and
@@ -583,4 +679,176 @@ TEST(Stm32Encoder, ConfigurationErrorsAndTheTimeout)
     EXPECT_EQ(t.CR1 & TIM_CR1_CEN, 0u) << "not started";
     float a = 0.0f;
     EXPECT_FALSE(encoder_read(&e, &t, &a));
+}
+
+// ---- the step/dir input (step_dir.h) ----
+
+namespace {
+// What TIM5 does in external clock mode 1 with STEP on TI1 (RM0090 18.3.3):
+// each rising edge of STEP clocks the counter one way, CR1.DIR's
+// (up when 0), the 32-bit counter wrapping; nothing counts while the
+// counter is stopped or in another slave mode.
+void step_pulses(tim_regs_t& t, uint32_t n)
+{
+    if ((t.CR1 & TIM_CR1_CEN) == 0u || (t.SMCR & 0x77u) != 0x57u) return;
+    for (uint32_t k = 0; k < n; ++k) t.CNT = (t.CR1 & TIM_CR1_DIR) ? t.CNT - 1u : t.CNT + 1u;
+}
+// step_dir_init on a fake TIM5 whose "hardware" (a thread) answers the
+// update (EGR UG) with its flag (SR UIF), as init_answered does the encoder's
+stm32_status_t step_dir_answered(step_dir_t* s, tim_regs_t* t, exti_regs_t* e, syscfg_regs_t* sc,
+                                 const step_dir_config_t& c, bool dir_level)
+{
+    std::atomic<bool> stop{false};
+    std::thread hw([&] {
+        while (!stop.load()) {
+            if ((t->EGR & TIM_EGR_UG) != 0u) {
+                t->EGR = 0u;
+                t->SR = t->SR | TIM_SR_UIF;
+            }
+            std::this_thread::yield();
+        }
+    });
+    const stm32_status_t st = step_dir_init(s, t, e, sc, &c, dir_level, 2000000000u);
+    stop = true;
+    hw.join();
+    return st;
+}
+step_dir_config_t odrive_step_dir()
+{
+    // the ODrive v3.6's GPIO1 (PA0: TIM5_CH1, AF2) step and GPIO2 (PA1) dir
+    // (ODrive firmware board.cpp: axis 0 step_gpio_pin 1, dir_gpio_pin 2)
+    step_dir_config_t c;
+    c.filter = 3u;
+    c.dir_invert = false;
+    c.dir_line = 1u;
+    c.dir_port = 0u;
+    return c;
+}
+}  // namespace
+
+// The registers (RM0090 18.4): STEP on TI1 through the filter (CCMR1 CC1S
+// = 01, IC1F), TS = TI1FP1 and SMS = external clock mode 1 (SMCR 0x57), all
+// 32 bits (ARR), the update's wait answered; DIR's line 1 on port A (SYSCFG
+// EXTICR1 bits 4-7 = 0), both edges, unmasked; the counter running from 0
+// counting up (DIR high).
+TEST(Stm32StepDir, RegistersOfExternalClockModeAndTheDirectionLine)
+{
+    auto t = zeroed<tim_regs_t>();
+    auto e = zeroed<exti_regs_t>();
+    auto sc = zeroed<syscfg_regs_t>();
+    sc.EXTICR[0] = 0xFFF0u;  // line 1 was port P (0xF): the driver selects A
+    t.CNT = 1234u;
+    step_dir_t s;
+    const step_dir_config_t c = odrive_step_dir();
+    ASSERT_EQ(step_dir_answered(&s, &t, &e, &sc, c, true), STM32_OK);
+    EXPECT_EQ(t.CCMR1, 0x31u);
+    EXPECT_EQ(t.SMCR, 0x57u);
+    EXPECT_EQ(t.ARR, 0xFFFFFFFFu);
+    EXPECT_EQ(t.PSC, 0u);
+    EXPECT_EQ(t.CCER, 0u) << "rising edges, the capture itself not used";
+    EXPECT_EQ(t.CR1, TIM_CR1_CEN) << "counting up, edge-aligned";
+    EXPECT_EQ(t.CNT, 0u);
+    EXPECT_EQ(sc.EXTICR[0], 0xFF00u);
+    EXPECT_EQ(e.RTSR, 2u);
+    EXPECT_EQ(e.FTSR, 2u);
+    EXPECT_EQ(e.IMR, 2u);
+    EXPECT_EQ(e.PR, 2u) << "a stale edge cleared";
+}
+
+// Pulses on the fake timer: counted in DIR's direction, DIR's edges turn
+// the count (the line's pending bit cleared), the signed count through 0,
+// an inverted DIR, and the 32-bit counter's wrap read as a signed count.
+TEST(Stm32StepDir, PulsesAndDirectionBecomeTheCount)
+{
+    auto t = zeroed<tim_regs_t>();
+    auto e = zeroed<exti_regs_t>();
+    auto sc = zeroed<syscfg_regs_t>();
+    step_dir_t s;
+    const step_dir_config_t c = odrive_step_dir();
+    ASSERT_EQ(step_dir_answered(&s, &t, &e, &sc, c, true), STM32_OK);
+    step_pulses(t, 100);
+    EXPECT_EQ(step_dir_count(&t), 100);
+    e.PR = 0u;
+    step_dir_direction(&s, &t, &e, false);  // DIR low
+    EXPECT_EQ(e.PR, 2u) << "the line's pending bit cleared";
+    step_pulses(t, 250);
+    EXPECT_EQ(step_dir_count(&t), -150);
+    step_dir_direction(&s, &t, &e, true);
+    step_pulses(t, 150);
+    EXPECT_EQ(step_dir_count(&t), 0);
+    EXPECT_EQ(s.direction_changes, 2u);
+    // inverted: DIR high counts down
+    auto u = zeroed<tim_regs_t>();
+    step_dir_config_t ci = c;
+    ci.dir_invert = true;
+    ASSERT_EQ(step_dir_answered(&s, &u, &e, &sc, ci, true), STM32_OK);
+    step_pulses(u, 3);
+    EXPECT_EQ(step_dir_count(&u), -3);
+    EXPECT_EQ(u.CNT, 0xFFFFFFFDu) << "the counter wrapped below 0";
+}
+
+// Every error: a filter, line or port the registers cannot hold (nothing
+// written), and the update that never comes (the timer's clock not
+// running): its timeout.
+TEST(Stm32StepDir, ConfigurationErrorsAndTheTimeout)
+{
+    auto t = zeroed<tim_regs_t>();
+    auto e = zeroed<exti_regs_t>();
+    auto sc = zeroed<syscfg_regs_t>();
+    step_dir_t s;
+    step_dir_config_t c = odrive_step_dir();
+    c.filter = 16u;
+    EXPECT_EQ(step_dir_init(&s, &t, &e, &sc, &c, true, kPolls), STM32_FAULT_STEP_DIR_CONFIG);
+    c = odrive_step_dir();
+    c.dir_line = 16u;
+    EXPECT_EQ(step_dir_init(&s, &t, &e, &sc, &c, true, kPolls), STM32_FAULT_STEP_DIR_CONFIG);
+    c = odrive_step_dir();
+    c.dir_port = 5u;
+    EXPECT_EQ(step_dir_init(&s, &t, &e, &sc, &c, true, kPolls), STM32_FAULT_STEP_DIR_CONFIG);
+    EXPECT_EQ(t.SMCR, 0u) << "nothing written";
+    c = odrive_step_dir();
+    EXPECT_EQ(step_dir_init(&s, &t, &e, &sc, &c, true, kPolls), STM32_FAULT_STEP_DIR_TIMEOUT);
+    EXPECT_EQ(s.status, STM32_FAULT_STEP_DIR_TIMEOUT);
+    EXPECT_EQ(t.CR1 & TIM_CR1_CEN, 0u) << "not started";
+    EXPECT_EQ(e.IMR, 0u);
+}
+
+// Pulses generated on the fake timer become the position target: a step
+// train counted by TIM5 and shaped (trajectory/step_shaper.h) offers moves
+// to count x step angle; a burst faster than the design allows (the
+// ODrive's configuration: w_max 20 rad/s, a_max 40 rad/s^2; 1/16
+// microsteps) is counted as excess and still ends at the count.
+TEST(Stm32StepDir, PulsesOnTheTimerBecomeThePositionTarget)
+{
+    auto t = zeroed<tim_regs_t>();
+    auto e = zeroed<exti_regs_t>();
+    auto sc = zeroed<syscfg_regs_t>();
+    step_dir_t sd;
+    const step_dir_config_t c = odrive_step_dir();
+    ASSERT_EQ(step_dir_answered(&sd, &t, &e, &sc, c, true), STM32_OK);
+    const float phi = 6.2831853f / 3200.0f;
+    step_shaper_config_t sc_cfg;
+    sc_cfg.step_angle_rad = phi;
+    sc_cfg.speed_max_rad_s = 20.0f;
+    sc_cfg.accel_max_rad_s2 = 40.0f;
+    sc_cfg.fs_hz = 10000;
+    step_shaper_t sh;
+    ASSERT_TRUE(step_shaper_init(&sh, &sc_cfg, step_dir_count(&t)));
+    step_shaper_move_t m;
+    // 8 steps in one sample (80,000 steps/s): one move offered to 8 phi
+    step_pulses(t, 8);
+    step_shaper_step(&sh, step_dir_count(&t), 0.0f, &m);
+    ASSERT_TRUE(m.move);
+    EXPECT_FLOAT_EQ(m.theta_to_rad, 8 * phi);
+    EXPECT_EQ(sh.excess_steps, 6u) << "8 steps, 2 of credit (the bucket)";
+    step_shaper_answer(&sh, true);
+    // the direction turned: 20 back, in the next sample, while the move runs
+    step_dir_direction(&sd, &t, &e, false);
+    step_pulses(t, 20);
+    step_shaper_step(&sh, step_dir_count(&t), 8 * phi, &m);
+    ASSERT_TRUE(m.move);
+    EXPECT_FLOAT_EQ(m.theta_to_rad, -12 * phi);
+    EXPECT_EQ(sh.excess_steps, 6u + 20u) << "0.47 steps of credit: none whole";
+    step_shaper_answer(&sh, false);  // the drive still moving: offered again
+    EXPECT_EQ(step_shaper_backlog(&sh), -20);
 }

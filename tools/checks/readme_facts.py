@@ -130,6 +130,16 @@ def table(text: str, marker: str) -> list[list[str]]:
     return rows
 
 
+def board_title(board: str) -> str:
+    """The board's short title: MC_BOARD_TITLE of hal/backends/stm32f405/boards/<board>.cmake before " (",
+    e.g. "VESC 6"; empty if the board has no such file."""
+    path = ROOT / "hal" / "backends" / "stm32f405" / "boards" / (board + ".cmake")
+    if not path.exists():
+        return ""
+    m = re.search(r'set\(MC_BOARD_TITLE "([^"(]+)', path.read_text())
+    return m.group(1).strip() if m else ""
+
+
 def check_drives(text: str, name: str) -> list[str]:
     rows = table(text, "drives table")
     if not rows:
@@ -161,6 +171,13 @@ def check_drives(text: str, name: str) -> list[str]:
         if says != bool(boards):
             bad.append(f"{name}: drives table: `{d}` STM32F405 image '{r[stm]}', but firmware/drives/{d}/boards/ "
                        f"has {'the board configurations ' + ', '.join(boards) if boards else 'no board configuration'}")
+        # each board the drive has a configuration for is named in the cell
+        # by its title (boards/<board>.cmake MC_BOARD_TITLE, before " (")
+        for b in sorted({c.split("_")[0] for c in boards}):
+            title = board_title(b)
+            if title and title not in r[stm]:
+                bad.append(f"{name}: drives table: `{d}` runs on the {title} (firmware/drives/{d}/boards/{b}*.toml), "
+                           f"its STM32F405 image cell '{r[stm]}' does not name it")
     return bad
 
 

@@ -674,6 +674,8 @@ int drive_can_timing_pack(
     dst_p[3] |= pack_right_shift_u16(src_p->overruns, 8u, 0xffu);
     dst_p[4] |= pack_left_shift_u8(src_p->relocks, 0u, 0xffu);
     dst_p[5] |= pack_left_shift_u8(src_p->first_fault, 0u, 0xffu);
+    dst_p[6] |= pack_left_shift_u16(src_p->excess_steps, 0u, 0xffu);
+    dst_p[7] |= pack_right_shift_u16(src_p->excess_steps, 8u, 0xffu);
 
     return (8);
 }
@@ -693,6 +695,8 @@ int drive_can_timing_unpack(
     dst_p->overruns |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
     dst_p->relocks = unpack_right_shift_u8(src_p[4], 0u, 0xffu);
     dst_p->first_fault = unpack_right_shift_u8(src_p[5], 0u, 0xffu);
+    dst_p->excess_steps = unpack_right_shift_u16(src_p[6], 0u, 0xffu);
+    dst_p->excess_steps |= unpack_left_shift_u16(src_p[7], 8u, 0xffu);
 
     return (0);
 }
@@ -725,6 +729,12 @@ bool drive_can_timing_relocks_is_in_range(uint8_t value)
     return (true);
 }
 bool drive_can_timing_first_fault_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_timing_excess_steps_is_in_range(uint16_t value)
 {
     (void)value;
 

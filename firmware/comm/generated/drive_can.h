@@ -166,6 +166,7 @@ extern "C" {
 #define DRIVE_CAN_TIMING_OVERRUNS_NAME "Overruns"
 #define DRIVE_CAN_TIMING_RELOCKS_NAME "Relocks"
 #define DRIVE_CAN_TIMING_FIRST_FAULT_NAME "FirstFault"
+#define DRIVE_CAN_TIMING_EXCESS_STEPS_NAME "ExcessSteps"
 #define DRIVE_CAN_VERSION_FW_MAJOR_NAME "FwMajor"
 #define DRIVE_CAN_VERSION_FW_MINOR_NAME "FwMinor"
 #define DRIVE_CAN_VERSION_FW_PATCH_NAME "FwPatch"
@@ -439,7 +440,7 @@ struct drive_can_voltages_t {
 /**
  * Signals in message Timing.
  *
- * Loop timing: duration of the last control step, overruns reported by the HAL, re-locks, the first fault recorded.
+ * Loop timing: duration of the last control step, overruns reported by the HAL, re-locks, the first fault recorded, the step/dir input's excess steps.
  *
  * All signal values are as on the CAN bus.
  */
@@ -471,6 +472,15 @@ struct drive_can_timing_t {
      * Offset: 0
      */
     uint8_t first_fault;
+
+    /**
+     * steps of the step/dir input that came faster than the position drive's design follows (trajectory/step_shaper.h: beyond the mean speed of its fastest moves), followed later, not lost; since start, wrapping; 0 without a step/dir input
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t excess_steps;
 };
 
 /**
@@ -1182,6 +1192,15 @@ bool drive_can_timing_relocks_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool drive_can_timing_first_fault_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_timing_excess_steps_is_in_range(uint16_t value);
 
 /**
  * Pack message Version.

@@ -2,6 +2,7 @@
 
 #include <string.h>
 
+#include "stm32_backend.h"
 #include "stm32f405_regs.h"
 
 #if !defined(MC_DRIVE_NAME) || !defined(MC_DRIVE_OPS)
@@ -35,7 +36,41 @@ bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint32_t cfg_byte
     can_node_init(&a->node, &tc);
     a->can = can;
     a->step_cycles = 0u;
+    a->step_dir = false;
     return drive_init(&a->drive, &cfg);
+}
+
+bool app_drive_step_dir(app_drive_t *a, const step_shaper_config_t *cfg, int32_t count0)
+{
+    a->step_dir = a->drive.ops->kind == DRIVE_KIND_POSITION && step_shaper_init(&a->shaper, cfg, count0);
+    return a->step_dir;
+}
+
+/* the step/dir input's sample: the shaper's move, if any, offered to the drive */
+static void step_dir_sample(app_drive_t *a)
+{
+    int32_t count = 0;
+    if (!stm32_backend_step_count(&count)) {
+        return;
+    }
+    /* where the reference rests: only when a move may be offered (the
+     * drive's status costs more than the check) */
+    mc_t rest = MC_ZERO;
+    if (count != a->shaper.count_moved) {
+        drive_status_t st;
+        drive_status(&a->drive, &st);
+        rest = st.theta_ref_rad;
+    }
+    step_shaper_move_t m;
+    step_shaper_step(&a->shaper, count, rest, &m);
+    if (m.move) {
+        drive_cmd_t c = {0};
+        c.kind = DRIVE_CMD_MOVE;
+        c.theta_to_rad = m.theta_to_rad;
+        c.duration_s = m.duration_s;
+        step_shaper_answer(&a->shaper, drive_command(&a->drive, &c) == DRIVE_REFUSE_NONE);
+    }
+    a->node.excess_steps = a->shaper.excess_steps;
 }
 
 void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
@@ -48,6 +83,9 @@ void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
     if (!ok && !a->can) {
         hal_safe_state();
         return;
+    }
+    if (a->step_dir) {
+        step_dir_sample(a);
     }
     if (!a->can) {
         return;

@@ -17,6 +17,7 @@
 #include "comm/can_node.h"
 #include "drives/registry.h"
 #include "hal/hal.h"
+#include "trajectory/step_shaper.h"
 
 typedef struct {
     drive_storage_t storage;     /* the drive's state (drive.self points here) */
@@ -24,6 +25,8 @@ typedef struct {
     can_node_t node;
     bool can;
     uint32_t step_cycles;        /* SysTick cycles of the last drive step (0: not measured) */
+    bool step_dir;               /* the board's step/dir input drives the target (app_drive_step_dir) */
+    step_shaper_t shaper;
 } app_drive_t;
 
 /* The name of the image's drive (MC_DRIVE). */
@@ -34,6 +37,14 @@ const char *app_drive_name(void);
  * node (telemetry rates for control_hz). */
 bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint32_t cfg_bytes, uint32_t control_hz, uint8_t node,
                     bool can);
+
+/* The board's step/dir input as the drive's target (a position drive
+ * only: false for another, or a shaper configuration it cannot run): each
+ * control step then reads the count (stm32_backend_step_count) and offers
+ * the shaper's moves to the drive (drive_command, DRIVE_CMD_MOVE, as a CAN
+ * move comes); the excess steps go into the node's telemetry (Timing
+ * ExcessSteps). CAN moves still work: the later of the two wins. */
+bool app_drive_step_dir(app_drive_t *a, const step_shaper_config_t *cfg, int32_t count0);
 
 /* hal_control_fn; ctx is the app_drive_t. */
 void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out);

@@ -59,10 +59,12 @@ void pwm_init(tim_regs_t *t, const pwm_plan_t *p, pwm_topology_t topo, bool brea
     t->PSC = 0;
     t->ARR = p->arr;
     t->RCR = 0u; /* an update (shadow registers loaded) at both ends */
-    const uint32_t n_ch = (topo == PWM_THREE_HALF_BRIDGES) ? 3u : 2u;
+    /* the channels driven: CH1-3, CH1-2, or CH2-3 (legs B and C) */
+    const uint32_t ch_first = (topo == PWM_TWO_BRIDGES_TIM1_TIM8) ? 1u : 0u;
+    const uint32_t ch_end = (topo == PWM_TWO_FULL_BRIDGES) ? 2u : 3u;
     uint32_t ccmr[2] = {0u, 0u};
     uint32_t ccer = 0u;
-    for (uint32_t ch = 0; ch < n_ch; ++ch) {
+    for (uint32_t ch = ch_first; ch < ch_end; ++ch) {
         ccmr[ch / 2u] |= TIM_CCMR_OC_PWM1(ch) | TIM_CCMR_OC_PE(ch);
         ccer |= TIM_CCER_CCE(ch) | TIM_CCER_CCNE(ch);
         t->CCR[ch] = p->arr / 2u;
@@ -94,6 +96,39 @@ void pwm_start(tim_regs_t *t)
 {
     t->CNT = 0u;
     t->CR1 |= TIM_CR1_CEN;
+}
+
+void pwm_init_slave(tim_regs_t *slave, const pwm_plan_t *p)
+{
+    pwm_init(slave, p, PWM_TWO_BRIDGES_TIM1_TIM8, false, false);
+    slave->CR2 = 0u; /* its own TRGO unused */
+    slave->SMCR = TIM_SMCR_TS(TIM_SMCR_TS_ITR0) | TIM_SMCR_SMS_TRIGGER;
+    slave->CNT = 0u;
+}
+
+stm32_status_t pwm_start_synchronised(tim_regs_t *master, tim_regs_t *slave, uint32_t timeout_polls)
+{
+    master->CR2 = (master->CR2 & ~TIM_CR2_MMS_MASK) | TIM_CR2_MMS_ENABLE;
+    slave->CNT = 0u;
+    master->CNT = 0u;
+    master->CR1 |= TIM_CR1_CEN;
+    for (uint32_t k = 0; k < timeout_polls; ++k) {
+        if ((slave->CR1 & TIM_CR1_CEN) != 0u) {
+            master->CR2 = (master->CR2 & ~TIM_CR2_MMS_MASK) | TIM_CR2_MMS_OC4REF;
+            slave->SMCR &= ~(TIM_SMCR_SMS_MASK | TIM_SMCR_TS_MASK);
+            return STM32_OK;
+        }
+    }
+    master->CR1 &= ~TIM_CR1_CEN;
+    master->CR2 = (master->CR2 & ~TIM_CR2_MMS_MASK) | TIM_CR2_MMS_OC4REF;
+    return STM32_FAULT_PWM_SYNC;
+}
+
+void pwm_set_bridge_bc(tim_regs_t *t, const pwm_plan_t *p, float d_b)
+{
+    float d = (d_b > 1.0f) ? 1.0f : ((d_b < 0.0f || d_b != d_b) ? 0.0f : d_b);
+    t->CCR[1] = (uint32_t)(d * (float)p->arr + 0.5f);
+    t->CCR[2] = p->arr - t->CCR[1];
 }
 
 void pwm_set_duty(tim_regs_t *t, const pwm_plan_t *p, const float *duty, uint32_t n)

@@ -52,6 +52,11 @@ WEAK_HANDLER(CAN1_RX0_IRQHandler);
 WEAK_HANDLER(CAN1_SCE_IRQHandler);
 WEAK_HANDLER(TIM1_BRK_TIM9_IRQHandler);
 WEAK_HANDLER(TIM2_IRQHandler);
+WEAK_HANDLER(EXTI0_IRQHandler);
+WEAK_HANDLER(EXTI1_IRQHandler);
+WEAK_HANDLER(EXTI2_IRQHandler);
+WEAK_HANDLER(EXTI3_IRQHandler);
+WEAK_HANDLER(EXTI4_IRQHandler);
 
 typedef void (*vector_t)(void);
 
@@ -77,5 +82,10 @@ __attribute__((section(".isr_vector"), used)) const vector_t stm32_vectors[16 + 
     [16 + IRQ_CAN1_SCE] = CAN1_SCE_IRQHandler,
     [16 + IRQ_TIM1_BRK_TIM9] = TIM1_BRK_TIM9_IRQHandler,
     [16 + IRQ_TIM2] = TIM2_IRQHandler,
+    [16 + IRQ_EXTI0] = EXTI0_IRQHandler,
+    [16 + IRQ_EXTI0 + 1] = EXTI1_IRQHandler,
+    [16 + IRQ_EXTI0 + 2] = EXTI2_IRQHandler,
+    [16 + IRQ_EXTI0 + 3] = EXTI3_IRQHandler,
+    [16 + IRQ_EXTI0 + 4] = EXTI4_IRQHandler,
 };
 #pragma GCC diagnostic pop

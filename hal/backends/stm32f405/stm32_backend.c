@@ -26,6 +26,10 @@ const stm32_periph_t stm32_hw = {
     .iwdg = (iwdg_regs_t *)STM32_IWDG_BASE,
     .gpio = {(gpio_regs_t *)STM32_GPIO_BASE(0), (gpio_regs_t *)STM32_GPIO_BASE(1), (gpio_regs_t *)STM32_GPIO_BASE(2),
              (gpio_regs_t *)STM32_GPIO_BASE(3), (gpio_regs_t *)STM32_GPIO_BASE(4)},
+    .tim8 = (tim_regs_t *)STM32_TIM8_BASE,
+    .tim5 = (tim_regs_t *)STM32_TIM5_BASE,
+    .exti = (exti_regs_t *)STM32_EXTI_BASE,
+    .syscfg = (syscfg_regs_t *)STM32_SYSCFG_BASE,
 };
 
 #define RCC (g.hw->rcc)
@@ -33,6 +37,9 @@ const stm32_periph_t stm32_hw = {
 #define TIM1 (g.hw->tim1)
 #define TIM2 (g.hw->tim2)
 #define TIM3 (g.hw->tim3)
+#define TIM8 (g.hw->tim8)
+#define TIM5 (g.hw->tim5)
+#define EXTI (g.hw->exti)
 #define ADC_COMMON (g.hw->adc_common)
 #define CAN1 (g.hw->can1)
 #define IWDG (g.hw->iwdg)
@@ -77,6 +84,8 @@ static struct {
     clock_plan_t clocks;
     bool watchdog;
     bool encoder_on;            /* the board's encoder runs (encoder_tim.h) */
+    bool step_dir_on;           /* the board's step/dir input runs (step_dir.h) */
+    step_dir_t sd;
     encoder_t enc;
     hal_can_frame_t can_rx[16];
     uint32_t can_rx_head, can_rx_count, can_rx_dropped;
@@ -86,9 +95,13 @@ stm32_status_t stm32_backend_status(void) { return g.fault; }
 uint32_t stm32_backend_overruns(void) { return g.overruns; }
 uint32_t stm32_backend_steps(void) { return g.steps; }
 
+/* the board's second bridge timer (two timers' legs B and C) */
+static bool two_timers(void) { return board.topology == PWM_TWO_BRIDGES_TIM1_TIM8; }
+
 static void bridges_off(void)
 {
     pwm_outputs(TIM1, false);
+    if (two_timers()) pwm_outputs(TIM8, false);
     if (board.has_gate_enable) {
         gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, false);
     }
@@ -125,6 +138,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     g.running = false;
     g.error = "";
     g.encoder_on = false;
+    g.step_dir_on = false;
     /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
     const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
     RCC->CSR |= RCC_CSR_RMVF;
@@ -154,7 +168,21 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         return fail(STM32_FAULT_PWM_PLAN);
     }
     pwm_init(TIM1, &g.pwm, board.topology, board.break_enable, board.break_active_high);
+    if (two_timers()) {
+        RCC->APB2ENR |= RCC_APB2ENR_TIM8EN;
+        pwm_init_slave(TIM8, &g.pwm);
+    }
     for (uint32_t k = 0; k < 6u; ++k) pin_af(board.pwm_pins[k], GPIO_NO_PULL);
+    for (uint32_t k = 0; k < 6u; ++k) pin_af(board.pwm_pins_2[k], GPIO_NO_PULL);
+    /* the legs no winding uses: both switches held off (their gate
+     * driver's inputs low) */
+    for (uint32_t k = 0; k < 4u; ++k) {
+        const gpio_pin_t p = board.pins_held_low[k];
+        if (p.port != 0xFFu) {
+            gpio_write(GPIO(p.port), p.pin, false);
+            gpio_config(GPIO(p.port), p.pin, GPIO_OUTPUT, 0, GPIO_PULL_DOWN);
+        }
+    }
     if (board.break_enable) pin_af(board.break_pin, board.break_active_high ? GPIO_PULL_DOWN : GPIO_PULL_UP);
     if (wd_reset) return fail(STM32_FAULT_WATCHDOG_RESET);
     /* 4. the ADCs: the currents' zero with the bridges off, then the trigger */
@@ -206,6 +234,27 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         if (st != STM32_OK) return fail(st);
         g.encoder_on = true;
     }
+    /* 5b. the step/dir input: STEP on TIM5_CH1, DIR's line 0-4 (each its
+     * own interrupt; lines 5-15 share theirs: not taken) */
+    if (board.step_dir_enable) {
+        if (board.dir_pin.port == 0xFFu || board.dir_pin.pin > 4u || board.step_pin.port == 0xFFu) {
+            return fail(STM32_FAULT_STEP_DIR_CONFIG);
+        }
+        RCC->APB1ENR |= RCC_APB1ENR_TIM5EN;
+        RCC->APB2ENR |= RCC_APB2ENR_SYSCFGEN;
+        pin_af(board.step_pin, GPIO_PULL_DOWN);
+        gpio_config(GPIO(board.dir_pin.port), board.dir_pin.pin, GPIO_INPUT, 0, GPIO_PULL_DOWN);
+        const step_dir_config_t sc = {
+            .filter = board.step_filter,
+            .dir_invert = board.dir_invert,
+            .dir_line = board.dir_pin.pin,
+            .dir_port = board.dir_pin.port,
+        };
+        const bool level = (GPIO(board.dir_pin.port)->IDR & (1u << board.dir_pin.pin)) != 0u;
+        const stm32_status_t st = step_dir_init(&g.sd, TIM5, EXTI, g.hw->syscfg, &sc, level, STM32_TIMEOUT_POLLS);
+        if (st != STM32_OK) return fail(st);
+        g.step_dir_on = true;
+    }
     /* 6. CAN */
     if (board.can_enable) {
         bxcan_timing_t t;
@@ -228,8 +277,14 @@ bool stm32_backend_init(const stm32_periph_t *hw)
 
 static void nvic_enable(uint32_t irq, uint8_t prio)
 {
+#if defined(__arm__)
     NVIC_IPR8(irq) = prio;
     NVIC_ISER(irq / 32u) = 1u << (irq % 32u);
+#else
+    /* a host test of the backend on fake peripherals: no NVIC */
+    (void)irq;
+    (void)prio;
+#endif
 }
 
 /* ---- hal.h ---- */
@@ -256,7 +311,17 @@ bool hal_start(hal_control_fn fn, void *ctx)
         nvic_enable(IRQ_ADC, 0x10u);
         if (board.has_gate_enable) gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, true);
         pwm_outputs(TIM1, true);
-        pwm_start(TIM1);
+        if (two_timers()) {
+            pwm_outputs(TIM8, true);
+            const stm32_status_t st = pwm_start_synchronised(TIM1, TIM8, STM32_TIMEOUT_POLLS);
+            if (st != STM32_OK) {
+                stm32_backend_fault(st);
+                g.error = stm32_status_text(st);
+                return false;
+            }
+        } else {
+            pwm_start(TIM1);
+        }
     } else {
         /* TIM2 update at control_hz */
         TIM2->PSC = 0u;
@@ -264,6 +329,10 @@ bool hal_start(hal_control_fn fn, void *ctx)
         TIM2->DIER = TIM_DIER_UIE;
         TIM2->CR1 = TIM_CR1_CEN;
         nvic_enable(IRQ_TIM2, 0x10u);
+    }
+    if (g.step_dir_on) {
+        /* the direction before the next step: above everything but the break */
+        nvic_enable(IRQ_EXTI0 + board.dir_pin.pin, 0x00u);
     }
     if (board.can_enable) {
         CAN1->IER = CAN_IER_FMPIE0 | CAN_IER_BOFIE | CAN_IER_ERRIE;
@@ -324,8 +393,16 @@ void stm32_backend_control(hal_sample_t *in)
         for (uint32_t k = 0; k < board.n_phases && k < 3u; ++k) {
             if (vbus > 1.0f) duty[k] = 0.5f + gain * (float)out.v_V[k] / vbus;
             duty[k] = duty[k] > STM32_DUTY_MAX ? STM32_DUTY_MAX : duty[k];
+            /* two legs a winding: leg C at 1 - d, its low side too */
+            if (two_timers() && duty[k] < 1.0f - STM32_DUTY_MAX) duty[k] = 1.0f - STM32_DUTY_MAX;
         }
-        pwm_set_duty(TIM1, &g.pwm, duty, board.n_phases);
+        if (two_timers()) {
+            /* winding a across TIM1's legs B, C; winding b across TIM8's */
+            pwm_set_bridge_bc(TIM1, &g.pwm, duty[0]);
+            pwm_set_bridge_bc(TIM8, &g.pwm, duty[1]);
+        } else {
+            pwm_set_duty(TIM1, &g.pwm, duty, board.n_phases);
+        }
     }
     if (g.watchdog) iwdg_refresh(IWDG);
     g.tick += 1u;
@@ -333,6 +410,29 @@ void stm32_backend_control(hal_sample_t *in)
 }
 
 const encoder_t *stm32_backend_encoder(void) { return g.encoder_on ? &g.enc : 0; }
+
+bool stm32_backend_step_count(int32_t *count)
+{
+    if (!g.step_dir_on) return false;
+    *count = step_dir_count(TIM5);
+    return true;
+}
+
+void stm32_backend_dir_edge(void)
+{
+    if (!g.step_dir_on) {
+        EXTI->PR = 0x1Fu;
+        return;
+    }
+    const bool level = (GPIO(board.dir_pin.port)->IDR & (1u << board.dir_pin.pin)) != 0u;
+    step_dir_direction(&g.sd, TIM5, EXTI, level);
+}
+
+void EXTI0_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI1_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI2_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI3_IRQHandler(void) { stm32_backend_dir_edge(); }
+void EXTI4_IRQHandler(void) { stm32_backend_dir_edge(); }
 
 void stm32_backend_sample(hal_sample_t *in)
 {

@@ -24,6 +24,7 @@
 #include "encoder_tim.h"
 #include "hal/hal.h"
 #include "stm32_status.h"
+#include "step_dir.h"
 #include "stm32f405_regs.h"
 
 /* The peripherals the backend drives: the chip's (stm32_hw), or fake
@@ -37,6 +38,10 @@ typedef struct {
     can_regs_t *can1;
     iwdg_regs_t *iwdg;
     gpio_regs_t *gpio[5]; /* ports A-E */
+    tim_regs_t *tim8;     /* the second bridge timer (PWM_TWO_BRIDGES_TIM1_TIM8) */
+    tim_regs_t *tim5;     /* the step/dir input's counter (step_dir.h) */
+    exti_regs_t *exti;    /* the DIR pin's line */
+    syscfg_regs_t *syscfg;
 } stm32_periph_t;
 
 extern const stm32_periph_t stm32_hw;
@@ -69,6 +74,13 @@ void stm32_backend_sample(hal_sample_t *in);
 
 /* The encoder's state (encoder_tim.h), or NULL if the image runs none. */
 const encoder_t *stm32_backend_encoder(void);
+
+/* The step/dir input's count of steps (step_dir.h); false if the board
+ * runs none. */
+bool stm32_backend_step_count(int32_t *count);
+
+/* The DIR line's interrupt body (EXTI0-4 handlers call it). */
+void stm32_backend_dir_edge(void);
 
 /* Counters for telemetry and tests. */
 uint32_t stm32_backend_overruns(void);

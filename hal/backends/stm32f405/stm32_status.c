@@ -22,6 +22,9 @@ const char *stm32_status_text(stm32_status_t s)
     case STM32_FAULT_ENCODER_TIMEOUT: return "encoder: its timer did not answer the update";
     case STM32_FAULT_ENCODER_STEP: return "encoder: count moved faster than any motor on the board";
     case STM32_FAULT_ENCODER_INDEX: return "encoder: index away from the count (counts lost)";
+    case STM32_FAULT_PWM_SYNC: return "PWM: TIM8 did not start on TIM1's trigger";
+    case STM32_FAULT_STEP_DIR_CONFIG: return "step/dir input: configuration the timer cannot run";
+    case STM32_FAULT_STEP_DIR_TIMEOUT: return "step/dir input: its timer did not answer the update";
     default: return "unknown fault";
     }
 }

@@ -30,7 +30,10 @@ typedef enum {
     STM32_FAULT_ENCODER_CONFIG = 15,  /* counts per turn, filter or limits the timer cannot run */
     STM32_FAULT_ENCODER_TIMEOUT = 16, /* the encoder's timer did not answer its update (UIF) */
     STM32_FAULT_ENCODER_STEP = 17,    /* the count moved more than max_step_counts between two reads */
-    STM32_FAULT_ENCODER_INDEX = 18    /* an index away from where the count puts it */
+    STM32_FAULT_ENCODER_INDEX = 18,   /* an index away from where the count puts it */
+    STM32_FAULT_PWM_SYNC = 19,        /* TIM8 did not start on TIM1's trigger (pwm_start_synchronised) */
+    STM32_FAULT_STEP_DIR_CONFIG = 20, /* the step/dir input's timer or pins cannot be set as asked */
+    STM32_FAULT_STEP_DIR_TIMEOUT = 21 /* the step counter's timer did not answer its update (UIF) */
 } stm32_status_t;
 
 /* A short English text for status s, never NULL. */

@@ -54,8 +54,10 @@ STM32_ASSERT(offsetof(rcc_regs_t, APB2ENR) == 0x44, "RCC_APB2ENR at 0x44");
 #define RCC_AHB1ENR_GPIO(port) (1u << (port)) /* port 0 = A */
 #define RCC_APB1ENR_TIM2EN (1u << 0)
 #define RCC_APB1ENR_TIM3EN (1u << 1) /* RM0090 7.3.13 */
+#define RCC_APB1ENR_TIM5EN (1u << 3) /* RM0090 7.3.13 */
 #define RCC_APB1ENR_CAN1EN (1u << 25)
 #define RCC_APB2ENR_TIM1EN (1u << 0)
+#define RCC_APB2ENR_TIM8EN (1u << 1) /* RM0090 7.3.14 */
 #define RCC_APB2ENR_ADC1EN (1u << 8)
 #define RCC_APB2ENR_ADC2EN (1u << 9)
 #define RCC_APB2ENR_ADC3EN (1u << 10)
@@ -92,6 +94,14 @@ STM32_ASSERT(offsetof(tim_regs_t, BDTR) == 0x44, "TIM1_BDTR at 0x44");
 #define TIM_CR1_DIR (1u << 4)         /* counting down; read-only in encoder mode (RM0090 18.4.1) */
 #define TIM_SMCR_SMS_ENCODER3 (3u << 0) /* encoder mode 3: both edges of TI1FP1 and TI2FP2 (RM0090 18.4.3) */
 #define TIM_SMCR_SMS_MASK (7u << 0)
+#define TIM_SMCR_SMS_TRIGGER (6u << 0)  /* trigger mode: the counter starts at TRGI's rising edge (RM0090 17.4.3) */
+#define TIM_SMCR_SMS_EXT_CLOCK1 (7u << 0) /* external clock mode 1: TRGI's rising edges clock the counter */
+#define TIM_SMCR_TS(x) ((uint32_t)(x) << 4)
+#define TIM_SMCR_TS_MASK (7u << 4)
+#define TIM_SMCR_TS_ITR0 0u             /* TIM8's ITR0 = TIM1's TRGO (RM0090 17.4.3, table 86) */
+#define TIM_SMCR_TS_TI1FP1 5u           /* filtered timer input 1 */
+#define TIM_CR2_MMS_ENABLE (1u << 4)  /* TRGO = CEN: the counter's enable starts the slaves */
+#define TIM_CR2_MMS_MASK (7u << 4)
 #define TIM_CR2_MMS_UPDATE (2u << 4)  /* TRGO on the update event */
 #define TIM_CR2_MMS_OC4REF (7u << 4)  /* TRGO = OC4REF */
 #define TIM_DIER_UIE (1u << 0)
@@ -203,9 +213,11 @@ typedef struct {
 /* ---- memory map, RM0090 2.3 ---- */
 #define STM32_TIM2_BASE 0x40000000u
 #define STM32_TIM3_BASE 0x40000400u
+#define STM32_TIM5_BASE 0x40000C00u
 #define STM32_IWDG_BASE 0x40003000u
 #define STM32_CAN1_BASE 0x40006400u
 #define STM32_TIM1_BASE 0x40010000u
+#define STM32_TIM8_BASE 0x40010400u
 #define STM32_ADC1_BASE 0x40012000u
 #define STM32_ADC2_BASE 0x40012100u
 #define STM32_ADC3_BASE 0x40012200u
@@ -213,6 +225,19 @@ typedef struct {
 #define STM32_GPIO_BASE(port) (0x40020000u + 0x400u * (uint32_t)(port))
 #define STM32_RCC_BASE 0x40023800u
 #define STM32_FLASH_IF_BASE 0x40023C00u
+
+/* ---- EXTI and SYSCFG's EXTI line selection (RM0090 12.3, 9.2.3) ---- */
+typedef struct {
+    REG IMR, EMR, RTSR, FTSR, SWIER, PR;
+} exti_regs_t;
+STM32_ASSERT(offsetof(exti_regs_t, PR) == 0x14, "EXTI_PR at 0x14");
+typedef struct {
+    REG MEMRMP, PMC, EXTICR[4];
+} syscfg_regs_t;
+STM32_ASSERT(offsetof(syscfg_regs_t, EXTICR) == 0x08, "SYSCFG_EXTICR1 at 0x08");
+#define STM32_EXTI_BASE 0x40013C00u
+#define STM32_SYSCFG_BASE 0x40013800u
+#define RCC_APB2ENR_SYSCFGEN (1u << 14) /* RM0090 7.3.14 */
 
 /* ---- Cortex-M4 system control (ARMv7-M ARM B3) ---- */
 #define SCB_CPACR (*(volatile uint32_t *)(uintptr_t)0xE000ED88u)
@@ -231,6 +256,7 @@ typedef struct {
 #define IRQ_CAN1_SCE 22
 #define IRQ_TIM1_BRK_TIM9 24
 #define IRQ_TIM2 28
+#define IRQ_EXTI0 6 /* EXTI lines 0-4: 6-10 (RM0090 table 61) */
 #define STM32F405_N_IRQ 82
 
 /* Interrupts off and on around a short critical section (no-ops in a host

@@ -29,7 +29,10 @@ typedef struct {
     pwm_topology_t topology;
     uint8_t n_phases;                 /* 3 (three half-bridges) or 2 (two full bridges) */
     uint32_t pwm_hz, control_hz, dead_time_ns;
-    gpio_pin_t pwm_pins[6];           /* CH1-3 then CH1N-3N (3 phases), or CH1-4 (2 phases) */
+    gpio_pin_t pwm_pins[6];           /* CH1-3 then CH1N-3N (3 phases), or CH1-4 (2 phases),
+                                       * or TIM1's CH2, CH3, CH2N, CH3N (PWM_TWO_BRIDGES_TIM1_TIM8) */
+    gpio_pin_t pwm_pins_2[6];         /* PWM_TWO_BRIDGES_TIM1_TIM8: TIM8's CH2, CH3, CH2N, CH3N; else none */
+    gpio_pin_t pins_held_low[4];      /* gate inputs of legs no winding uses: outputs held low (switches off) */
     bool break_enable, break_active_high;
     gpio_pin_t break_pin;
     bool has_gate_enable;
@@ -67,6 +70,18 @@ typedef struct {
     uint32_t encoder_index_count;     /* where the index is, counts from the rotor's angle zero */
     uint32_t encoder_index_tolerance; /* counts a later index may be off */
     uint32_t encoder_max_rev_s;       /* no motor on the board turns faster: a larger step is an error */
+    /* a step/dir input (step_dir.h) on TIM5: STEP on TIM5_CH1, DIR a pin
+     * of EXTI lines 0-4 (their own interrupts). Run when the image's
+     * drive is a position drive: the step count times step_angle_rad is
+     * its target (trajectory/step_shaper.h), within the move limits below,
+     * which must not exceed the drive configuration's (its design's w_max,
+     * a_max: the drive refuses faster moves). */
+    bool step_dir_enable;
+    gpio_pin_t step_pin, dir_pin;
+    uint8_t step_filter;              /* IC1F, 0..15 */
+    bool dir_invert;                  /* DIR high counts down */
+    float step_angle_rad;             /* the target's move a step: the motor's step over the sender's microsteps */
+    float step_speed_max_rad_s, step_accel_max_rad_s2;
 } board_t;
 
 extern const board_t board;
