@@ -10,6 +10,7 @@
  *   K_t = (m/2) n_p Phi (torque, m = 2 or 3 phases).
  */
 #include "design/paper001_design.h"
+#include "design/lock_monitor_design.h"
 #include "design/profile_design.h"
 
 #include <math.h>
@@ -112,6 +113,15 @@
 #define P001_LOS_SPEED_TOL 0.5
 #define P001_LOS_SPEED_FLOOR_RAD_S 10.0
 #define P001_LOS_SPEED_S 0.2
+/* Loss of lock (supervisor/lock_monitor.h, design/lock_monitor_design.c):
+ * the flux observer's residual along the estimated rotor axis must stay
+ * beyond its tolerance bound for 5/w_n, w_n = sqrt(K_e K_t / (L J)) the
+ * natural frequency of the closed loop (r, P001_LOOP_ZETA = 1): a
+ * critically damped transient (1 + w_n t) e^(-w_n t) of the loop (a load
+ * step, the switch to closed loop) has fallen to 4 % by then, while the
+ * drift it detects grows over the mechanical time (0.1-1 s). 54 ms on
+ * paper 001's motor. */
+#define P001_LOCK_SETTLE_PER_WN 5.0
 
 static bool p001_fail(char *err, size_t n, const char *field, const char *why, double got)
 {
@@ -230,6 +240,24 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     cfg->los_speed_floor_rad_s = mc_from_double(P001_LOS_SPEED_FLOOR_RAD_S);
     cfg->los_speed_ticks = (int32_t)ceil(P001_LOS_SPEED_S * fsr - 1e-9);
 
+    {
+        lock_monitor_design_input_t li;
+        lock_monitor_design_defaults(&li);
+        li.R_ohm = m->R_ohm;
+        li.L_H = m->L_H;
+        li.Phi_Wb = Phi;
+        li.n_p = m->n_p;
+        li.gPhi3_V = gamma * Phi * Phi * Phi;
+        li.i_max_A = in->i_max_A;
+        li.settle_s = P001_LOCK_SETTLE_PER_WN / sqrt(Ke * Kt / (m->L_H * m->J_kgm2));
+        li.ts_s = ts;
+        if (!lock_monitor_design(&li, &cfg->lock, err, err_len)) {
+            return false;
+        }
+        if (rep != NULL) {
+            rep->lock_settle_s = (double)cfg->lock.ticks * ts;
+        }
+    }
     /* flux observer (12)-(14) in w = lambda/Ts units (flux_observer.h) */
     const double phi_fs = Phi / ts;
     const int s = (int)floor(log2(phi_fs)) + 1;
