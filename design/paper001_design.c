@@ -10,6 +10,7 @@
  *   K_t = (m/2) n_p Phi (torque, m = 2 or 3 phases).
  */
 #include "design/paper001_design.h"
+#include "design/lock_monitor_design.h"
 #include "design/profile_design.h"
 
 #include <math.h>
@@ -89,6 +90,18 @@
 #define P001_EMF_AT_OMEGA_LIM_V 0.81
 #define P001_EMF_DELTA_OMEGA_RAD_S 1.0
 #define P001_EMF_LOAD_RATE_NM_S 2.0
+/* The start within i_max (docs/paper001.md, "Start-up within i_max"):
+ * the open loop begins when the probe's fit is trusted, at the probe's
+ * nominal end: up to P001_PROBE_TURN_S along alpha, then the 0.3 rad
+ * electrical arc the fit needs (P001_PROBE_DET_MIN) at the probe's slip
+ * speed P001_PROBE_SLIP_RAD_S (0.15 s on paper 001's motor, measured
+ * 0.16 s with the benchmark's and a 300 rpm/s ramp). The vector then
+ * turns with the reference at (68)'s voltage, R I_ol + K_e w*, while the
+ * rotor is still nearly at rest: the current is I_ol + K_e |w*| / R in the
+ * worst phase. It stays within i_max while |w*| at that time is at most
+ * R (i_max - I_ol) / K_e; a profile whose reference is faster there is
+ * refused at configuration, naming the ramp and the numbers. */
+#define P001_PROBE_ARC_RAD 0.3
 /* The open-loop vector's magnitude is not capped below the bus. */
 #define P001_OPEN_LOOP_VCAP_V 1000.0
 /* A bus below 1 V is no bus: the drive refuses the sample. */
@@ -112,6 +125,15 @@
 #define P001_LOS_SPEED_TOL 0.5
 #define P001_LOS_SPEED_FLOOR_RAD_S 10.0
 #define P001_LOS_SPEED_S 0.2
+/* Loss of lock (supervisor/lock_monitor.h, design/lock_monitor_design.c):
+ * the flux observer's residual along the estimated rotor axis must stay
+ * beyond its tolerance bound for 5/w_n, w_n = sqrt(K_e K_t / (L J)) the
+ * natural frequency of the closed loop (r, P001_LOOP_ZETA = 1): a
+ * critically damped transient (1 + w_n t) e^(-w_n t) of the loop (a load
+ * step, the switch to closed loop) has fallen to 4 % by then, while the
+ * drift it detects grows over the mechanical time (0.1-1 s). 54 ms on
+ * paper 001's motor. */
+#define P001_LOCK_SETTLE_PER_WN 5.0
 
 static bool p001_fail(char *err, size_t n, const char *field, const char *why, double got)
 {
@@ -230,6 +252,24 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     cfg->los_speed_floor_rad_s = mc_from_double(P001_LOS_SPEED_FLOOR_RAD_S);
     cfg->los_speed_ticks = (int32_t)ceil(P001_LOS_SPEED_S * fsr - 1e-9);
 
+    {
+        lock_monitor_design_input_t li;
+        lock_monitor_design_defaults(&li);
+        li.R_ohm = m->R_ohm;
+        li.L_H = m->L_H;
+        li.Phi_Wb = Phi;
+        li.n_p = m->n_p;
+        li.gPhi3_V = gamma * Phi * Phi * Phi;
+        li.i_max_A = in->i_max_A;
+        li.settle_s = P001_LOCK_SETTLE_PER_WN / sqrt(Ke * Kt / (m->L_H * m->J_kgm2));
+        li.ts_s = ts;
+        if (!lock_monitor_design(&li, &cfg->lock, err, err_len)) {
+            return false;
+        }
+        if (rep != NULL) {
+            rep->lock_settle_s = (double)cfg->lock.ticks * ts;
+        }
+    }
     /* flux observer (12)-(14) in w = lambda/Ts units (flux_observer.h) */
     const double phi_fs = Phi / ts;
     const int s = (int)floor(log2(phi_fs)) + 1;
@@ -335,6 +375,39 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     double bad_t = 0.0;
     if (!speed_profile_design(&cfg->profile, in->n_points, in->t_s, in->omega_rad_s, mm->fs_hz, ts, &bad_t)) {
         return p001_fail(err, err_len, "profile", "corner times must start at 0 and increase", bad_t);
+    }
+    {
+        /* the reference when the open loop begins (P001_PROBE_ARC_RAD) */
+        const double t_ol = (in->probe_s > 0.0)
+                                ? fmin(in->probe_s, fmin(P001_PROBE_TURN_S, 0.5 * in->probe_s) +
+                                                        P001_PROBE_ARC_RAD / (np * P001_PROBE_SLIP_RAD_S))
+                                : 0.0;
+        double w_ol = in->omega_rad_s[in->n_points - 1];
+        size_t seg = in->n_points - 1;
+        for (size_t k = 0; k + 1 < in->n_points; ++k) {
+            if (t_ol < in->t_s[k + 1]) {
+                const double f = (t_ol - in->t_s[k]) / (in->t_s[k + 1] - in->t_s[k]);
+                w_ol = in->omega_rad_s[k] + f * (in->omega_rad_s[k + 1] - in->omega_rad_s[k]);
+                seg = k;
+                break;
+            }
+        }
+        const double w_step = (m->R_ohm > 0.0) ? m->R_ohm * (in->i_max_A - i_ol) / Ke : 0.0;
+        if (in->i_max_A > i_ol && fabs(w_ol) > w_step) {
+            const double rpm = 30.0 / 3.14159265358979323846;
+            const double t0 = in->t_s[seg];
+            const double t1 = (seg + 1 < in->n_points) ? in->t_s[seg + 1] : t0;
+            if (err != NULL && err_len > 0) {
+                snprintf(err, err_len,
+                         "speed.profile_rpm: the ramp %g -> %g rpm over [%g, %g] s reaches %.3g rpm at %.3g s, where "
+                         "the open-loop start begins with the rotor at rest: I_ol + K_e w*/R = %.3g + %.3g A > "
+                         "[limits] i_max_A = %g A; at most %.3g rpm there (%.3g rpm/s from rest)",
+                         in->omega_rad_s[seg] * rpm, (seg + 1 < in->n_points ? in->omega_rad_s[seg + 1] : w_ol) * rpm,
+                         t0, t1, w_ol * rpm, t_ol, i_ol, Ke * fabs(w_ol) / m->R_ohm, in->i_max_A, w_step * rpm,
+                         (t_ol > 0.0 ? w_step / t_ol : 0.0) * rpm);
+            }
+            return false;
+        }
     }
     if (rep != NULL) {
         rep->gamma = gamma;

@@ -58,6 +58,7 @@ typedef struct {
     double loop_wn_rad_s, loop_zeta; /* L J s^2 + r J s + K_e K_t */
     double i_open_loop_A;
     double probe_s, i_probe_A;
+    double lock_settle_s;    /* the loss-of-lock persistence (supervisor/lock_monitor.h) */
 } p001_design_report_t;
 
 /* Fills the defaults of section 5 into *in (motor and profile left as given). */

@@ -82,6 +82,7 @@ const char *drive_fault_name(drive_fault_t f)
     case DRIVE_FAULT_ADC: return "adc";
     case DRIVE_FAULT_HW_TRIP: return "hw-trip";
     case DRIVE_FAULT_OVERRUN: return "overrun";
+    case DRIVE_FAULT_LOSS_OF_LOCK: return "loss-of-lock";
     default: return "unknown";
     }
 }

@@ -75,7 +75,8 @@ typedef enum {
     DRIVE_FAULT_ADC = 9,           /* the backend reported a converter error (HAL_STATUS_ADC_FAULT) */
     DRIVE_FAULT_HW_TRIP = 10,      /* the power stage's own trip fired (HAL_STATUS_PWM_TRIP) */
     DRIVE_FAULT_OVERRUN = 11,      /* control steps overran their period too often (HAL_STATUS_OVERRUN) */
-    DRIVE_FAULT_COUNT = 12         /* number of codes, NONE included */
+    DRIVE_FAULT_LOSS_OF_LOCK = 12, /* a speed drive's estimate no longer explains the currents (lock_monitor.h) */
+    DRIVE_FAULT_COUNT = 13         /* number of codes, NONE included */
 } drive_fault_t;
 
 /* What a fault does (per fault, in the drive's configuration). */

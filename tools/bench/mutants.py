@@ -339,6 +339,18 @@ MUTANTS = [
     m("p002_clear_without_fault", "drives/paper002/paper002_drive.c", "clear-faults restarts a running drive",
       ("    if (d->sup.state != SUP_STATE_FAULT) {\n        return false;\n    }\n    const paper002_config_t cfg = d->cfg;\n    return paper002_drive_init",
        "    const paper002_config_t cfg = d->cfg;\n    return paper002_drive_init")),
+    # ---- loss of lock (supervisor/lock_monitor.c; issue 30)
+    m("lock_no_current_term", "supervisor/lock_monitor.c", "the bound without the R-tolerance term k_cur |i|",
+      ("mc_t b = mc_mac(c->floor_V, c->k_cur_ohm, i);", "mc_t b = c->floor_V;")),
+    m("lock_no_speed_term", "supervisor/lock_monitor.c", "the bound without the speed term k_speed |w|",
+      ("m->bound_V = mc_mac(b, c->k_speed_V_s, w);", "m->bound_V = b;")),
+    m("lock_residual_signed", "supervisor/lock_monitor.c", "the residual's sign kept: |rho| above the target never trips",
+      ("mc_mul(c->gPhi3_V, mc_abs(mc_sub(rho2_target, rho2)))", "mc_mul(c->gPhi3_V, mc_sub(rho2_target, rho2))")),
+    m("lock_never_trips", "supervisor/lock_monitor.c", "the monitor off whatever ticks says",
+      ("    if (c->ticks <= 0) {\n        return LOCK_CRIT_NONE;", "    if (c->ticks <= 0 || c->ticks > 0) {\n        return LOCK_CRIT_NONE;")),
+    m("lock_design_no_flux_tolerance", "design/lock_monitor_design.c",
+      "the bound without the flux tolerance: Phi +15 % at speed reads as a loss of lock",
+      ("(sin(in->delta_max_rad) + sqrt((1.0 + in->eps_Phi) * (1.0 + in->eps_Phi) - 1.0))", "sin(in->delta_max_rad)")),
     # ---- the guard every drive runs under (supervisor/guard.c, .h)
     m("guard_relock_ignores_budget", "supervisor/guard.c", "RELOCK answered where the drive cannot re-lock (budget spent)",
       ("if (react == (uint8_t)FAULT_REACT_RELOCK && can_relock) {", "if (react == (uint8_t)FAULT_REACT_RELOCK && (can_relock || !can_relock)) {")),

@@ -6,6 +6,8 @@ fault table  (`<!-- fault table ... -->` to `<!-- end fault table -->`, rows
              (firmware/supervisor/supervisor.h) with the name
              drive_fault_name() returns for it (supervisor.c), no more, no
              fewer, in order.
+DBC          tools/can/drive.dbc's FaultCode comment ("drive_fault_t: 0 none,
+             1 ...") lists every code of drive_fault_t, in order, no more.
 drives table (`<!-- drives table ... -->`): one row per drive of the
              registry (firmware/drives/registry.c), first cell `NAME` then
              words; the STM32F405 column says "yes" exactly for the drives
@@ -84,6 +86,7 @@ def main() -> int:
         return 0
     text = a.readme.read_text()
     bad = check_faults(fw, readme_rows(a.readme), a.readme.name)
+    bad += check_dbc_faults(fw)
     bad += check_drives(text, a.readme.name)
     bad += check_layout(text, a.readme.name)
     bad += check_links([a.readme, ROOT / "tools" / "README.md"] + sorted((ROOT / "docs").glob("*.md")))
@@ -108,6 +111,19 @@ def check_faults(fw: list, got: list, name: str) -> list[str]:
     if not bad and got != want:
         bad.append(f"{name}: fault table: the codes are not in order")
     return bad
+
+
+def check_dbc_faults(fw: list) -> list[str]:
+    dbc = ROOT / "tools" / "can" / "drive.dbc"
+    m = re.search(r'CM_ SG_ \d+ FaultCode "drive_fault_t: ([^"]*)";', dbc.read_text())
+    if not m:
+        return [f"{dbc.relative_to(ROOT)}: no FaultCode comment 'drive_fault_t: 0 none, ...'"]
+    got = [int(c) for c in re.findall(r"(?:^|, )(\d+) ", m.group(1))]
+    want = [code for code, _, _ in fw]
+    if got != want:
+        return [f"{dbc.relative_to(ROOT)}: FaultCode comment lists the codes {got}, drive_fault_t has {want} "
+                "(supervisor.h); run tools/can/gen_c.py after editing the DBC"]
+    return []
 
 
 def registry() -> list[str]:

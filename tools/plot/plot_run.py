@@ -76,6 +76,7 @@ FAULT_NAMES = {
     9: ("ADC", "the backend reported a converter error"),
     10: ("HW_TRIP", "the power stage's own trip fired"),
     11: ("OVERRUN", "control steps overran their period too often"),
+    12: ("LOSS_OF_LOCK", "a speed drive's estimate no longer explains the currents"),
 }
 FIG_WIDTH_IN, DPI = 12, 90
 PANEL_IN = 2.35  # figure height per panel (axes + gap)

@@ -232,7 +232,7 @@ struct drive_can_heartbeat_t {
     uint8_t msg_set_version;
 
     /**
-     * drive_fault_t: 0 none, 1 over-current, 2 bad input, 3 I2t, 4 voltage saturation, 5 loss of synchronism, 6 non-finite, 7 sensor stuck, 8 sensor rail, 9 ADC, 10 hardware trip, 11 overrun
+     * drive_fault_t: 0 none, 1 over-current, 2 bad input, 3 I2t, 4 voltage saturation, 5 loss of synchronism, 6 non-finite, 7 sensor stuck, 8 sensor rail, 9 ADC, 10 hardware trip, 11 overrun, 12 loss of lock
      *
      * Range: 0..255 (0..255 -)
      * Scale: 1

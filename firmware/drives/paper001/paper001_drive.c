@@ -66,6 +66,9 @@ static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command
         if (fault_persist_step(&d->rho_persist, rho_bad, c->los_ticks) ||
             fault_persist_step(&d->speed_persist, speed_bad, c->los_speed_ticks)) {
             f = DRIVE_FAULT_LOSS_OF_SYNC;
+        } else if (!emf && lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, w_hat, d->last.i_d_A,
+                                                  d->last.i_q_A) != LOCK_CRIT_NONE) {
+            f = DRIVE_FAULT_LOSS_OF_LOCK; /* the estimate no longer explains the currents */
         }
     }
     guard_record(&d->rec, d->tick, d->sup.state, in, out, d->ref.omega_rad_s, e_hat, w_hat);
@@ -126,6 +129,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     flight_recorder_init(&d->rec);
     d->rho_persist.run = 0;
     d->speed_persist.run = 0;
+    lock_monitor_init(&d->lock, &cfg->lock);
     hal_command_t unused;
     p001_zero_output(d, &unused);
     d->ref.omega_rad_s = MC_ZERO;

@@ -69,6 +69,7 @@
 #include "startup/open_loop.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/flight_recorder.h"
+#include "supervisor/lock_monitor.h"
 #include "supervisor/supervisor.h"
 #include "trajectory/speed_profile.h"
 
@@ -128,6 +129,10 @@ typedef struct {
     int32_t los_ticks;
     mc_t los_speed_tol, los_speed_floor_rad_s;
     int32_t los_speed_ticks;
+    /* loss of lock (supervisor/lock_monitor.h, estimator FLUX, closed
+     * loop): the flux observer's residual along the estimated rotor axis
+     * beyond the tolerance bound (LOSS_OF_LOCK; ticks 0: off) */
+    lock_monitor_config_t lock;
 } paper001_config_t;
 
 /* The voltage the plant really sees over the coming sample with a
@@ -192,6 +197,7 @@ typedef struct {
     fault_monitor_t mon;
     flight_recorder_t rec;
     fault_persist_t rho_persist, speed_persist;
+    lock_monitor_t lock;
     flux_observer_t flux;
     flux_circle_fit_t fit;
     flux_circle_fit_t probe;       /* points P001_PROBE_SCALE (rho - probe_anchor) */

@@ -1,0 +1,74 @@
+#include "design/lock_monitor_design.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "math/mc_convert.h"
+
+/* Tolerances the lock must survive without a fault (and beyond which a
+ * drive is not claimed to work), each the largest model error a shipped
+ * robustness scenario of paper 001 runs with while the speed is tracked:
+ * R +50 % (paper 001 section 5.1's largest variation, paper001_R150),
+ * L +50 % (paper001_L150), Phi +15 % (paper001_Phi115). */
+#define LOCK_EPS_R 0.5
+#define LOCK_EPS_L 0.5
+#define LOCK_EPS_PHI 0.15
+/* The largest angle error accepted while turning: 30 degrees costs
+ * 1 - cos 30 = 13 % of the torque per ampere and puts half the current on
+ * the d axis; paper001_R150's 20 degrees under load at 50 rpm stay below. */
+#define LOCK_DELTA_MAX_RAD (30.0 * 3.14159265358979323846 / 180.0)
+/* The current sensing's error, 1 % of i_max (a shunt amplifier's gain
+ * error): in eta = lambda - L i of (14) it moves |rho|^2 by 2 L di / Phi,
+ * which the gradient term answers with 2 gamma Phi^2 L di volts. */
+#define LOCK_DI_REL 0.01
+
+static bool lock_fail(char *err, size_t n, const char *field, const char *why, double got)
+{
+    if (err != NULL && n > 0) {
+        snprintf(err, n, "lock_monitor.%s: %s (got %g)", field, why, got);
+    }
+    return false;
+}
+
+void lock_monitor_design_defaults(lock_monitor_design_input_t *in)
+{
+    in->eps_R = LOCK_EPS_R;
+    in->eps_L = LOCK_EPS_L;
+    in->eps_Phi = LOCK_EPS_PHI;
+    in->delta_max_rad = LOCK_DELTA_MAX_RAD;
+    in->di_rel = LOCK_DI_REL;
+}
+
+bool lock_monitor_design(const lock_monitor_design_input_t *in, lock_monitor_config_t *cfg, char *err, size_t err_len)
+{
+    if (!(in->Phi_Wb > 0.0)) return lock_fail(err, err_len, "Phi_Wb", "must be > 0", in->Phi_Wb);
+    if (!(in->L_H > 0.0)) return lock_fail(err, err_len, "L_H", "must be > 0", in->L_H);
+    if (!(in->R_ohm >= 0.0)) return lock_fail(err, err_len, "R_ohm", "must be >= 0", in->R_ohm);
+    if (in->n_p < 1) return lock_fail(err, err_len, "n_p", "must be >= 1", in->n_p);
+    if (!(in->settle_s > 0.0 && in->ts_s > 0.0))
+        return lock_fail(err, err_len, "settle_s", "settling time and Ts must be > 0", in->settle_s);
+    if (!(in->eps_Phi >= 0.0 && in->eps_R >= 0.0 && in->eps_L >= 0.0 && in->di_rel >= 0.0 &&
+          in->delta_max_rad > 0.0 && in->delta_max_rad < 1.5707963267948966))
+        return lock_fail(err, err_len, "tolerances", "eps >= 0, 0 < delta_max < pi/2", in->delta_max_rad);
+    const double np = (double)in->n_p;
+    /* a lock that holds, at electrical speed w_e = n_p w: an angle error up
+     * to delta_max shows Phi w_e sin(delta_max) along the estimated d axis;
+     * a flux (1 + eps) Phi turned at the same speed by an observer pulled to
+     * Phi settles at the angle whose cos is 1/(1 + eps), where the radial
+     * correction is Phi w_e sqrt((1 + eps)^2 - 1) (lock_monitor.h) */
+    const double k_speed =
+        np * in->Phi_Wb * (sin(in->delta_max_rad) + sqrt((1.0 + in->eps_Phi) * (1.0 + in->eps_Phi) - 1.0));
+    /* eps_L L di/dt of a current turning at w_e: eps_L L n_p w |i| */
+    const double k_speed_cur = in->eps_L * in->L_H * np;
+    /* eps_R R |i| */
+    const double k_cur = in->eps_R * in->R_ohm;
+    /* 2 gamma Phi^2 L di (LOCK_DI_REL): gamma Phi^2 = gPhi3 / Phi */
+    const double floor_v = 2.0 * (in->gPhi3_V / in->Phi_Wb) * in->L_H * in->di_rel * in->i_max_A;
+    cfg->gPhi3_V = mc_from_double(in->gPhi3_V);
+    cfg->k_speed_V_s = mc_from_double(k_speed);
+    cfg->k_speed_cur_H = mc_from_double(k_speed_cur);
+    cfg->k_cur_ohm = mc_from_double(k_cur);
+    cfg->floor_V = mc_from_double(floor_v);
+    cfg->ticks = (int32_t)ceil(in->settle_s / in->ts_s - 1e-9);
+    return true;
+}

@@ -1,0 +1,42 @@
+/*
+ * lock_monitor_design.h - the thresholds of supervisor/lock_monitor.h
+ * derived from the motor the drive believes in, its flux observer's gain
+ * and the tolerances the drive is meant to survive (docs/faults.md, "Loss
+ * of lock"). Host side, double precision.
+ */
+#ifndef DESIGN_LOCK_MONITOR_DESIGN_H
+#define DESIGN_LOCK_MONITOR_DESIGN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "supervisor/lock_monitor.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    double R_ohm, L_H, Phi_Wb; /* the drive's model (L: the one of (14); Phi: the flux |eta| is pulled to) */
+    int n_p;
+    double gPhi3_V;            /* the flux observer's gamma Phi^3 */
+    double i_max_A;
+    double settle_s;           /* the closed loop's settling time: the persistence */
+    double ts_s;
+    /* tolerances (lock_monitor_design.c: LOCK_* for the defaults) */
+    double eps_R, eps_L, eps_Phi; /* relative model errors the lock must survive */
+    double delta_max_rad;      /* the largest angle error the drive accepts */
+    double di_rel;             /* current sensing error relative to i_max */
+} lock_monitor_design_input_t;
+
+/* The defaults of the tolerances (LOCK_EPS_*, LOCK_DELTA_MAX_RAD, LOCK_DI_REL). */
+void lock_monitor_design_defaults(lock_monitor_design_input_t *in);
+
+/* Fills cfg; false with a message in err when an input is out of range. */
+bool lock_monitor_design(const lock_monitor_design_input_t *in, lock_monitor_config_t *cfg, char *err, size_t err_len);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DESIGN_LOCK_MONITOR_DESIGN_H */

@@ -1,0 +1,97 @@
+/*
+ * lock_monitor.h - loss of lock of a sensorless speed drive's estimate, by
+ * named criteria, each computed from what its estimator can observe (the
+ * thresholds are derived in the drive's design, design/lock_monitor_design.h;
+ * docs/faults.md, "Loss of lock"). It only reports: the drive raises
+ * DRIVE_FAULT_LOSS_OF_LOCK and its reaction table decides (supervisor.h).
+ *
+ * LOCK_CRIT_FLUX_RESIDUAL (gradient flux observer, paper 001 (12)-(14),
+ * estimators/flux_observer.h; paper 001's drive and paper 002's sensorless
+ * variant). The current model's residual along the estimated rotor axis:
+ * with eta = lambda_hat - L i, the observer integrates v - R i and adds the
+ * radial correction gamma eta (Phi^2 - |eta|^2) of (12), so in the
+ * estimated d-q frame
+ *   e_d = (v - R i - L di/dt) . rho_hat = Phi d|rho_hat|/dt - gamma Phi^3 |rho_hat| (target - |rho_hat|^2),
+ * and in any steady state (|rho_hat| constant) the residual e_d, the
+ * back-EMF component along the estimated d axis that the model does not
+ * explain, is the observer's radial correction:
+ *   e_d = gPhi3 |target - |rho_hat|^2|      (|rho_hat| = 1 within 1 % here).
+ * A rotor at electrical speed w_e whose angle is off by delta shows
+ * e_d = Phi w_e sin(delta); a rotor that turns while the estimate stands
+ * still (the drift at standstill under load with a wrong R, ODrive's
+ * "sensorless speed too low") shows Phi |w_e| along an axis that has
+ * turned away. What a lock that holds may show is bounded by the
+ * tolerances the design accepts:
+ *   bound = k_speed |w_hat| + k_speed_cur |w_hat| |i| + k_cur |i| + floor
+ * (k_speed: the tolerated angle error and flux error at the estimated
+ * speed; k_speed_cur: the inductance error in the L di/dt of the turning
+ * current; k_cur: the resistance error's R i; floor: the current sensing's
+ * error in L i of (14)). e_d beyond the bound for `ticks` consecutive
+ * samples is a loss of lock. At standstill the bound shrinks to k_cur |i|
+ * + floor: the criterion is the "speed too low for the load, with the
+ * estimate drifting" of the issue, observable as soon as the rotor's
+ * motion moves the flux off the estimated circle.
+ *
+ * Not criteria here, and why: the flux magnitude far from Phi (|rho_hat|
+ * outside [0.5, 1.5]) and the speed far from the reference stay the
+ * drive's LOSS_OF_SYNC (they were there before and keep their codes);
+ * a current-model residual in the tangential direction is not observable
+ * (the observer integrates it into its angle: a wrong R turns the
+ * estimate, which is why the drift at standstill is invisible to the
+ * speed estimate).
+ *
+ * Fixed point: gPhi3 |target - rho2| <= 24.6 V x 3 for paper 001's motor,
+ * the bound's terms are volts; every product is inside Q14.17.
+ */
+#ifndef SUPERVISOR_LOCK_MONITOR_H
+#define SUPERVISOR_LOCK_MONITOR_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "math/mc_num.h"
+#include "supervisor/fault_monitor.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    LOCK_CRIT_NONE = 0,
+    LOCK_CRIT_FLUX_RESIDUAL = 1 /* the flux observer's d-axis residual beyond the tolerance bound */
+} lock_criterion_t;
+
+typedef struct {
+    mc_t gPhi3_V;          /* the flux observer's gamma Phi^3 [V]: e_d per unit of |target - |rho|^2| */
+    mc_t k_speed_V_s;      /* bound per |w_hat| (mechanical rad/s) [V s/rad] */
+    mc_t k_speed_cur_H;    /* bound per |w_hat| |i| [V s/(rad A)] */
+    mc_t k_cur_ohm;        /* bound per |i| (d-q current magnitude) [V/A] */
+    mc_t floor_V;          /* bound at rest without current [V] */
+    int32_t ticks;         /* consecutive samples beyond the bound; 0: the monitor is off */
+} lock_monitor_config_t;
+
+typedef struct {
+    lock_monitor_config_t cfg;
+    fault_persist_t run;
+    mc_t residual_V;       /* the last sample's e_d */
+    mc_t bound_V;          /* and its bound */
+} lock_monitor_t;
+
+void lock_monitor_init(lock_monitor_t *m, const lock_monitor_config_t *cfg);
+
+/* One sample of LOCK_CRIT_FLUX_RESIDUAL, while the drive uses the estimate
+ * (closed loop): rho2 = |rho_hat|^2 and rho2_target (1, or the active
+ * flux's, flux_observer_t), the estimated mechanical speed, the current in
+ * the estimated d-q frame. Returns the criterion that holds for
+ * cfg.ticks samples, else LOCK_CRIT_NONE. Reads and changes nothing else. */
+lock_criterion_t lock_monitor_step_flux(lock_monitor_t *m, mc_t rho2, mc_t rho2_target, mc_t omega_hat_rad_s,
+                                        mc_t i_d_A, mc_t i_q_A);
+
+/* Short name of a criterion ("flux-residual"; "none"): static strings. */
+const char *lock_criterion_name(lock_criterion_t c);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SUPERVISOR_LOCK_MONITOR_H */
