@@ -40,7 +40,9 @@ deadtime_comp_config_t deadtime_comp_config(const Scenario& sc)
     const InverterParams& p = sc.inverter;
     deadtime_comp_design_input_t in{};
     in.f_pwm_Hz = p.f_pwm_Hz;
-    in.dead_time_s = p.dead_time_s;
+    // what the drive believes: the plant's, unless the scenario says (a
+    // Monte Carlo of the board's dead time keeps the drive's nominal)
+    in.dead_time_s = sc.compensation_dead_time_s >= 0.0 ? sc.compensation_dead_time_s : p.dead_time_s;
     in.t_on_s = p.t_on_s;
     in.t_off_s = p.t_off_s;
     in.v_switch_V = p.v_switch_V;

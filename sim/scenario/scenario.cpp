@@ -555,7 +555,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& parser_tabl
         {"faults", {"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples", "nan_sample_t_s", "supply_sag", "overruns"}},
         {"load", {"steps", "pulses"}},
         {"encoder", {"counts_per_turn", "noise_rad"}},
-        {"inverter", {"file", "compensation", "f_pwm_Hz", "dead_time_s", "t_on_s", "t_off_s", "v_switch_V",
+        {"inverter", {"file", "compensation", "compensation_dead_time_s", "f_pwm_Hz", "dead_time_s", "t_on_s", "t_off_s", "v_switch_V",
                       "r_switch_Ohm", "v_diode_V", "r_diode_Ohm", "min_pulse_s", "i_transition_A", "synchronous"}},
         {"drive", {"kind"}}};
     return k;
@@ -1114,6 +1114,14 @@ void read_inverter(const View* v, Scenario* sc)
     sc->inverter = p;
     sc->inverter_given = true;
     sc->inverter_compensation = v->boolean("compensation").value_or(true);
+    if (const auto t = v->number("compensation_dead_time_s")) {
+        ge(*v, "compensation_dead_time_s", *t, 0.0);
+        if (!(2.0 * (*t + p.t_on_s - p.t_off_s) * p.f_pwm_Hz < 1.0)) {
+            v->fail("compensation_dead_time_s", "must be shorter than half the PWM period (1/f_pwm_Hz = " +
+                                                    fmt_num(1.0 / p.f_pwm_Hz) + " s)");
+        }
+        sc->compensation_dead_time_s = *t;
+    }
 }
 
 // The scenario's tables in the order they are read (a table may use what

@@ -171,6 +171,7 @@ struct Scenario {
     bool inverter_given = false;
     std::string inverter_file;         // resolved path of [inverter] file, or ""
     bool inverter_compensation = true; // [inverter] compensation: the drive's dead-time compensation on
+    double compensation_dead_time_s = -1.0; // [inverter] compensation_dead_time_s: the drive's belief; < 0: the plant's
     std::vector<Segment> segments;  // [[trajectory.segments]]
 
     // [gains] and [bounds]: (field name, value) in file order; names are
