@@ -3,7 +3,7 @@
 parameters drawn from stated spreads while the drive keeps its nominal model.
 
     .venv/bin/python tools/sweep.py --scenario FILE --runs N --spread-pct P
-        [--spread R=20,L=20,K=20] [--j-range 0.5,2] [--jobs J] [--seed S]
+        [--spread R=20,L=20,K=20] [--j-range 0.5,2] [--dead-time-pct D] [--jobs J] [--seed S]
         [--keep DIR] [--plot FILE.png [--plot-axes R,J]] [--dask ADDRESS]
 
 What one run is
@@ -33,6 +33,10 @@ and per parameter)
                                             log-uniform in [LO, HI]:
                                             exp(U(ln LO, ln HI)), so x2 is as
                                             likely as x0.5
+  D  [inverter] dead_time_s (the board's; with --dead-time-pct D only: a
+     scenario with an [inverter])          uniform in [1 - D/100, 1 + D/100];
+     the drive's compensation keeps the nominal dead time
+     ([inverter] compensation_dead_time_s)
   p is --spread-pct (default 0: a seed-only sweep), or the parameter's own
   percentage from --spread NAME=PCT,... (which overrides --spread-pct for the
   names it gives). 0 <= p < 100.
@@ -40,7 +44,9 @@ and per parameter)
   Draws come from Python's random.Random(--seed), run by run in index order:
   for each run one random() each for R, L, K, J (in this order, also for a
   zero spread, so changing one spread does not reshuffle the others) and
-  then its noise seed, randrange(2**31). The same --seed and spreads give
+  then its noise seed, randrange(2**31); with --dead-time-pct its D comes
+  from a stream of its own (random.Random("dead_time/SEED")), so the other
+  draws stay those of a sweep without it. The same --seed and spreads give
   the same variants and seeds, so the same per-run results, whatever --jobs
   or --dask.
 
@@ -171,13 +177,16 @@ def parse_spreads(spread_pct: float, spread: str | None, j_range: str | None) ->
     return out
 
 
-def draw_runs(n: int, seed: int, spreads: dict[str, Spread]) -> list[dict]:
+def draw_runs(n: int, seed: int, spreads: dict[str, Spread], dead_time_pct: float = 0.0) -> list[dict]:
     """Factors and noise seed of each run (see the docstring for the order)."""
     rng = random.Random(seed)
+    rng_d = random.Random(f"dead_time/{seed}")  # a stream of its own: the other draws as without it
     runs = []
     for i in range(n):
         factors = {p: spreads[p].factor(rng.random()) for p in PARAMS}
         runs.append({"index": i, "factors": factors, "seed": rng.randrange(1 << 31)})
+        if dead_time_pct > 0.0:
+            runs[-1]["factors"]["D"] = 1.0 + dead_time_pct / 100.0 * (2.0 * rng_d.random() - 1.0)
     return runs
 
 
@@ -213,6 +222,21 @@ class Base:
         self.drive_model.update(self.sc.get("drive_model", {}))
         self.speed = "speed" in self.sc
         self.expect = self.sc.get("expect", {})
+        # [inverter]: its file's path made absolute (the variants are
+        # written elsewhere) and the board's nominal dead time
+        self.dead_time_s = None
+        inv = self.sc.get("inverter")
+        if isinstance(inv, dict):
+            inv_vals = {}
+            if isinstance(inv.get("file"), str):
+                inv_file = (scenario.parent / inv["file"]).resolve()
+                self.sc["inverter"]["file"] = str(inv_file)
+                try:
+                    inv_vals = tomllib.loads(inv_file.read_text())
+                except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+                    raise UsageError(f"{inv_file}: {e}") from None
+            inv_vals.update(inv)
+            self.dead_time_s = float(inv_vals.get("dead_time_s", 0.0))
 
     def variant(self, run: dict, name: str) -> str:
         """The TOML text of one run's scenario."""
@@ -223,7 +247,12 @@ class Base:
             for key in PARAM_KEYS[self.type][p]:
                 sc["motor"][key] = self.plant[key] * run["factors"][p]  # the plant differs
         sc.setdefault("run", {})["seed"] = run["seed"]
-        facs = ", ".join(f"{p} x{run['factors'][p]:.4f}" for p in PARAMS)
+        if "D" in run["factors"]:  # the board's dead time differs, the drive's compensation keeps the nominal
+            sc["inverter"]["dead_time_s"] = self.dead_time_s * run["factors"]["D"]
+            sc["inverter"].setdefault("compensation_dead_time_s", self.dead_time_s)
+        facs = ", ".join(f"{p} x{run['factors'][p]:.4f}" for p in PARAMS if p in run["factors"])
+        if "D" in run["factors"]:
+            facs += f", dead time x{run['factors']['D']:.4f}"
         sc["description"] = f"tools/sweep.py {name} of {self.path.name}: plant {facs}; drive nominal"
         import tomli_w  # the venv has it (tools/requirements.txt)
         header = (f"# {name} of a Monte Carlo sweep (tools/sweep.py) over {self.path}\n"
@@ -437,6 +466,9 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--j-range", metavar="LO,HI",
                     help="J factor log-uniform in [LO, HI] (exp of a uniform draw in [ln LO, ln HI]); "
                          "overrides the other J spreads")
+    ap.add_argument("--dead-time-pct", type=float, default=0.0, metavar="D",
+                    help="the board's dead time ([inverter] dead_time_s) uniform in [1-D/100, 1+D/100]; the drive's "
+                         "compensation keeps the nominal (default 0: as written)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                     help="motorsim runs at once, locally (default: os.cpu_count() = %(default)s)")
     ap.add_argument("--seed", type=int, default=1,
@@ -487,6 +519,10 @@ def run_sweep(args: argparse.Namespace) -> tuple[dict, int]:
         raise UsageError(f"{args.binary}: no motorsim there; build it: cmake --preset host && "
                          "cmake --build --preset host")
     base = Base(args.scenario)
+    if not (0.0 <= args.dead_time_pct < 100.0):
+        raise UsageError(f"--dead-time-pct: must be in [0, 100) (got {args.dead_time_pct:g})")
+    if args.dead_time_pct > 0.0 and base.dead_time_s is None:
+        raise UsageError(f"--dead-time-pct: {args.scenario} has no [inverter] table")
     metric, higher_worse = main_metric(base, args.metric)
     keep = args.keep
     if keep is None:
@@ -495,7 +531,7 @@ def run_sweep(args: argparse.Namespace) -> tuple[dict, int]:
     keep.mkdir(parents=True, exist_ok=True)
     print(f"sweep: variants of the worst cases and failures go to {keep}", file=sys.stderr)
 
-    runs = draw_runs(args.runs, args.seed, spreads)
+    runs = draw_runs(args.runs, args.seed, spreads, args.dead_time_pct)
     width = max(4, len(str(args.runs - 1)))
     names = [f"run_{r['index']:0{width}d}" for r in runs]
     texts = [base.variant(r, n) for r, n in zip(runs, names)]
@@ -576,6 +612,7 @@ def run_sweep(args: argparse.Namespace) -> tuple[dict, int]:
         "fail_reasons": fail_reasons, "expect_misses": expect_misses,
         "spreads": {p: spreads[p].to_json(PARAM_KEYS[base.type][p]) for p in PARAMS},
         "nominal_plant": base.plant, "drive_model": base.drive_model,
+        "dead_time_pct": args.dead_time_pct, "nominal_dead_time_s": base.dead_time_s,
         "seed": args.seed, "backend": "dask" if args.dask else "local", "dask": args.dask,
         "jobs": threads, "wall_time_s": round(wall, 3), "runs_per_s": round(args.runs / wall, 2) if wall > 0 else None,
         "metric": metric, "metric_worse": "higher" if higher_worse else "lower",

@@ -337,6 +337,7 @@ void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
     if (!drive_design(&in, &cfg, err, sizeof(err))) {
         throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "drive_design rejected the input"));
     }
+    cfg.deadtime = deadtime_comp_config(sc);  // [inverter] (an MCU board; the rig's amplifiers have none)
     if (!paper000_drive_init(drive, &cfg)) {
         const char* why = paper000_config_problem(&cfg);
         throw ScenarioError(sc.path + ": design: the configuration derived from the motor file and the scenario is " +

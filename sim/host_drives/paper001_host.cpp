@@ -117,6 +117,7 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
     if (!p001_design(&in, &cfg, rep, err, sizeof(err))) {
         throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "p001_design rejected the input"));
     }
+    cfg.deadtime = deadtime_comp_config(sc);  // [inverter]: the board's dead-time compensation
     if (!paper001_drive_init(drive, &cfg)) {
         throw ScenarioError(sc.path + ": design: paper001_drive_init rejected the derived configuration");
     }

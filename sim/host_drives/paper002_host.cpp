@@ -118,6 +118,7 @@ void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)
     if (!p002_design(&in, &cfg, err, sizeof(err))) {
         throw ScenarioError(sc.path + ": design: " + (err[0] != '\0' ? err : "p002_design rejected the input"));
     }
+    cfg.deadtime = deadtime_comp_config(sc);  // [inverter]: the board's dead-time compensation
     if (!paper002_drive_init(drive, &cfg)) {
         throw ScenarioError(sc.path + ": design: paper002_drive_init rejected the derived configuration");
     }

@@ -77,6 +77,7 @@ void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
     if (!sfoc_design(&in, &out->sensored_foc, err, sizeof err)) {
         throw ScenarioError(sc.path + ": design: sensored_foc: " + err);
     }
+    out->sensored_foc.deadtime = deadtime_comp_config(sc);  // [inverter]: the board's dead-time compensation
 }
 
 }  // namespace

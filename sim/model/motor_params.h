@@ -37,6 +37,19 @@ struct MotorParams {
     double lugre_Ms_Nm = 0.0;     // stiction level
     double lugre_ws_rad_s = 0.0;  // Stribeck speed
     bool lugre() const { return lugre_sigma0_Nm_per_rad > 0.0; }
+    // The plant's hardware effects (issue 30; docs/plant.md), none by
+    // default: magnetic saturation (model/saturation.h, i_sat_A > 0) and
+    // the winding temperature (model/thermal.h): R_ohm and Phi are taken at
+    // 20 C; T0_C is the winding's temperature at the start (R and Phi at
+    // T0 from t = 0, held there without a thermal model), R_th and C_th the
+    // first-order thermal model (both > 0: T follows the copper loss).
+    double i_sat_A = 0.0;
+    double R_th_K_per_W = 0.0;
+    double C_th_J_per_K = 0.0;
+    double T_ambient_C = 20.0;
+    double T0_C = 20.0;
+    double alpha_cu_per_K = 0.0039;
+    double beta_pm_per_K = -0.001;
 
     int n_phases() const { return type == MotorType::kPmsm3 ? 3 : 2; }
     // Torque per (K i) of the alpha-beta model: m/2 for m phases.

@@ -58,6 +58,8 @@ class ThermalModel {
 public:
     // The reference temperature of R_20 and Phi_20 (the motor file's values).
     static constexpr double kTref_C = 20.0;
+    // No temperature below it [C].
+    static constexpr double kAbsoluteZero_C = -273.15;
 
     // R_20_ohm, Phi_20_Wb: the motor file's R and Phi, taken at 20 C;
     // power_scale: k_m of (T1).

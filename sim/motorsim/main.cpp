@@ -452,11 +452,19 @@ int run(const Options& opt)
     const mcsim::Amplifier& amp = rig.amp;
     hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
     (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
+    // [inverter]: the MCU board's PWM inverter instead of the amplifier model
+    hal_sw_plant_set_inverter(rig.inverter_or_null());
     // --backend board-emulated: the DAC/ADC board between drive and plant,
     // its sensors calibrated with the outputs at zero before the drive
     // starts (a sensor out of range: nothing runs, nothing is written)
     std::unique_ptr<mcsim::BoardEmulation> board;
     if (opt.backend == "board-emulated") {
+        if (sc.inverter_given) {
+            hal_sw_plant_detach();
+            throw mcsim::ScenarioError(sc.path + ": inverter: --backend board-emulated drives the plant through the "
+                                                 "DAC board's amplifiers, not an MCU board's inverter: remove "
+                                                 "[inverter] or run the sw-plant backend");
+        }
         board = std::make_unique<mcsim::BoardEmulation>(sc.board, sc.seed);
         std::string why;
         if (!board->calibrate(&why)) {

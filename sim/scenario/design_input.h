@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <iterator>
 
+#include "design/deadtime_comp_design.h"
 #include "design/motor_design.h"
 #include "model/current_sensor.h"
 #include "model/motor_params.h"
@@ -41,6 +42,15 @@ void shared_design_input(const Scenario& sc, DesignInput* in)
 
 // A speed drive's reference corners (sc.speed_points) into its design
 // input's n_points, t_s[] and omega_rad_s[] (at most their length).
+// The drive's dead-time compensation (firmware/control/deadtime_comp.h)
+// from the scenario's [inverter] (design/deadtime_comp_design.h, the
+// sensor's noise widening its band): disabled (all zero) without an
+// inverter or with [inverter] compensation = false. Every host part whose
+// drive has the block puts it into the drive's configuration before
+// *_drive_init; throws ScenarioError naming [inverter] if the design
+// refuses it.
+deadtime_comp_config_t deadtime_comp_config(const Scenario& sc);
+
 template <typename DesignInput>
 void speed_points_design_input(const Scenario& sc, DesignInput* in)
 {

@@ -11,6 +11,7 @@
 
 #include <toml++/toml.h>
 
+#include "model/thermal.h"
 #include "trajectory/speed_profile.h"
 #include "scenario/toml_view.h"
 #include "host_drives/host_drive.h"
@@ -340,6 +341,35 @@ void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_f
             gt(v, "coulomb_omega_s_rad_s", *ws, 0.0);
             m->coulomb_omega_s_rad_s = *ws;
         }
+        // the plant's saturation and temperature (issue 30; docs/plant.md):
+        // the plant's only, like the friction
+        const auto opt = [&](const char* k, double* dst) {
+            if (const auto x = v.number(k)) {
+                *dst = *x;
+                return true;
+            }
+            return false;
+        };
+        if (opt("i_sat_A", &m->i_sat_A)) ge(v, "i_sat_A", m->i_sat_A, 0.0);
+        if (opt("R_th_K_per_W", &m->R_th_K_per_W)) ge(v, "R_th_K_per_W", m->R_th_K_per_W, 0.0);
+        if (opt("C_th_J_per_K", &m->C_th_J_per_K)) ge(v, "C_th_J_per_K", m->C_th_J_per_K, 0.0);
+        if ((m->R_th_K_per_W > 0.0) != (m->C_th_J_per_K > 0.0)) {
+            v.fail(m->R_th_K_per_W > 0.0 ? "C_th_J_per_K" : "R_th_K_per_W",
+                   "R_th_K_per_W and C_th_J_per_K go together (both > 0, or both 0 for no thermal model)");
+        }
+        if (opt("T_ambient_C", &m->T_ambient_C)) ge(v, "T_ambient_C", m->T_ambient_C, ThermalModel::kAbsoluteZero_C);
+        if (opt("T0_C", &m->T0_C)) ge(v, "T0_C", m->T0_C, ThermalModel::kAbsoluteZero_C);
+        opt("alpha_cu_per_K", &m->alpha_cu_per_K);
+        opt("beta_pm_per_K", &m->beta_pm_per_K);
+        // R(T0) and Phi(T0) must stay positive (T2), (T3)
+        if (!(1.0 + m->alpha_cu_per_K * (m->T0_C - ThermalModel::kTref_C) > 0.0)) {
+            v.fail(v.has("alpha_cu_per_K") ? "alpha_cu_per_K" : "T0_C",
+                   "R_ohm (1 + alpha_cu_per_K (T0_C - 20)) must be > 0");
+        }
+        if (!(1.0 + m->beta_pm_per_K * (m->T0_C - ThermalModel::kTref_C) > 0.0)) {
+            v.fail(v.has("beta_pm_per_K") ? "beta_pm_per_K" : "T0_C",
+                   "the flux (1 + beta_pm_per_K (T0_C - 20)) must be > 0");
+        }
     }
 }
 
@@ -353,7 +383,8 @@ const std::vector<std::string>& motor_file_keys()
                                                "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p",
                                                "lugre_sigma0_Nm_per_rad", "lugre_sigma1_Nms_per_rad",
                                                "lugre_sigma2_Nms_per_rad", "lugre_Mc_Nm", "lugre_Ms_Nm",
-                                               "lugre_ws_rad_s"};
+                                               "lugre_ws_rad_s", "i_sat_A", "R_th_K_per_W", "C_th_J_per_K",
+                                               "T_ambient_C", "T0_C", "alpha_cu_per_K", "beta_pm_per_K"};
     return k;
 }
 
@@ -524,6 +555,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& parser_tabl
         {"faults", {"locked_rotor_t_s", "open_phase", "sensor_offset", "sensor_gain", "noise_burst", "stuck_samples", "nan_sample_t_s", "supply_sag", "overruns"}},
         {"load", {"steps", "pulses"}},
         {"encoder", {"counts_per_turn", "noise_rad"}},
+        {"inverter", {"file", "compensation", "compensation_dead_time_s", "f_pwm_Hz", "dead_time_s", "t_on_s", "t_off_s", "v_switch_V",
+                      "r_switch_Ohm", "v_diode_V", "r_diode_Ohm", "min_pulse_s", "i_transition_A", "synchronous"}},
         {"drive", {"kind"}}};
     return k;
 }
@@ -541,7 +574,7 @@ const std::vector<std::string>& table_keys(const std::string& table)
 std::vector<std::string> top_level_keys()
 {
     std::vector<std::string> top = {"description", "run", "motor", "drive_model", "supply", "limits", "sensor", "load",
-                                    "expect", "faults", "board", "encoder", "drive"};
+                                    "expect", "faults", "board", "encoder", "drive", "inverter"};
     const auto add = [&top](const std::string& table) {
         if (table.find('.') == std::string::npos && std::find(top.begin(), top.end(), table) == top.end()) {
             top.push_back(table);
@@ -1008,6 +1041,89 @@ void read_encoder(const View* v, Scenario* sc)
     ge(*v, "noise_rad", sc->encoder.noise_rad, 0.0);
 }
 
+// The inverter's parameters of a table or an inverter file
+// (sim/inverters/*.toml), each checked where it is read.
+void read_inverter_fields(const View& v, InverterParams* p)
+{
+    const struct {
+        const char* key;
+        double* dst;
+    } nums[] = {{"f_pwm_Hz", &p->f_pwm_Hz},         {"dead_time_s", &p->dead_time_s},
+                {"t_on_s", &p->t_on_s},             {"t_off_s", &p->t_off_s},
+                {"v_switch_V", &p->v_switch_V},     {"r_switch_Ohm", &p->r_switch_Ohm},
+                {"v_diode_V", &p->v_diode_V},       {"r_diode_Ohm", &p->r_diode_Ohm},
+                {"min_pulse_s", &p->min_pulse_s},   {"i_transition_A", &p->i_transition_A}};
+    for (const auto& n : nums) {
+        if (const auto x = v.number(n.key)) {
+            if (std::string(n.key) == "f_pwm_Hz") {
+                gt(v, n.key, *x, 0.0);
+            } else {
+                ge(v, n.key, *x, 0.0);
+            }
+            *n.dst = *x;
+        }
+    }
+    if (const auto b = v.boolean("synchronous")) {
+        p->synchronous = *b;
+    }
+}
+
+const std::vector<std::string>& inverter_file_keys()
+{
+    static const std::vector<std::string> k = {"name",         "source",      "description", "f_pwm_Hz",
+                                               "dead_time_s",  "t_on_s",      "t_off_s",     "v_switch_V",
+                                               "r_switch_Ohm", "v_diode_V",   "r_diode_Ohm", "min_pulse_s",
+                                               "i_transition_A", "synchronous"};
+    return k;
+}
+
+// [inverter] (optional): the MCU board's PWM inverter (model/inverter.h)
+// in place of the amplifier model: an inverter file and/or the keys, the
+// table's over the file's; absent: the amplifier (today's plant).
+void read_inverter(const View* v, Scenario* sc)
+{
+    if (v == nullptr) {
+        return;
+    }
+    v->only(table_keys("inverter"));
+    InverterParams p;
+    if (const auto file = v->string("file")) {
+        fs::path ip(*file);
+        if (ip.is_relative()) {
+            ip = fs::path(sc->path).parent_path() / ip;
+        }
+        sc->inverter_file = ip.lexically_normal().string();
+        std::error_code ec;
+        if (!fs::is_regular_file(sc->inverter_file, ec)) {
+            v->fail("file", "cannot open inverter file '" + sc->inverter_file + "'");
+        }
+        const toml::table t = parse_toml(sc->inverter_file);
+        const View f(t, sc->inverter_file, "");
+        f.only(inverter_file_keys());
+        f.string("name");
+        f.string("source");
+        f.string("description");
+        read_inverter_fields(f, &p);
+    }
+    read_inverter_fields(*v, &p);
+    if (const char* why = p.problem()) {
+        // the combinations (each value was checked on its own above)
+        v->fail(p.min_pulse_s * 2.0 * p.f_pwm_Hz >= 1.0 ? "min_pulse_s" : "dead_time_s",
+                std::string(why) + " (1/f_pwm_Hz = " + fmt_num(1.0 / p.f_pwm_Hz) + " s)");
+    }
+    sc->inverter = p;
+    sc->inverter_given = true;
+    sc->inverter_compensation = v->boolean("compensation").value_or(true);
+    if (const auto t = v->number("compensation_dead_time_s")) {
+        ge(*v, "compensation_dead_time_s", *t, 0.0);
+        if (!(2.0 * (*t + p.t_on_s - p.t_off_s) * p.f_pwm_Hz < 1.0)) {
+            v->fail("compensation_dead_time_s", "must be shorter than half the PWM period (1/f_pwm_Hz = " +
+                                                    fmt_num(1.0 / p.f_pwm_Hz) + " s)");
+        }
+        sc->compensation_dead_time_s = *t;
+    }
+}
+
 // The scenario's tables in the order they are read (a table may use what
 // the ones before it set), each by its parser; a required one's absence is
 // an error naming it. The drive's own tables come after them all (its host
@@ -1029,6 +1145,7 @@ const Section kSections[] = {
     {"expect", false, &read_expect},
     {"board", false, &read_board},
     {"encoder", false, &read_encoder},
+    {"inverter", false, &read_inverter},
 };
 
 // [drive]: the scenario's drive, a drive of the host registry

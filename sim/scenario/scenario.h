@@ -14,6 +14,7 @@
 
 #include "model/current_sensor.h"
 #include "model/fault_injection.h"
+#include "model/inverter.h"
 #include "model/board_emulation.h"
 #include "model/encoder.h"
 #include "model/load_profile.h"
@@ -164,6 +165,13 @@ struct Scenario {
     BoardParams board;      // [board]: defaults (DS1104-like) unless given
     EncoderParams encoder;  // [encoder]: none unless given
     bool board_given = false;
+    // [inverter]: the PWM inverter of an MCU board (model/inverter.h)
+    // instead of the amplifier model; absent: the amplifier (today's plant)
+    InverterParams inverter;
+    bool inverter_given = false;
+    std::string inverter_file;         // resolved path of [inverter] file, or ""
+    bool inverter_compensation = true; // [inverter] compensation: the drive's dead-time compensation on
+    double compensation_dead_time_s = -1.0; // [inverter] compensation_dead_time_s: the drive's belief; < 0: the plant's
     std::vector<Segment> segments;  // [[trajectory.segments]]
 
     // [gains] and [bounds]: (field name, value) in file order; names are

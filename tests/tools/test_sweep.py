@@ -215,3 +215,29 @@ def test_dask_local_cluster_gives_the_same_runs(impossible, tmp_path):
                           "--keep", str(tmp_path / "d"), "--dask", cluster.scheduler_address)
     assert dask["per_run"] == local["per_run"] and dask["passed"] == local["passed"]
     assert math.isclose(dask["pass_rate"], local["pass_rate"])
+
+
+def test_dead_time_spread_keeps_the_drives_compensation_nominal(tmp_path):
+    # --dead-time-pct (issue 30): the board's dead time drawn after each
+    # run's noise seed (the other draws as without it), the variant's
+    # [inverter] with the drawn plant value and the nominal for the drive
+    spreads = sweep.parse_spreads(20, None, None)
+    plain = sweep.draw_runs(5, 3, spreads)
+    with_d = sweep.draw_runs(5, 3, spreads, 50.0)
+    for a, b in zip(plain, with_d):
+        assert {k: v for k, v in b["factors"].items() if k != "D"} == a["factors"]
+        assert 0.5 <= b["factors"]["D"] <= 1.5
+    assert [r["seed"] for r in plain] == [r["seed"] for r in with_d]
+    hw = ROOT / "sim" / "scenarios" / "paper000_experiment_hw.toml"
+    out = sweep_json("--scenario", str(hw), "--runs", "2", "--dead-time-pct", "50", "--keep", str(tmp_path),
+                     "--per-run")
+    assert out["errors"] == 0 and out["nominal_dead_time_s"] == pytest.approx(119e-9)
+    run0 = out["per_run"][0]
+    sc = tomllib.loads(Path(run0["scenario"]).read_text()) if run0.get("scenario") else None
+    if sc is not None:
+        assert sc["inverter"]["compensation_dead_time_s"] == pytest.approx(119e-9)
+        assert sc["inverter"]["dead_time_s"] == pytest.approx(119e-9 * run0["factors"]["D"])
+        assert Path(sc["inverter"]["file"]).is_absolute()
+    # a scenario without an inverter is refused
+    r = run("--scenario", str(SCENARIO), "--runs", "2", "--dead-time-pct", "10", "--keep", str(tmp_path))
+    assert r.returncode == 2 and "no [inverter] table" in r.stderr, r.stderr

@@ -133,6 +133,14 @@ static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
 static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
 {
     phase_adapter_voltages((uint8_t)P000_N_PHASES, v_ab, out);
+    if (d->dtc.cfg.enabled) {
+        /* an inverter's expected error added to the command (each winding
+         * an H-bridge). The observer has predicted with v_ab already: what
+         * the bus clamp takes of the compensation is not fed back here (it
+         * needs a command at the supply's limit, where the drive's own
+         * limit flag is set) */
+        (void)deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
+    }
     d->last.i_f_A = i_f;
     d->last.i_g_A = i_g;
     d->last.v_a_V = v_ab.alpha;
@@ -271,7 +279,7 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     fg_tracking_init(&d->ctrl, &cfg->ctrl);
     load_angle_init(&d->la, &cfg->load_angle);
     d->la_from_other = true;
-    const bool traj_ok = trajectory_init(&d->traj, &cfg->traj);
+    const bool traj_ok = trajectory_init(&d->traj, &cfg->traj) && deadtime_comp_init(&d->dtc, &cfg->deadtime);
     rl_id_init(&d->rl_id, &cfg->rl_id);
     k_id_init(&d->k_id, &cfg->k_id);
     fault_monitor_init(&d->mon, &cfg->faults);

@@ -27,6 +27,7 @@
 
 #include "adapter/phase_adapter.h"
 #include "drives/drive.h"
+#include "control/deadtime_comp.h"
 #include "control/fg_tracking.h"
 #include "control/load_angle.h"
 #include "estimators/fg_estimator.h"
@@ -144,6 +145,9 @@ typedef struct {
     k_id_config_t k_id;           /* K measured in closed loop (disabled: off) */
     trajectory_config_t traj;
     paper000_delay_config_t delay;   /* computation delay compensation (d = 0: none) */
+    deadtime_comp_config_t deadtime; /* an MCU board's inverter: dead-time compensation
+                                      * (control/deadtime_comp.h); disabled: none (the
+                                      * rig's linear amplifiers) */
     uint32_t close_dwell_ticks;   /* the back-EMF observable this many samples in a row before the loop closes */
     /* moves by command (paper000_drive_move): the peak speed and acceleration of
      * eq. (70) must stay within what the gains were designed for (the
@@ -199,6 +203,7 @@ typedef struct {
     mc_t theta_est_prev_rad;     /* estimate and reference at the last check, for the jump criterion */
     mc_t theta_ref_prev_rad;
     fg_estimator_t est;
+    deadtime_comp_t dtc;             /* cfg.deadtime */
     fg_tracking_t ctrl;
     load_angle_t la;
     bool la_from_other;          /* the last step drove another law than the load-angle one */

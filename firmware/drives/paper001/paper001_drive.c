@@ -121,6 +121,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     d->ol_theta0_rad = MC_ZERO;
     d->ol_origin_mech_rad = MC_ZERO;
     fg_estimator_init(&d->emf, &cfg->emf);
+    const bool dtc_ok = deadtime_comp_init(&d->dtc, &cfg->deadtime);
     speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
     ida_pbc_init(&d->ctrl);
     const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
@@ -142,7 +143,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     for (uint32_t k = 0; k + 1u < cfg->profile.n_points && k < SPEED_PROFILE_MAX_POINTS; ++k) {
         d->stop_ramp_rad_s2 = mc_max(d->stop_ramp_rad_s2, mc_abs(cfg->profile.slope_rad_s2[k]));
     }
-    if (!p001_config_ok(cfg) || !profile_ok) {
+    if (!p001_config_ok(cfg) || !profile_ok || !dtc_ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
@@ -205,7 +206,7 @@ static void p001_probe(paper001_drive_t *d)
  * probe: the (f-g) frame is the open-loop vector's, turned by the reference
  * each sample as in paper000_drive.c; IDA-PBC (11) in the estimated frame
  * U(n_p (theta_hat - theta_r)) of (44), its voltage back to (f-g). */
-static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, hal_command_t *out)
+static void p001_step_back_emf(paper001_drive_t *d, const hal_sample_t *in, mc_ab_t i_ab, mc_t v_max, hal_command_t *out)
 {
     const paper001_config_t *c = &d->cfg;
     const int32_t n_p = c->model.n_p;
@@ -252,6 +253,14 @@ static void p001_step_back_emf(paper001_drive_t *d, mc_ab_t i_ab, mc_t v_max, ha
     mc_ab_t v_ab;
     mc_rot_inv(fr.mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
     (void)supervisor_limit_output(&d->sup, c->n_phases, v_max, &v_ab, &v_f, &v_g, out);
+    if (d->dtc.cfg.enabled) {
+        /* the inverter's expected error added to the command; what the bus
+         * clamp takes of it is in the voltage the observer integrates */
+        const mc_ab_t lost = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
+        v_ab.alpha = mc_add(v_ab.alpha, lost.alpha);
+        v_ab.beta = mc_add(v_ab.beta, lost.beta);
+        mc_rot_fwd(fr.mid, v_ab.alpha, v_ab.beta, &v_f, &v_g);
+    }
     /* with a computation delay the observer integrates the applied mean,
      * in the frame of the sample's middle (as paper000_drive.c) */
     mc_t v_f_obs = v_f, v_g_obs = v_g;
@@ -297,7 +306,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     (void)i_zero_A; /* star without neutral: the measurement's offset, unused here */
     speed_profile_eval(&d->profile, d->tick, &d->ref);
     if (c->estimator == P001_ESTIMATOR_BACK_EMF && !d->probing) {
-        p001_step_back_emf(d, i_ab, (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V, out);
+        p001_step_back_emf(d, in, i_ab, (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V, out);
         return p001_finish(d, in, out);
     }
 
@@ -362,6 +371,13 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
      * midpoint (three phases), an H-bridge +-v_bus (two) */
     const mc_t v_max = (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V;
     (void)supervisor_limit_output(&d->sup, c->n_phases, v_max, &v_ab, &v_d, &v_q, out);
+    if (d->dtc.cfg.enabled) {
+        /* the inverter's expected error added to the command; what the bus
+         * clamp takes of it is in the voltage the observer integrates */
+        const mc_ab_t lost = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
+        v_ab.alpha = mc_add(v_ab.alpha, lost.alpha);
+        v_ab.beta = mc_add(v_ab.beta, lost.beta);
+    }
     flux_observer_hold(&d->flux, paper001_applied_mean(c, v_ab, d->last.v_ab_V));
     d->last.i_d_A = i_d;
     d->last.i_q_A = i_q;

@@ -55,6 +55,7 @@
 
 #include "adapter/phase_adapter.h"
 #include "drives/drive.h"
+#include "control/deadtime_comp.h"
 #include "control/delay_comp.h"
 #include "control/ida_pbc.h"
 #include "estimators/estimate.h"
@@ -111,6 +112,8 @@ typedef struct {
                                     * integrate (1 - d) v[k] + d v[k-1] over the sample */
     mc_t advance_np;               /* n_p (1/2 + d): the output angle's lead per unit of
                                     * w_hat Ts (the voltage acts on average that late) */
+    deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
+                                    * (control/deadtime_comp.h); disabled: none (no inverter) */
     /* estimator = BACK_EMF only */
     fg_estimator_config_t emf;     /* paper 000's estimator gains (design/paper000_design.h) */
     motor_model_t emf_torque_model;/* the model with K = K_t: the torque of (33)-(37) */
@@ -210,6 +213,7 @@ typedef struct {
     mc_t ol_theta0_rad;            /* reference angle when the open-loop turn starts */
     mc_t ol_origin_mech_rad;       /* ol_origin as a mechanical angle (the (f-g) frame's offset) */
     fg_estimator_t emf;            /* estimator = BACK_EMF */
+    deadtime_comp_t dtc;           /* cfg.deadtime */
     speed_load_observer_t speed;
     ida_pbc_t ctrl;
     speed_profile_t profile;

@@ -33,7 +33,8 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
                     mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
                     mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
                     mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
-                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX);
+                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX) &&
+                    deadtime_comp_init(&d->dtc, &cfg->deadtime);
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
     const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, m->n_p);
     flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
@@ -156,13 +157,22 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     mc_ab_t u_ab;
     mc_rot_inv(mc_rot_from_angle(th_el), u_d, u_q, &u_ab.alpha, &u_ab.beta);
     phase_adapter_voltages(3u, u_ab, out);
+    /* the inverter's expected error added to the command; what the bus
+     * clamp takes of it is in the voltage the estimators use */
+    mc_t u_d_est = u_d, u_q_est = u_q;
+    if (d->dtc.cfg.enabled) {
+        const mc_ab_t clamped = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
+        u_ab.alpha = mc_add(u_ab.alpha, clamped.alpha);
+        u_ab.beta = mc_add(u_ab.beta, clamped.beta);
+        mc_rot_fwd(mc_rot_from_angle(th_el), u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
+    }
     /* 7. the EKF's prediction with the voltage the motor sees over the
      * coming sample (and the flux observer's): this command, or with a
      * delay the mean (1 - d) u + d u_prev, brought into the frame of the
      * sample's middle */
     if (mc_eq(c->compute_delay, MC_ZERO)) {
         flux_observer_hold(&d->flux, u_ab);
-        ekf_ipmsm_predict(&d->ekf, m, u_d, u_q);
+        ekf_ipmsm_predict(&d->ekf, m, u_d_est, u_q_est);
     } else {
         const mc_ab_t u_mean = delay_applied_mean(c->compute_delay, u_ab, d->u_ab_prev_V);
         flux_observer_hold(&d->flux, u_mean);

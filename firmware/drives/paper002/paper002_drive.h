@@ -54,6 +54,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "control/deadtime_comp.h"
 #include "control/htsmc.h"
 #include "control/ibcc.h"
 #include "control/mtpa.h"
@@ -104,6 +105,8 @@ typedef struct {
     int32_t stall_ticks;           /* ... for this many consecutive samples */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
+    deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
+                                    * (control/deadtime_comp.h); disabled: none (no inverter) */
     uint8_t reaction[DRIVE_FAULT_COUNT]; /* fault_reaction_t per fault: SAFE or REPORT (RELOCK acts as SAFE) */
 } paper002_config_t;
 
@@ -114,6 +117,7 @@ typedef struct {
     htsmc_t htsmc;
     ibcc_t ibcc;
     flux_observer_t flux;          /* angle_source = FLUX */
+    deadtime_comp_t dtc;           /* cfg.deadtime */
     angle_unwrap_t unwrap;         /* angle_source = FLUX: the observer's angle, unwrapped */
     mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
     fault_monitor_t mon;

@@ -107,7 +107,8 @@ bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_
     flight_recorder_init(&d->rec);
     const bool ok = sensored_foc_config_problem(cfg) == 0 && foc_current_init(&d->current, &cfg->current, &d->cfg.model) &&
                     pi_ctrl_init(&d->pi_speed, &cfg->pi_speed) &&
-                    encoder_observer_init(&d->obs, &cfg->obs, MC_ZERO) && speed_profile_init(&d->profile, &cfg->profile);
+                    encoder_observer_init(&d->obs, &cfg->obs, MC_ZERO) && speed_profile_init(&d->profile, &cfg->profile) &&
+                    deadtime_comp_init(&d->dtc, &cfg->deadtime);
     if (!ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
@@ -195,6 +196,11 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     mc_ab_t v_ab;
     mc_rot_inv(mc_rot_from_angle(th_out), v_d, v_q, &v_ab.alpha, &v_ab.beta);
     phase_adapter_voltages((uint8_t)SFOC_N_PHASES, v_ab, out);
+    if (d->dtc.cfg.enabled) {
+        /* the inverter's expected error added to the command (no estimator
+         * here uses the voltage: the encoder gives the angle) */
+        (void)deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
+    }
     d->last.i_d_A = i_d;
     d->last.i_q_A = i_q;
     d->last.i_d_ref_A = i_d_ref;

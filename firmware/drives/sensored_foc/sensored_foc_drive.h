@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "adapter/phase_adapter.h"
+#include "control/deadtime_comp.h"
 #include "control/foc_current.h"
 #include "control/pi_ctrl.h"
 #include "drives/drive.h"
@@ -70,6 +71,8 @@ typedef struct {
     mc_t i_max_A;                  /* |i_q*| limit */
     mc_t v_bus_min_V;              /* a bus below it is bad input */
     mc_t compute_delay;            /* d in [0, 1]: the voltage acts d Ts after the sample */
+    deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
+                                    * (control/deadtime_comp.h); disabled: none (no inverter) */
     speed_profile_config_t profile;/* the configured speed reference */
     fault_monitor_config_t faults;
     mc_t speed_cmd_max_rad_s;      /* CmdSpeed: |w| above it refused */
@@ -84,6 +87,7 @@ typedef struct {
     foc_current_t current;
     pi_ctrl_t pi_speed;
     encoder_observer_t obs;
+    deadtime_comp_t dtc;           /* cfg.deadtime */
     speed_profile_t profile;
     fault_monitor_t mon;
     supervisor_t sup;              /* CLOSED_LOOP, or FAULT latched until cleared (supervisor/guard.h) */

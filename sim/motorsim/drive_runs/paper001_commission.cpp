@@ -5,10 +5,12 @@
 
 #include "hal_sw_plant.h"
 #include "host_drives/paper001_host.h"
+#include "scenario/design_input.h"
 #include "scenario/rig.h"
 
 extern "C" {
 #include "adapter/phase_adapter.h"
+#include "control/deadtime_comp.h"
 #include "design/paper001_design.h"
 #include "hal/hal.h"
 #include "math/mc_convert.h"
@@ -21,6 +23,7 @@ namespace {
 struct Ctx {
     pmsm_id_t id;
     uint8_t n_phases;
+    deadtime_comp_t dtc;  // the board's inverter, as the drive's ([inverter]; disabled: none)
 };
 
 void commission_callback(void* vctx, const hal_sample_t* in, hal_command_t* out)
@@ -33,6 +36,12 @@ void commission_callback(void* vctx, const hal_sample_t* in, hal_command_t* out)
     mc_ab_t v_ab;
     (void)pmsm_id_step(&ctx->id, i_ab, in->i_A, in->n_phases, v_max, &v_ab);
     phase_adapter_voltages(ctx->n_phases, v_ab, out);
+    // the identification integrates the voltage it intended: the inverter's
+    // expected error is compensated as in the drive (its standstill R
+    // would otherwise include the dead time's V_dc t f_pwm / i)
+    if (ctx->dtc.cfg.enabled) {
+        (void)deadtime_comp_step(&ctx->dtc, in->i_A, in->v_bus_V, out);
+    }
 }
 
 }  // namespace
@@ -54,10 +63,13 @@ CommissionResult commission_pmsm(const Scenario& sc)
         return r;
     }
     ctx.n_phases = static_cast<uint8_t>(sc.motor.n_phases());
+    const deadtime_comp_config_t dtc = deadtime_comp_config(sc);
+    (void)deadtime_comp_init(&ctx.dtc, &dtc);  // the design's coefficients are >= 0
     Scenario unloaded = sc;  // commissioning runs without the run's load
     unloaded.load.clear();
     Rig rig(unloaded);
     hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
+    hal_sw_plant_set_inverter(rig.inverter_or_null());  // the same board as the run's
     (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);
     if (!hal_start(&commission_callback, &ctx)) {
         hal_sw_plant_detach();
