@@ -1,6 +1,7 @@
 #include "design/paper002_design.h"
 
 #include <math.h>
+#include <string.h>
 #include <stdio.h>
 
 #include "design/paper000_design.h"
@@ -163,6 +164,9 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     return p002_fail(err, err_len, "paper002", "the EKF needs the float build: its angle variance 1e-8 rad^2 is "
                                                "below Q14.17's step of 7.6e-6 (docs/paper002.md)", 0.0);
 #else
+    /* what this design does not set is zero: the dead-time compensation
+     * disabled (no inverter; the host part sets it from [inverter]) */
+    memset(cfg, 0, sizeof *cfg);
     /* the motor in paper 002's names */
     const motor_design_input_t *mo = &in->motor;
     const double Ld = mo->L_H, Lq = mo->L_q_H, R = mo->R_ohm, J = mo->J_kgm2, d = mo->fv_Nms_per_rad;
