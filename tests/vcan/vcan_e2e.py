@@ -299,16 +299,19 @@ def position_checks(metrics, cols, rows, frames, sent_bad):
           f"position: tracking of the commanded move max {metrics.get('theta_track_max_rad'):.4f} rad < 0.02, no fault")
 
 
-def speed_command_checks(name, kind, metrics, cols, rows, frames, sent_bad):
-    """A speed drive commanded to 10 rad/s, then stopped, over CAN: the
+SPEED_MAPPING = {
+    "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
+                 ("LoadEst", "load_est_Nm", 1e-4)],
+    "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
+    "Heartbeat": [("Mode", "mode", 1.0)],
+}
+
+
+def speed_command_checks(name, kind, metrics, cols, rows, frames, sent_bad, mapping=SPEED_MAPPING,
+                         ref_col="omega_ref_rad_s", target=10.0, tol=0.1):
+    """A speed drive commanded to TARGET rad/s, then stopped, over CAN: the
     telemetry equals the CSV, the heartbeat's DriveKind and refusals, the
-    commands carried out, the rotor at 10 rad/s and then at rest."""
-    mapping = {
-        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
-                     ("LoadEst", "load_est_Nm", 1e-4)],
-        "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
-        "Heartbeat": [("Mode", "mode", 1.0)],
-    }
+    commands carried out, the rotor at TARGET (within TOL) and then at rest."""
     compare(frames, cols, rows, mapping, name)
     hb = frames["Heartbeat"]
     check(bool(hb) and all(h["DriveKind"] == kind for h in hb), f"{name}: heartbeats carry DriveKind {kind}")
@@ -316,15 +319,17 @@ def speed_command_checks(name, kind, metrics, cols, rows, frames, sent_bad):
           f"{name}: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
     check(metrics.get("can_commands_accepted") == 2, f"{name}: {metrics.get('can_commands_accepted')} commands "
           "carried out (CmdSpeed, CmdStop)")
-    w_ref = [r[cols["omega_ref_rad_s"]] for r in rows]
+    w_ref = [r[cols[ref_col]] for r in rows]
     w = [r[cols["omega_rad_s"]] for r in rows]
-    k10 = [k for k, x in enumerate(w_ref) if abs(x - 10.0) < 1e-6]
-    check(len(k10) > 3000, f"{name}: the CSV's reference held 10 rad/s for {len(k10) / FS_HZ:.3f} s after CmdSpeed")
-    if k10:
-        k_end = k10[-1]
-        err = max(abs(w[k] - 10.0) for k in range(k_end - 2000, k_end + 1))
-        check(err < 0.1, f"{name}: the rotor ran at 10 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
-    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < 0.1,
+    held = [k for k, x in enumerate(w_ref) if abs(x - target) < 1e-6]
+    check(len(held) > 3000,
+          f"{name}: the CSV's reference held {target:g} rad/s for {len(held) / FS_HZ:.3f} s after CmdSpeed")
+    if held:
+        k_end = held[-1]
+        err = max(abs(w[k] - target) for k in range(k_end - 2000, k_end + 1))
+        check(err < tol, f"{name}: the rotor ran at {target:g} rad/s (max error {err:.4f} rad/s over the last 0.2 s "
+              "of it)")
+    check(abs(w_ref[-1]) < 1e-6 and abs(w[-1]) < tol,
           f"{name}: after CmdStop the reference is {w_ref[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
     check(metrics.get("fault") == 0, f"{name}: no fault")
 
@@ -374,24 +379,8 @@ def paper002_checks(metrics, cols, rows, frames, sent_bad):
         "Voltages": [("V1", "u_d_V", 2e-3), ("V2", "u_q_V", 2e-3)],
         "Heartbeat": [("Mode", "mode", 1.0)],
     }
-    compare(frames, cols, rows, mapping, "paper002")
-    hb = frames["Heartbeat"]
-    check(bool(hb) and all(h["DriveKind"] == 2 for h in hb), "paper002: heartbeats carry DriveKind 2")
-    check(bool(hb) and hb[-1]["RejectedCommands"] == len(sent_bad),
-          f"paper002: heartbeat RejectedCommands {hb[-1]['RejectedCommands'] if hb else None} = {len(sent_bad)}")
-    check(metrics.get("can_commands_accepted") == 2, f"paper002: {metrics.get('can_commands_accepted')} commands "
-          "carried out (CmdSpeed, CmdStop)")
-    w_d = [r[cols["omega_d_rad_s"]] for r in rows]
-    w = [r[cols["omega_rad_s"]] for r in rows]
-    k50 = [k for k, x in enumerate(w_d) if abs(x - 50.0) < 1e-6]
-    check(len(k50) > 3000, f"paper002: the CSV's reference held 50 rad/s for {len(k50) / FS_HZ:.3f} s after CmdSpeed")
-    if k50:
-        k_end = k50[-1]
-        err = max(abs(w[k] - 50.0) for k in range(k_end - 2000, k_end + 1))
-        check(err < 0.5, f"paper002: the rotor ran at 50 rad/s (max error {err:.4f} rad/s over the last 0.2 s of it)")
-    check(abs(w_d[-1]) < 1e-6 and abs(w[-1]) < 0.5,
-          f"paper002: after CmdStop the reference is {w_d[-1]:.4f} and the rotor {w[-1]:.4f} rad/s (0 expected)")
-    check(metrics.get("fault") == 0, "paper002: no fault")
+    speed_command_checks("paper002", 2, metrics, cols, rows, frames, sent_bad, mapping=mapping,
+                         ref_col="omega_d_rad_s", target=50.0, tol=0.5)
 
 
 def sensored_commander(d, sent_bad):
