@@ -54,23 +54,31 @@ static inline bool phase_adapter_accepts(const hal_sample_t *in, uint8_t n_phase
     return in->n_phases == n_phases;
 }
 
+/* Clarke of per-phase quantities x[0..n_phases-1] (currents [A], voltages
+ * [V]) into alpha-beta; *zero gets the zero sequence (0 for two phases,
+ * whose x are alpha and beta already). n_phases must be 2 or 3. */
+static inline mc_ab_t phase_adapter_clarke(uint8_t n_phases, const mc_t *x, mc_t *zero)
+{
+    mc_ab_t v;
+    if (n_phases == 3) {
+        const mc_t z = mc_div_i(mc_add(mc_add(x[0], x[1]), x[2]), 3);
+        v.alpha = mc_sub(x[0], z);
+        v.beta = mc_mul(mc_sub(x[1], x[2]), PHASE_ADAPTER_INV_SQRT3);
+        *zero = z;
+    } else {
+        v.alpha = x[0];
+        v.beta = x[1];
+        *zero = MC_ZERO;
+    }
+    return v;
+}
+
 /* The sample's phase currents as alpha-beta [A]; *i_zero_A gets the
  * zero-sequence current (0 for two phases). n_phases must be 2 or 3
  * (phase_adapter_accepts). */
 static inline mc_ab_t phase_adapter_currents(const hal_sample_t *in, mc_t *i_zero_A)
 {
-    mc_ab_t i;
-    if (in->n_phases == 3) {
-        const mc_t z = mc_div_i(mc_add(mc_add(in->i_A[0], in->i_A[1]), in->i_A[2]), 3);
-        i.alpha = mc_sub(in->i_A[0], z);
-        i.beta = mc_mul(mc_sub(in->i_A[1], in->i_A[2]), PHASE_ADAPTER_INV_SQRT3);
-        *i_zero_A = z;
-    } else {
-        i.alpha = in->i_A[0];
-        i.beta = in->i_A[1];
-        *i_zero_A = MC_ZERO;
-    }
-    return i;
+    return phase_adapter_clarke(in->n_phases, in->i_A, i_zero_A);
 }
 
 /* Inverse Clarke: the three leg voltages of v, before any zero sequence. */

@@ -40,9 +40,9 @@ mc_t deadtime_comp_leg_error_V(const deadtime_comp_t *d, mc_t i_A, mc_t v_bus_V)
 
 mc_ab_t deadtime_comp_step(const deadtime_comp_t *d, const mc_t *i_A, mc_t v_bus_V, hal_command_t *out)
 {
-    mc_ab_t lost = {MC_ZERO, MC_ZERO};
     if (!d->cfg.enabled) {
-        return lost;
+        const mc_ab_t none = {MC_ZERO, MC_ZERO};
+        return none;
     }
     const int n = (out->n_phases == 3u) ? 3 : 2;
     /* a leg swings +-V_dc/2 about the midpoint; a winding between two legs
@@ -56,15 +56,8 @@ mc_ab_t deadtime_comp_step(const deadtime_comp_t *d, const mc_t *i_A, mc_t v_bus
         r[k] = mc_sub(got, want);
         out->v_V[k] = got;
     }
-    if (n == 3) {
-        /* Clarke of what the clamp removed (its common mode does not reach
-         * the star-connected motor) */
-        const mc_t z = mc_div_i(mc_add(mc_add(r[0], r[1]), r[2]), 3);
-        lost.alpha = mc_sub(r[0], z);
-        lost.beta = mc_mul(mc_sub(r[1], r[2]), PHASE_ADAPTER_INV_SQRT3);
-    } else {
-        lost.alpha = r[0];
-        lost.beta = r[1];
-    }
-    return lost;
+    /* what the clamp removed, in alpha-beta (its common mode does not reach
+     * the star-connected motor) */
+    mc_t common_V;
+    return phase_adapter_clarke((uint8_t)n, r, &common_V);
 }

@@ -164,7 +164,7 @@ MUTANTS = [
       ("if (s->fault == DRIVE_FAULT_NONE) {", "if (s->fault == DRIVE_FAULT_NONE || f != DRIVE_FAULT_NONE) {")),
     # ---- phase adapter and model
     m("adapter_clarke_beta_sign", "adapter/phase_adapter.h", "3-phase Clarke: beta with the wrong sign",
-      ("mc_sub(in->i_A[1], in->i_A[2]), PHASE_ADAPTER_INV_SQRT3", "mc_sub(in->i_A[2], in->i_A[1]), PHASE_ADAPTER_INV_SQRT3")),
+      ("mc_sub(x[1], x[2]), PHASE_ADAPTER_INV_SQRT3", "mc_sub(x[2], x[1]), PHASE_ADAPTER_INV_SQRT3")),
     m("adapter_no_zero_sequence_a", "adapter/phase_adapter.h", "3-phase output: leg a without the min/max shift",
       ("out->v_V[0] = mc_add(a, shift);", "out->v_V[0] = a;")),
     m("model_set_rl_keeps_npL", "model/motor_model.c", "measured L not carried into n_p L",

@@ -154,8 +154,9 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     const mc_t half_ts = mc_div_i(m->ts_s, 2);
     const mc_t lead = mc_mac(half_ts, c->compute_delay, m->ts_s);
     const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], lead, x[EKF_OMEGA]), m->n_p);
+    const mc_rot_t rot_out = mc_rot_from_angle(th_el); /* also the compensation's way back */
     mc_ab_t u_ab;
-    mc_rot_inv(mc_rot_from_angle(th_el), u_d, u_q, &u_ab.alpha, &u_ab.beta);
+    mc_rot_inv(rot_out, u_d, u_q, &u_ab.alpha, &u_ab.beta);
     phase_adapter_voltages(3u, u_ab, out);
     /* the inverter's expected error added to the command; what the bus
      * clamp takes of it is in the voltage the estimators use */
@@ -164,7 +165,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
         const mc_ab_t clamped = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
         u_ab.alpha = mc_add(u_ab.alpha, clamped.alpha);
         u_ab.beta = mc_add(u_ab.beta, clamped.beta);
-        mc_rot_fwd(mc_rot_from_angle(th_el), u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
+        mc_rot_fwd(rot_out, u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
     }
     /* 7. the EKF's prediction with the voltage the motor sees over the
      * coming sample (and the flux observer's): this command, or with a
