@@ -137,25 +137,41 @@ seen.sort(key=lambda f: (not f.endswith(".cpp"), -os.path.getsize(f)))
 print("\n".join(seen))
 EOF
 }
-# One clang-tidy per unit, JOBS at a time; each unit's output printed whole.
-run_tidy() {  # NAME DIR PREFIX...
-    local name="$1" dir="$2" list rc=0
+# One clang-tidy per unit, JOBS at a time, over lines "DIR FILE"; each
+# unit's output printed whole. One list for all passes, sorted again as a
+# whole, so the long units of one pass do not leave a core idle at the end of
+# another.
+tidy_list=""
+tidy_names=()
+add_tidy() {  # NAME DIR PREFIX...
+    local name="$1" dir="$2" list
     shift 2
     list="$(units "$dir" "$@")"
     echo "---- clang-tidy: $name ($(wc -l <<<"$list") units)"
+    tidy_list+="$(sed "s|^|$dir |" <<<"$list")"$'\n'
+    tidy_names+=("$name")
+}
+run_tidy() {
+    local rc=0
     # shellcheck disable=SC2016
-    xargs -P "$jobs" -I{} sh -c 'out=$(clang-tidy -p "$1" --quiet "$2" 2>&1); rc=$?;
+    grep -v '^$' <<<"$tidy_list" | python3 -c '
+import os, sys
+rows = [l.split(" ", 1) for l in sys.stdin.read().splitlines()]
+rows.sort(key=lambda r: (not r[1].endswith(".cpp"), -os.path.getsize(r[1])))
+print("\n".join(" ".join(r) for r in rows))' |
+        xargs -P "$jobs" -L1 sh -c 'out=$(clang-tidy -p "$1" --quiet "$2" 2>&1); rc=$?;
         out=$(printf "%s\n" "$out" | grep -Ev "^[0-9]+ warnings? (and [0-9]+ errors? )?generated\.$");
         if [ $rc -ne 0 ] || [ -n "$out" ]; then printf "%s\n" "$out"; fi
-        [ $rc -eq 0 ] || echo "clang-tidy: FAILED: $2"; exit $rc' sh "$dir" {} <<<"$list" || rc=$?
-    [ "$rc" -eq 0 ] || failed+=("clang-tidy: $name")
+        [ $rc -eq 0 ] || echo "clang-tidy: FAILED: $2"; exit $rc' sh || rc=$?
+    [ "$rc" -eq 0 ] || failed+=("clang-tidy: one of ${tidy_names[*]}")
 }
 if want clang-tidy; then
     tt=$SECONDS
     n_checks=$(clang-tidy -p "$build/float" --list-checks firmware/model/motor_model.c 2>/dev/null | grep -c '^    ' || true)
     echo "==== static: clang-tidy $(clang-tidy --version | sed -n 's/.*LLVM version //p' | head -1), $n_checks checks (.clang-tidy)"
-    run_tidy "firmware/, sim/ (float)" "$build/float" firmware/ sim/
-    run_tidy "firmware/ (fixed point)" "$build/fixed" firmware/
+    add_tidy "firmware/, sim/ (float)" "$build/float" firmware/ sim/
+    add_tidy "firmware/ (fixed point)" "$build/fixed" firmware/
+    run_tidy
     echo "---- clang-tidy: $((SECONDS - tt)) s"
 fi
 

@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# scripts/fuzz.sh - fuzzes the scenario and motor-file parser and, beside
-# it on a second core, the CAN command parser (tests/fuzz/fuzz_can_parse.cpp,
-# a third of the time, seed corpus tests/fuzz/can_corpus), each for a bounded
+# scripts/fuzz.sh - fuzzes the scenario and motor-file parser and the CAN
+# command parser (tests/fuzz/fuzz_can_parse.cpp, a third of the scenario
+# parser's time, seed corpus tests/fuzz/can_corpus), each for a bounded
 # time: builds tests/fuzz/fuzz_scenario.cpp with Clang, libFuzzer,
 # AddressSanitizer and UndefinedBehaviorSanitizer (CMake option MC_FUZZ) and
-# runs it from the seed corpus tests/fuzz/corpus. Fails on a crash, a
-# sanitizer report, a leak, an input that takes over 10 s, an exception
-# other than ScenarioError or an error message of more than one line.
-# Called by .ci/run after test_all.sh; docs/testing.md, "Static analysis
-# and fuzzing".
+# runs it from the seed corpus tests/fuzz/corpus. With two cores the
+# scenario parser's time is split: one process on one core for two thirds
+# of it, and on the other core the CAN parser, then a second scenario
+# process for the last third that starts from the first one's corpus so far.
+# Fails on a crash, a sanitizer report, a leak, an input that takes over
+# 10 s, an exception other than ScenarioError or an error message of more
+# than one line. Called by .ci/run after test_all.sh; docs/testing.md,
+# "Static analysis and fuzzing".
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -20,12 +23,14 @@ usage: scripts/fuzz.sh [--time SECONDS] [--build-dir DIR] [-- LIBFUZZER_OPTION..
 
 Builds the fuzzers (DIR, default build/fuzz) and runs the scenario parser's
 for SECONDS (default 60, or $MC_FUZZ_SECONDS) from the seed corpus
-tests/fuzz/corpus, and the CAN command parser's (beside it with two cores) for a third of that from
-tests/fuzz/can_corpus; the inputs they add go to DIR/run-TARGET/corpus, a
-crashing one to DIR/run-TARGET/crash-*. Exit status 1 if either found
-anything, 2 on a usage or build error.
+tests/fuzz/corpus (with two cores: two processes, 2/3 and 1/3 of it), and
+the CAN command parser's for a third of that from tests/fuzz/can_corpus;
+the inputs they add go to DIR/run-NAME/corpus, a crashing one to
+DIR/run-NAME/crash-*. Exit status 1 if any found anything, 2 on a usage or
+build error.
 
-Reproduce a crash:  DIR/tests/fuzz/TARGET DIR/run-TARGET/crash-...
+Reproduce a crash:  DIR/tests/fuzz/TARGET DIR/run-NAME/crash-... (NAME: scenario,
+                    scenario2 or can; TARGET: fuzz_scenario or fuzz_can_parse)
   --time SECONDS   fuzzing time (libFuzzer -max_total_time)
   --build-dir DIR  build directory of the MC_FUZZ configure
   -h, --help       this text
@@ -67,10 +72,13 @@ echo "---- fuzz: built in $((SECONDS - t0)) s"
 # Each run starts from the seed corpus alone, so a failure reproduces from
 # its crash file; the harness's files (the input, the motor files) live in
 # run/work.
-# run_fuzzer TARGET SEED_CORPUS SECONDS MAX_LEN LABEL
+# run_fuzzer NAME TARGET SEED_CORPUS SECONDS MAX_LEN LABEL [MORE_CORPUS...]
+# (MORE_CORPUS: read at the start too, e.g. another process's corpus)
 run_fuzzer() {
-    local target="$1" seeds="$2" secs="$3" max_len="$4" label="$5"
-    local run="$build/run-$target"
+    local name="$1" target="$2" seeds="$3" secs="$4" max_len="$5" label="$6"
+    shift 6
+    local more=("$@")
+    local run="$build/run-$name"
     rm -rf "$run"
     mkdir -p "$run/corpus" "$run/work"
     local n_seeds tf rc=0
@@ -81,7 +89,7 @@ run_fuzzer() {
         ASAN_OPTIONS="detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
         UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}" \
         "$build/tests/fuzz/$target" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len="$max_len" \
-        -print_final_stats=1 -artifact_prefix="$run/" "${extra[@]}" "$run/corpus" "$seeds" \
+        -print_final_stats=1 -artifact_prefix="$run/" "${extra[@]}" "$run/corpus" "$seeds" "${more[@]}" \
         >"$run/fuzz.log" 2>&1 || rc=$?
     # libFuzzer's last status line: "#213389 DONE cov: 2076 ft: 5691 corp: 343/148Kb ..."
     local status execs rate seed cov corp
@@ -107,22 +115,28 @@ run_fuzzer() {
 }
 
 failed=0
-scenario_args=(fuzz_scenario tests/fuzz/corpus "$seconds" 8192 "scenario + motor-file parser")
-# the CAN command parser: small inputs, fast; a third of the scenario time
-can_args=(fuzz_can_parse tests/fuzz/can_corpus "$(( (seconds + 2) / 3 ))" 240 "CAN command parser")
-if [ "$(nproc 2>/dev/null || echo 1)" -ge 2 ]; then
-    # libFuzzer runs one process: with two cores the two fuzzers run side
-    # by side, each on its own core, and their reports are printed in order
-    # when both are done.
-    run_fuzzer "${scenario_args[@]}" >"$build/report-scenario.txt" 2>&1 &
+can_secs=$(( (seconds + 2) / 3 ))
+can_args=(can fuzz_can_parse tests/fuzz/can_corpus "$can_secs" 240 "CAN command parser")
+if [ "$(nproc 2>/dev/null || echo 1)" -ge 2 ] && [ "$seconds" -ge 3 ]; then
+    # libFuzzer runs one process: with two cores, core 1 runs the scenario
+    # parser for 2/3 of its time; core 2 the CAN parser (1/3), then the
+    # scenario parser again for the last 1/3, from the seeds and what the
+    # first process has found by then. Reports printed in order at the end.
+    s1=$(( seconds - seconds / 3 ))
+    s2=$(( seconds / 3 ))
+    run_fuzzer scenario fuzz_scenario tests/fuzz/corpus "$s1" 8192 "scenario + motor-file parser (1 of 2)" \
+        >"$build/report-scenario.txt" 2>&1 &
     pid_scenario=$!
-    run_fuzzer "${can_args[@]}" >"$build/report-can.txt" 2>&1 &
+    { run_fuzzer "${can_args[@]}" && rc_can=0 || rc_can=$?
+      run_fuzzer scenario2 fuzz_scenario tests/fuzz/corpus "$s2" 8192 "scenario + motor-file parser (2 of 2, from the seeds and the corpus of 1)" \
+          "$build/run-scenario/corpus" || rc_can=1
+      exit "$rc_can"; } >"$build/report-can.txt" 2>&1 &
     pid_can=$!
     wait "$pid_scenario" || failed=1
     wait "$pid_can" || failed=1
     cat "$build/report-scenario.txt" "$build/report-can.txt"
 else
-    run_fuzzer "${scenario_args[@]}" || failed=1
+    run_fuzzer scenario fuzz_scenario tests/fuzz/corpus "$seconds" 8192 "scenario + motor-file parser" || failed=1
     run_fuzzer "${can_args[@]}" || failed=1
 fi
 if [ "$failed" -ne 0 ]; then

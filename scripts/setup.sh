@@ -155,7 +155,10 @@ else
         fi
         echo "setup: venv: installing tools/requirements.txt"
         rm -f "$STAMP"
-        PIP_NO_INPUT=1 "$VENV/bin/python" -m pip install --disable-pip-version-check -q -r "$REQ" ||
+        # --no-compile: Python writes the bytecode of the modules it imports
+        # when it first imports them, instead of pip compiling every module
+        # of every package here (half of pip's CPU time: 27 s -> 14 s)
+        PIP_NO_INPUT=1 "$VENV/bin/python" -m pip install --disable-pip-version-check --no-compile -q -r "$REQ" ||
             die "pip install -r tools/requirements.txt failed"
         echo "$want" >"$STAMP"
     fi

@@ -21,7 +21,7 @@ uint32_t BoardEmulation::adc(double v)
 bool BoardEmulation::calibrate(std::string* why)
 {
     const int n_ph = std::min(p_.chain.n_phases, BOARD_MAX_PHASES);
-    double sum[BOARD_MAX_PHASES] = {0.0, 0.0, 0.0};
+    double sum[BOARD_MAX_PHASES] = {};
     for (int s = 0; s < p_.calibration_samples; ++s) {
         for (int k = 0; k < n_ph; ++k) {
             // no current: the sensor's offset, the noise, the converter
