@@ -7,7 +7,9 @@
 #                32-bit, as the Cortex-M4F float and Cortex-M3 fixed images)
 #   clang-tidy   the checks of .clang-tidy, through the compile_commands.json
 #                of a host configure: firmware/ in float and in fixed point,
-#                sim/ (with the software plant backend) in float
+#                sim/ (with the software plant backend) in float. The Clang
+#                static analyzer (clang-analyzer-*) runs on firmware/ always
+#                and on sim/ only with --full (docs/testing.md: why)
 #
 # Check sets and why: .clang-tidy and docs/testing.md ("Static analysis and
 # fuzzing"). Suppressions are inline only, each with its reason:
@@ -19,7 +21,7 @@ cd "$ROOT"
 
 usage() {
     cat <<'EOF'
-usage: scripts/check_static.sh [--build-dir DIR] [--jobs N] [cppcheck] [clang-tidy]
+usage: scripts/check_static.sh [--build-dir DIR] [--jobs N] [--full] [cppcheck] [clang-tidy]
 
 Runs cppcheck and clang-tidy (default: both) over firmware/, sim/ and hal/;
 exits 1 on any finding, 2 on a usage or set-up error.
@@ -27,6 +29,8 @@ exits 1 on any finding, 2 on a usage or set-up error.
   --build-dir DIR  where the host configures for compile_commands.json go
                    (DIR/float, DIR/fixed; default build/static)
   --jobs N         parallel clang-tidy and cppcheck processes (default: nproc)
+  --full           the Clang static analyzer on sim/ too (CI: on firmware/
+                   only; on sim/ it doubles clang-tidy's time)
   -h, --help       this text
 EOF
 }
@@ -34,10 +38,12 @@ EOF
 build="$ROOT/build/static"
 jobs="$(nproc 2>/dev/null || echo 2)"
 tools=()
+full=0
 while [ $# -gt 0 ]; do
     case "$1" in
         --build-dir) build="$(realpath -m "${2:?--build-dir needs a directory}")"; shift ;;
         --jobs) jobs="${2:?--jobs needs a number}"; shift ;;
+        --full) full=1 ;;
         cppcheck | clang-tidy) tools+=("$1") ;;
         -h | --help) usage; exit 0 ;;
         -*) echo "check_static.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
@@ -137,18 +143,19 @@ seen.sort(key=lambda f: (not f.endswith(".cpp"), -os.path.getsize(f)))
 print("\n".join(seen))
 EOF
 }
-# One clang-tidy per unit, JOBS at a time, over lines "DIR FILE"; each
-# unit's output printed whole. One list for all passes, sorted again as a
+# One clang-tidy per unit, JOBS at a time, over lines "DIR CHECKS FILE"
+# (CHECKS: all, or noanalyzer: .clang-tidy's checks but clang-analyzer-*);
+# each unit's output printed whole. One list for all passes, sorted again as a
 # whole, so the long units of one pass do not leave a core idle at the end of
 # another.
 tidy_list=""
 tidy_names=()
-add_tidy() {  # NAME DIR PREFIX...
-    local name="$1" dir="$2" list
-    shift 2
+add_tidy() {  # NAME DIR CHECKS PREFIX...
+    local name="$1" dir="$2" checks="$3" list
+    shift 3
     list="$(units "$dir" "$@")"
-    echo "---- clang-tidy: $name ($(wc -l <<<"$list") units)"
-    tidy_list+="$(sed "s|^|$dir |" <<<"$list")"$'\n'
+    echo "---- clang-tidy: $name ($(wc -l <<<"$list") units$([ "$checks" = all ] || echo ", without clang-analyzer-*"))"
+    tidy_list+="$(sed "s|^|$dir $checks |" <<<"$list")"$'\n'
     tidy_names+=("$name")
 }
 run_tidy() {
@@ -156,21 +163,25 @@ run_tidy() {
     # shellcheck disable=SC2016
     grep -v '^$' <<<"$tidy_list" | python3 -c '
 import os, sys
-rows = [l.split(" ", 1) for l in sys.stdin.read().splitlines()]
-rows.sort(key=lambda r: (not r[1].endswith(".cpp"), -os.path.getsize(r[1])))
+rows = [l.split(" ", 2) for l in sys.stdin.read().splitlines()]
+rows.sort(key=lambda r: (not r[2].endswith(".cpp"), -os.path.getsize(r[2])))
 print("\n".join(" ".join(r) for r in rows))' |
-        xargs -P "$jobs" -L1 sh -c 'out=$(clang-tidy -p "$1" --quiet "$2" 2>&1); rc=$?;
+        xargs -P "$jobs" -L1 sh -c 'set -f; c=""; [ "$2" = all ] || c="--checks=-clang-analyzer-*";
+        out=$(clang-tidy -p "$1" --quiet $c "$3" 2>&1); rc=$?;
         out=$(printf "%s\n" "$out" | grep -Ev "^[0-9]+ warnings? (and [0-9]+ errors? )?generated\.$");
         if [ $rc -ne 0 ] || [ -n "$out" ]; then printf "%s\n" "$out"; fi
-        [ $rc -eq 0 ] || echo "clang-tidy: FAILED: $2"; exit $rc' sh || rc=$?
+        [ $rc -eq 0 ] || echo "clang-tidy: FAILED: $3"; exit $rc' sh || rc=$?
     [ "$rc" -eq 0 ] || failed+=("clang-tidy: one of ${tidy_names[*]}")
 }
 if want clang-tidy; then
     tt=$SECONDS
     n_checks=$(clang-tidy -p "$build/float" --list-checks firmware/model/motor_model.c 2>/dev/null | grep -c '^    ' || true)
     echo "==== static: clang-tidy $(clang-tidy --version | sed -n 's/.*LLVM version //p' | head -1), $n_checks checks (.clang-tidy)"
-    add_tidy "firmware/, sim/ (float)" "$build/float" firmware/ sim/
-    add_tidy "firmware/ (fixed point)" "$build/fixed" firmware/
+    sim_checks=noanalyzer
+    [ "$full" = 0 ] || sim_checks=all
+    add_tidy "firmware/ (float)" "$build/float" all firmware/
+    add_tidy "sim/ (float)" "$build/float" "$sim_checks" sim/
+    add_tidy "firmware/ (fixed point)" "$build/fixed" all firmware/
     run_tidy
     echo "---- clang-tidy: $((SECONDS - tt)) s"
 fi
