@@ -182,8 +182,7 @@ bool drv8301_configure(drv8301_bus_t *b, const drv8301_chip_t *c, uint16_t ctrl1
 bool drv8301_fault_report(drv8301_bus_t *b, const drv8301_chip_t *chips, uint32_t n, const char *what)
 {
     uint16_t s1[2] = {0u, 0u}, s2[2] = {0u, 0u};
-    n = n > 2u ? 2u : n;
-    for (uint32_t k = 0u; k < n; ++k) {
+    for (uint32_t k = 0u; k < n && k < 2u; ++k) {
         if (!drv8301_read(b, &chips[k], DRV8301_REG_STATUS1, &s1[k]) ||
             !drv8301_read(b, &chips[k], DRV8301_REG_STATUS2, &s2[k])) {
             return false;
@@ -192,7 +191,7 @@ bool drv8301_fault_report(drv8301_bus_t *b, const drv8301_chip_t *chips, uint32_
     err_clear(b);
     b->status = STM32_FAULT_GATE_DRIVER_NFAULT;
     err_put(b, what);
-    for (uint32_t k = 0u; k < n; ++k) {
+    for (uint32_t k = 0u; k < n && k < 2u; ++k) {
         err_put(b, "; ");
         err_put(b, chips[k].name != 0 ? chips[k].name : "?");
         err_put(b, " status 1 ");

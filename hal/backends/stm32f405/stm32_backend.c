@@ -158,32 +158,32 @@ static bool gate_fault_asserted(void)
  * one read back. Then nFAULT: low refuses the start. */
 static stm32_status_t gate_drivers_init(uint32_t apb1_hz, uint32_t core_hz)
 {
-    const uint32_t n = board.gate_drivers > 2u ? 2u : board.gate_drivers;
     drv8301_chip_t chips[2];
+    uint32_t n = 0u; /* the chips configured: board.gate_drivers, at most 2 */
     g.drv.error[0] = '\0';
     if (board.gate_fault_enable) {
         RCC->AHB1ENR |= RCC_AHB1ENR_GPIO(board.gate_fault.port);
         gpio_config(GPIO(board.gate_fault.port), board.gate_fault.pin, GPIO_INPUT, 0, GPIO_PULL_UP);
     }
-    if (n > 0u) {
+    if (board.gate_drivers > 0u) {
         uint32_t br = 0u;
         if (!drv8301_spi_divider(apb1_hz, board.spi_max_hz, &br)) return STM32_FAULT_GATE_DRIVER_CONFIG;
         RCC->APB1ENR |= RCC_APB1ENR_SPI3EN;
         for (uint32_t k = 0; k < 3u; ++k) pin_af(board.spi_pins[k], GPIO_NO_PULL);
         /* nCS high at least 1 us between words (a poll takes a cycle or more) */
         drv8301_bus_init(&g.drv, SPI3, br, STM32_TIMEOUT_POLLS, core_hz / 1000000u);
-        for (uint32_t k = 0; k < n; ++k) {
-            const gpio_pin_t cs = board.gate_driver_cs[k];
+        for (; n < board.gate_drivers && n < 2u; ++n) {
+            const gpio_pin_t cs = board.gate_driver_cs[n];
             RCC->AHB1ENR |= RCC_AHB1ENR_GPIO(cs.port);
-            chips[k] = (drv8301_chip_t){GPIO(cs.port), cs.pin, board.gate_driver_name[k]};
-            drv8301_chip_init(&chips[k]);
+            chips[n] = (drv8301_chip_t){GPIO(cs.port), cs.pin, board.gate_driver_name[n]};
+            drv8301_chip_init(&chips[n]);
         }
     }
     if (board.has_gate_enable) {
         gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, true);
         spin((uint32_t)((uint64_t)core_hz * board.gate_driver_settle_us / 1000000u));
     }
-    for (uint32_t k = 0; k < n; ++k) {
+    for (uint32_t k = 0; k < board.gate_drivers && k < 2u; ++k) {
         uint16_t ctrl2 = 0u;
         if (!drv8301_configure(&g.drv, &chips[k], board.gate_driver_ctrl1, board.gate_driver_ctrl2, &ctrl2)) {
             return g.drv.status;
@@ -193,7 +193,7 @@ static stm32_status_t gate_drivers_init(uint32_t apb1_hz, uint32_t core_hz)
         g.amp_gain = (float)DRV8301_GAIN_VV(DRV8301_CTRL2_GAIN_OF(ctrl2));
     }
     if (board.gate_fault_enable && gate_fault_asserted()) {
-        if (n == 0u || !drv8301_fault_report(&g.drv, chips, n, "gate driver: nFAULT low at start")) {
+        if (board.gate_drivers == 0u || !drv8301_fault_report(&g.drv, chips, n, "gate driver: nFAULT low at start")) {
             g.drv.error[0] = '\0';
         }
         return STM32_FAULT_GATE_DRIVER_NFAULT;
