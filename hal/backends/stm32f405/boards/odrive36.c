@@ -45,9 +45,11 @@
  *   - control register 1: over-current latch mode (OCP_MODE = 01: an
  *     over-current turns the FETs off and pulls nFAULT low, which stops
  *     the drive), V_DS threshold OC_ADJ_SET = 0, the lowest, 0.060 V
- *     (SLOS719's OC_ADJ_SET table; the vendor sets 0.730 V, "approximately
- *     150A at 100degC", drv8301.cpp, for motors of tens of amperes: scaled,
- *     0.060 V is about 12 A, above the stepper's 4.5 A trip); gate current
+ *     (SLOS719's OC_ADJ_SET table): 24 A through the 2.5 mOhm
+ *     docs/plant.md assumes for the 24 V board's NTMFS4935N, about 12 A
+ *     scaled from the vendor's note that its 0.730 V is "approximately
+ *     150A at 100degC" (drv8301.cpp, for motors of tens of amperes): above
+ *     the stepper's 4.5 A trip, below the 41.25 A full scale; gate current
  *     1.7 A, six PWM inputs (GATE_CURRENT = 00, PWM_MODE = 0);
  *   - bus voltage on PA6 (VBUS_S, ADC12_IN6) through the divider
  *     VBUS_S_DIVIDER_RATIO 11 of the 24 V board (19 for the 48 V one:
