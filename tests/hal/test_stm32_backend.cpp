@@ -47,7 +47,7 @@ struct FakeChip : Regs {
     {
         std::memset(static_cast<void*>(static_cast<Regs*>(this)), 0, sizeof(Regs));
         hw = {&rcc, &flash, &tim1, &tim2, &tim3, &adc_common, {&adc[0], &adc[1], &adc[2]}, &can1, &iwdg,
-              {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}, nullptr, nullptr, nullptr, nullptr};
+              {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}, nullptr, nullptr, nullptr, nullptr, nullptr};
         for (auto& a : adc) {
             a.JDR[0] = zero_code;
             a.JDR[1] = 2000;  // the bus on ADC1

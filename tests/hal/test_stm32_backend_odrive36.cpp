@@ -8,13 +8,20 @@
 // off, the ADC sequences (winding a and the bus on ADC1, winding b on
 // ADC2, one trigger), the duties of a command, the samples' currents with
 // the board's scale, and the timers' synchronisation that fails: the fault
-// state with both bridges off.
+// state with both bridges off. The two DRV8301 on SPI3 (a fake that
+// answers one frame late, fake_drv8301.h): their gain written and read
+// back, the samples scaled with it, a read-back that differs and each SPI
+// flag's timeout refusing the start, nFAULT (PD2) low at start refused and
+// low while running the trip with both bridges off.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstring>
 #include <string>
 #include <thread>
+#include <vector>
+
+#include "fake_drv8301.h"
 
 extern "C" {
 #include "boards/board.h"
@@ -36,6 +43,7 @@ struct Regs {
     gpio_regs_t gpio[5];
     exti_regs_t exti;
     syscfg_regs_t syscfg;
+    spi_regs_t spi3;
 };
 
 struct FakeChip : Regs {
@@ -43,13 +51,18 @@ struct FakeChip : Regs {
     std::atomic<bool> stop{false};
     std::atomic<bool> tim8_trigger{true};  // false: TIM8 never sees TIM1's trigger
     std::atomic<bool> tim5_clock{true};    // false: TIM5 never answers its update
+    // the two DRV8301 on SPI3, nCS PC13 (M0) and PC14 (M1)
+    FakeDrv8301 drv{&spi3, &gpio[2], 13u, 14u};
     std::thread hardware;
 
-    explicit FakeChip(uint32_t zero_code)
+    explicit FakeChip(uint32_t zero_code, FakeDrv8301::Mode spi_mode = FakeDrv8301::Mode::kOk)
     {
         std::memset(static_cast<void*>(static_cast<Regs*>(this)), 0, sizeof(Regs));
+        drv.reset();
+        drv.mode = spi_mode;
+        gpio[3].IDR = 1u << 2;  // nFAULT (PD2) high: no fault
         hw = {&rcc,  &flash, &tim1, &tim2, &tim3, &adc_common, {&adc[0], &adc[1], &adc[2]}, &can1, &iwdg,
-              {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}, &tim8, &tim5, &exti, &syscfg};
+              {&gpio[0], &gpio[1], &gpio[2], &gpio[3], &gpio[4]}, &tim8, &tim5, &exti, &syscfg, &spi3};
         for (auto& a : adc) {
             a.JDR[0] = zero_code;
             a.JDR[1] = 1000;  // the bus on ADC1
@@ -71,6 +84,7 @@ struct FakeChip : Regs {
                     tim5.EGR = 0u;
                     tim5.SR = tim5.SR | TIM_SR_UIF;
                 }
+                drv.poll();
                 std::this_thread::yield();
             }
         });
@@ -97,6 +111,15 @@ struct FakeChip : Regs {
 hal_command_t g_cmd;
 void command_control(void*, const hal_sample_t*, hal_command_t* out) { *out = g_cmd; }
 
+// the samples the callback was handed
+std::vector<uint32_t> g_seen_status;
+void recording_control(void*, const hal_sample_t* in, hal_command_t* out)
+{
+    g_seen_status.push_back(in->status);
+    *out = hal_command_t{};
+    out->n_phases = 2u;
+}
+
 }  // namespace
 
 // A good start: the PWM of both axes, the legs A held off, the ADCs, CAN;
@@ -113,7 +136,10 @@ TEST(Stm32BackendOdrive36, TwoTimersTwoWindingsOneTrigger)
     EXPECT_EQ(chip.tim1.BDTR & 0xFFu, 20u) << "dead time: 20 clocks (ODrive main.h)";
     EXPECT_FALSE(chip.moe1());
     EXPECT_FALSE(chip.moe8());
-    EXPECT_TRUE(chip.gate_low());
+    // EN_GATE high since the DRV8301s' configuration (their SPI and
+    // amplifiers need it); every switch still off: MOE = 0 on both timers
+    EXPECT_TRUE(chip.gate_output());
+    EXPECT_TRUE(chip.gate_high());
     // PA9, PA10 (TIM1 CH2, CH3) AF1; PB14, PB15 (CH2N, CH3N) AF1
     EXPECT_EQ((chip.gpio[0].MODER >> 18) & 0xFu, 0xAu);
     EXPECT_EQ((chip.gpio[0].AFR[1] >> 4) & 0xFFu, 0x11u);
@@ -146,14 +172,16 @@ TEST(Stm32BackendOdrive36, TwoTimersTwoWindingsOneTrigger)
     EXPECT_TRUE(chip.moe8());
     EXPECT_TRUE(chip.gate_high());
     // a sample: +100 codes on winding a, -50 on winding b, the bus at 1000
-    // codes: 3.3/4096/(10 x 0.0005) = 0.1611 A a code, 11 x 3.3/4096 V a code
+    // codes: 3.3/4096/(80 x 0.0005) = 0.02014 A a code (the gain read back
+    // from the DRV8301s), 11 x 3.3/4096 V a code
     chip.adc[0].JDR[0] = 2148u;
     chip.adc[1].JDR[0] = 1998u;
     hal_sample_t in;
     stm32_backend_sample(&in);
     EXPECT_EQ(in.n_phases, 2u);
-    EXPECT_NEAR(static_cast<float>(in.i_A[0]), 16.11f, 0.01f);
-    EXPECT_NEAR(static_cast<float>(in.i_A[1]), -8.06f, 0.01f);
+    EXPECT_EQ(in.status, 0u);
+    EXPECT_NEAR(static_cast<float>(in.i_A[0]), 2.0142f, 0.0001f);
+    EXPECT_NEAR(static_cast<float>(in.i_A[1]), -1.0071f, 0.0001f);
     EXPECT_NEAR(static_cast<float>(in.v_bus_V), 8.862f, 0.001f);
     // the command: +v_bus/4 on winding a -> leg B 0.625, leg C 0.375;
     // -v_bus on winding b -> leg B clamped at 0.02, leg C 0.98
@@ -251,4 +279,145 @@ TEST(Stm32BackendOdrive36, StepCounterThatDoesNotAnswerIsAFaultWithBridgesOff)
     EXPECT_TRUE(chip.gate_low());
     int32_t count = 0;
     EXPECT_FALSE(stm32_backend_step_count(&count));
+}
+
+// The two DRV8301 on SPI3 (M0 nCS PC13, M1 nCS PC14; SCK, MISO, MOSI on
+// PC10-12, AF6): each one's control registers written (1: over-current
+// latch, V_DS 0.060 V; 2: GAIN = 11, 80 V/V), then read back (each read
+// twice: the answer comes one frame late), with EN_GATE high and both
+// bridges off; nFAULT (PD2) an input with its pull-up. The samples' scale
+// is the gain read back: a chip that reads back 40 V/V (the vendor's)
+// would double every current.
+TEST(Stm32BackendOdrive36, GateDriversGainWrittenAndReadBack)
+{
+    FakeChip chip(2048);
+    chip.clocks_ok();
+    ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();
+    EXPECT_TRUE(chip.rcc.APB1ENR & RCC_APB1ENR_SPI3EN);
+    EXPECT_EQ(chip.spi3.CR1, 0x0B5Du) << "mode 1, master, 16 bits, APB1 / 16 = 2.625 MHz, enabled";
+    EXPECT_EQ((chip.gpio[2].MODER >> 20) & 0x3Fu, 0x2Au) << "PC10-PC12 alternate function";
+    EXPECT_EQ((chip.gpio[2].AFR[1] >> 8) & 0xFFFu, 0x666u) << "AF6: SPI3";
+    EXPECT_EQ((chip.gpio[2].MODER >> 26) & 0xFu, 0x5u) << "PC13, PC14 outputs (nCS)";
+    EXPECT_TRUE(chip.rcc.AHB1ENR & RCC_AHB1ENR_GPIO(3)) << "port D clocked";
+    EXPECT_EQ((chip.gpio[3].MODER >> 4) & 3u, 0u) << "PD2 an input";
+    EXPECT_EQ((chip.gpio[3].PUPDR >> 4) & 3u, 1u) << "PD2 pulled up";
+    const std::vector<uint16_t> want{0x1010u, 0x180Cu, 0x9000u, 0x9000u, 0x9800u, 0x9800u};
+    EXPECT_EQ(chip.drv.words_to(0), want) << "M0";
+    EXPECT_EQ(chip.drv.words_to(1), want) << "M1";
+    for (int k = 0; k < 2; ++k) {
+        EXPECT_EQ(chip.drv.reg(k, DRV8301_REG_CTRL1), 0x010u);
+        EXPECT_EQ(chip.drv.reg(k, DRV8301_REG_CTRL2), 0x00Cu);
+    }
+    EXPECT_FALSE(chip.moe1());
+    EXPECT_FALSE(chip.moe8());
+    // the zero measured at this gain; one code is 20.1 mA
+    chip.adc[0].JDR[0] = 2049u;
+    hal_sample_t in;
+    stm32_backend_sample(&in);
+    EXPECT_NEAR(static_cast<float>(in.i_A[0]), 3.3f / 4096.0f / (80.0f * 0.0005f), 1e-6f);
+}
+
+// M1 does not keep control register 2 (reads back its reset value): the
+// start refused (fault 23), the text naming the chip, the register, the
+// value written and the value read; both bridges off, EN_GATE low.
+TEST(Stm32BackendOdrive36, GateDriverReadBackThatDiffersRefusesTheStart)
+{
+    FakeChip chip(2048);
+    chip.drv.drop_writes_chip = 1;
+    chip.drv.drop_writes_addr = static_cast<int>(DRV8301_REG_CTRL2);
+    chip.clocks_ok();
+    EXPECT_FALSE(stm32_backend_init(&chip.hw));
+    EXPECT_EQ(stm32_backend_status(), STM32_FAULT_GATE_DRIVER_CONFIG);
+    EXPECT_EQ(std::string(hal_last_error()), "DRV8301 M1 (nCS PC14): control register 2 written 0x00C, read back 0x000");
+    EXPECT_FALSE(chip.moe1());
+    EXPECT_FALSE(chip.moe8());
+    EXPECT_TRUE(chip.gate_low());
+    EXPECT_FALSE(hal_start(&command_control, nullptr));
+    EXPECT_EQ(chip.adc[0].CR2, 0u) << "no current sampled at an unknown gain";
+}
+
+// Each SPI flag that never comes (TXE, RXNE, BSY): the start refused
+// (fault 22) with a text naming the flag, the bridges off, EN_GATE low.
+TEST(Stm32BackendOdrive36, GateDriverSpiFlagTimeoutsRefuseTheStart)
+{
+    const struct {
+        FakeDrv8301::Mode mode;
+        const char* flag;
+    } cases[] = {
+        {FakeDrv8301::Mode::kNoTxe, "TXE (transmit buffer empty)"},
+        {FakeDrv8301::Mode::kNoRxne, "RXNE (word received)"},
+        {FakeDrv8301::Mode::kBusyStuck, "BSY (bus busy)"},
+    };
+    for (const auto& c : cases) {
+        FakeChip chip(2048, c.mode);
+        chip.clocks_ok();
+        EXPECT_FALSE(stm32_backend_init(&chip.hw)) << c.flag;
+        EXPECT_EQ(stm32_backend_status(), STM32_FAULT_GATE_DRIVER_SPI) << c.flag;
+        EXPECT_EQ(std::string(hal_last_error()),
+                  std::string("DRV8301 M0 (nCS PC13): SPI ") + c.flag + " timed out (frame 0x1010)");
+        EXPECT_FALSE(chip.moe1());
+        EXPECT_FALSE(chip.moe8());
+        EXPECT_TRUE(chip.gate_low()) << c.flag;
+        EXPECT_FALSE(hal_start(&command_control, nullptr));
+    }
+}
+
+// nFAULT (PD2) low at start, after the configuration: refused (fault 24),
+// the text with both chips' status registers (M0: FAULT and FETHB_OC),
+// bridges off, EN_GATE low.
+TEST(Stm32BackendOdrive36, NFaultLowAtStartRefusesTheStart)
+{
+    FakeChip chip(2048);
+    chip.gpio[3].IDR = 0u;
+    chip.drv.set_reg(0, DRV8301_REG_STATUS1, 0x408u);
+    chip.drv.set_reg(1, DRV8301_REG_STATUS2, 0x001u);
+    chip.clocks_ok();
+    EXPECT_FALSE(stm32_backend_init(&chip.hw));
+    EXPECT_EQ(stm32_backend_status(), STM32_FAULT_GATE_DRIVER_NFAULT);
+    EXPECT_EQ(std::string(hal_last_error()),
+              "gate driver: nFAULT low at start; M0 (nCS PC13) status 1 0x408, 2 0x000; "
+              "M1 (nCS PC14) status 1 0x000, 2 0x001");
+    EXPECT_FALSE(chip.moe1());
+    EXPECT_FALSE(chip.moe8());
+    EXPECT_TRUE(chip.gate_low());
+    EXPECT_FALSE(hal_start(&command_control, nullptr));
+}
+
+// nFAULT going low while running: the sample turns both bridges off at
+// once (MOE = 0 on TIM1 and TIM8, EN_GATE low) and carries the trip
+// (HAL_STATUS_PWM_TRIP: the drive's DRIVE_FAULT_HW_TRIP, its safe state);
+// the drive is handed that sample, then the fault state (24): no more
+// steps, no more duties, hal_start refused.
+TEST(Stm32BackendOdrive36, NFaultWhileRunningTripsWithBridgesOff)
+{
+    FakeChip chip(2048);
+    chip.clocks_ok();
+    ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();
+    g_seen_status.clear();
+    ASSERT_TRUE(hal_start(&recording_control, nullptr)) << hal_last_error();
+    hal_sample_t in;
+    stm32_backend_sample(&in);
+    stm32_backend_control(&in);
+    ASSERT_EQ(g_seen_status.size(), 1u);
+    EXPECT_EQ(g_seen_status[0], 0u);
+    EXPECT_TRUE(chip.moe1());
+    chip.gpio[3].IDR = 0u;  // nFAULT low
+    stm32_backend_sample(&in);
+    EXPECT_TRUE(in.status & HAL_STATUS_PWM_TRIP);
+    EXPECT_FALSE(chip.moe1()) << "off before the callback";
+    EXPECT_FALSE(chip.moe8());
+    EXPECT_TRUE(chip.gate_low());
+    chip.tim1.CCR[1] = 1234u;
+    stm32_backend_control(&in);
+    ASSERT_EQ(g_seen_status.size(), 2u) << "the drive is handed the trip";
+    EXPECT_TRUE(g_seen_status[1] & HAL_STATUS_PWM_TRIP);
+    EXPECT_EQ(stm32_backend_status(), STM32_FAULT_GATE_DRIVER_NFAULT);
+    EXPECT_EQ(std::string(hal_last_error()), "gate driver: nFAULT asserted");
+    EXPECT_EQ(chip.tim1.CCR[1], 1234u) << "no duties written after the trip";
+    stm32_backend_sample(&in);
+    stm32_backend_control(&in);
+    EXPECT_EQ(g_seen_status.size(), 2u) << "the fault state: no more steps";
+    EXPECT_FALSE(chip.moe1());
+    EXPECT_TRUE(chip.gate_low());
+    EXPECT_FALSE(hal_start(&command_control, nullptr));
 }

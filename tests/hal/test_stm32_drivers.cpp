@@ -5,7 +5,9 @@
 // checked bit by bit against RM0090 by hand, and every timeout path (a flag
 // that never comes ends in the fault code, nothing waits for ever); the
 // encoder's counts, direction, the 16-bit counter's wrap, the index and its
-// errors, and its angle against the simulator's encoder.
+// errors, and its angle against the simulator's encoder; the DRV8301 gate
+// driver over SPI against a fake DRV8301 that answers one frame late
+// (fake_drv8301.h).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -13,12 +15,14 @@
 #include <cstring>
 #include <thread>
 
+#include "fake_drv8301.h"
 #include "model/encoder.h"
 
 extern "C" {
 #include "adc_inj.h"
 #include "bxcan.h"
 #include "clock.h"
+#include "drv8301.h"
 #include "encoder_tim.h"
 #include "gpio.h"
 #include "iwdg.h"
@@ -851,4 +855,138 @@ TEST(Stm32StepDir, PulsesOnTheTimerBecomeThePositionTarget)
     EXPECT_EQ(sh.excess_steps, 6u + 20u) << "0.47 steps of credit: none whole";
     step_shaper_answer(&sh, false);  // the drive still moving: offered again
     EXPECT_EQ(step_shaper_backlog(&sh), -20);
+}
+
+// ---- the DRV8301 over SPI (drv8301.h) ----
+
+namespace {
+// SPI3 and port C with the ODrive v3.6's two DRV8301 (nCS PC13, PC14)
+// behind them; a thread plays the fake chips. The polls of a flag: enough
+// for a loaded host to schedule the thread (a timeout takes a fraction of
+// a second).
+constexpr uint32_t kSpiPolls = 50000000u;
+struct Drv8301Bench {
+    spi_regs_t spi = zeroed<spi_regs_t>();
+    gpio_regs_t port = zeroed<gpio_regs_t>();
+    FakeDrv8301 fake{&spi, &port, 13u, 14u};
+    drv8301_bus_t bus{};
+    drv8301_chip_t m0{&port, 13u, "M0 (nCS PC13)"};
+    drv8301_chip_t m1{&port, 14u, "M1 (nCS PC14)"};
+    std::atomic<bool> stop{false};
+    std::thread hw;
+    explicit Drv8301Bench(FakeDrv8301::Mode mode = FakeDrv8301::Mode::kOk)
+    {
+        fake.mode = mode;
+        drv8301_bus_init(&bus, &spi, 3u, kSpiPolls, 10u);
+        drv8301_chip_init(&m0);
+        drv8301_chip_init(&m1);
+        hw = std::thread([this] {
+            while (!stop.load()) {
+                fake.poll();
+                std::this_thread::yield();
+            }
+        });
+    }
+    // the thread stopped, the last chip-select writes taken
+    void halt()
+    {
+        if (!stop.exchange(true)) hw.join();
+        fake.poll();
+    }
+    ~Drv8301Bench() { halt(); }
+};
+const uint16_t kCtrl1 = static_cast<uint16_t>(DRV8301_CTRL1_OCP_LATCH | DRV8301_CTRL1_OC_ADJ(0u));
+const uint16_t kCtrl2 = static_cast<uint16_t>(DRV8301_CTRL2_GAIN(DRV8301_GAIN_80));
+}  // namespace
+
+// The SPI master (RM0090 28.5.1): mode 1 (CPOL 0, CPHA 1), master, 16-bit
+// frames, MSB first, software slave select (SSM, SSI), APB1's 42 MHz / 16 =
+// 2.625 MHz (BR = 011), enabled; a chip select an output, high, low speed.
+TEST(Stm32Drv8301, SpiRegistersTheDividerAndTheChipSelect)
+{
+    uint32_t br = 99u;
+    ASSERT_TRUE(drv8301_spi_divider(42000000u, 2625000u, &br));
+    EXPECT_EQ(br, 3u);
+    ASSERT_TRUE(drv8301_spi_divider(42000000u, 10000000u, &br));
+    EXPECT_EQ(br, 2u) << "42 MHz / 8 = 5.25 MHz";
+    EXPECT_FALSE(drv8301_spi_divider(42000000u, 100000u, &br)) << "/256 is 164 kHz";
+    auto spi = zeroed<spi_regs_t>();
+    drv8301_bus_t bus{};
+    drv8301_bus_init(&bus, &spi, 3u, kPolls, 0u);
+    EXPECT_EQ(spi.CR1, 0x0B5Du) << "DFF, SSM, SSI, SPE, BR 011, MSTR, CPHA";
+    EXPECT_EQ(spi.CR2, 0u);
+    auto port = zeroed<gpio_regs_t>();
+    port.OSPEEDR = 0xFFFFFFFFu;
+    const drv8301_chip_t c{&port, 13u, "M0"};
+    drv8301_chip_init(&c);
+    EXPECT_EQ((port.MODER >> 26) & 3u, 1u) << "PC13 an output";
+    EXPECT_EQ((port.OSPEEDR >> 26) & 3u, 0u) << "low speed (DS8626: PC13-15 at most 2 MHz)";
+    EXPECT_EQ(port.BSRR, 1u << 13) << "high: not selected";
+}
+
+// Both control registers written (control register 2's GAIN = 11: 80 V/V),
+// then read back: each read twice on the wire, the chip answering one
+// frame late; the gain read back is what the backend scales with. A status
+// register read: FAULT and FETHB_OC.
+TEST(Stm32Drv8301, ControlRegistersWrittenThenReadBack)
+{
+    Drv8301Bench b;
+    uint16_t ctrl2 = 0u;
+    ASSERT_TRUE(drv8301_configure(&b.bus, &b.m1, kCtrl1, kCtrl2, &ctrl2)) << b.bus.error;
+    EXPECT_EQ(ctrl2, 0x00Cu);
+    EXPECT_EQ(DRV8301_GAIN_VV(DRV8301_CTRL2_GAIN_OF(ctrl2)), 80u);
+    EXPECT_EQ(b.bus.status, STM32_OK);
+    EXPECT_STREQ(b.bus.error, "");
+    EXPECT_EQ(b.fake.reg(1, DRV8301_REG_CTRL1), 0x010u);
+    EXPECT_EQ(b.fake.reg(1, DRV8301_REG_CTRL2), 0x00Cu);
+    EXPECT_EQ(b.fake.reg(0, DRV8301_REG_CTRL2), 0u) << "M0 not selected";
+    // write 0x02 <- 0x010, write 0x03 <- 0x00C, read 0x02 twice, read 0x03 twice
+    const std::vector<uint16_t> want{0x1010u, 0x180Cu, 0x9000u, 0x9000u, 0x9800u, 0x9800u};
+    EXPECT_EQ(b.fake.words_to(1), want);
+    EXPECT_TRUE(b.fake.words_to(0).empty());
+    b.fake.set_reg(0, DRV8301_REG_STATUS1, 0x408u);
+    uint16_t s1 = 0u;
+    ASSERT_TRUE(drv8301_read(&b.bus, &b.m0, DRV8301_REG_STATUS1, &s1)) << b.bus.error;
+    EXPECT_EQ(s1, 0x408u);
+    EXPECT_TRUE(s1 & DRV8301_STATUS1_FAULT);
+    b.halt();
+    EXPECT_EQ(b.fake.selected(), -1) << "nCS high after the last frame";
+}
+
+// A chip that does not keep control register 2 (its read-back 0x000, the
+// reset value): refused, the text naming the chip, the register, the value
+// written and the value read.
+TEST(Stm32Drv8301, ReadBackThatDiffersIsRefusedWithTheValues)
+{
+    Drv8301Bench b;
+    b.fake.drop_writes_chip = 0;
+    b.fake.drop_writes_addr = static_cast<int>(DRV8301_REG_CTRL2);
+    uint16_t ctrl2 = 0xFFFFu;
+    EXPECT_FALSE(drv8301_configure(&b.bus, &b.m0, kCtrl1, kCtrl2, &ctrl2));
+    EXPECT_EQ(b.bus.status, STM32_FAULT_GATE_DRIVER_CONFIG);
+    EXPECT_STREQ(b.bus.error, "DRV8301 M0 (nCS PC13): control register 2 written 0x00C, read back 0x000");
+    EXPECT_EQ(ctrl2, 0xFFFFu) << "no gain handed out";
+}
+
+// Each of the SPI's flags that never comes: an error naming it, the chip
+// select left high, nothing waits for ever.
+TEST(Stm32Drv8301, EachSpiFlagTimeoutIsAnErrorNamingIt)
+{
+    const struct {
+        FakeDrv8301::Mode mode;
+        const char* text;
+    } cases[] = {
+        {FakeDrv8301::Mode::kNoTxe, "DRV8301 M0 (nCS PC13): SPI TXE (transmit buffer empty) timed out (frame 0x1010)"},
+        {FakeDrv8301::Mode::kNoRxne, "DRV8301 M0 (nCS PC13): SPI RXNE (word received) timed out (frame 0x1010)"},
+        {FakeDrv8301::Mode::kBusyStuck, "DRV8301 M0 (nCS PC13): SPI BSY (bus busy) timed out (frame 0x1010)"},
+    };
+    for (const auto& c : cases) {
+        Drv8301Bench b(c.mode);
+        uint16_t ctrl2 = 0u;
+        EXPECT_FALSE(drv8301_configure(&b.bus, &b.m0, kCtrl1, kCtrl2, &ctrl2));
+        EXPECT_EQ(b.bus.status, STM32_FAULT_GATE_DRIVER_SPI);
+        EXPECT_STREQ(b.bus.error, c.text);
+        b.halt();
+        EXPECT_EQ(b.fake.selected(), -1) << c.text;
+    }
 }

@@ -6,6 +6,7 @@
 #include "boards/board.h"
 #include "bxcan.h"
 #include "clock.h"
+#include "drv8301.h"
 #include "encoder_tim.h"
 #include "gpio.h"
 #include "iwdg.h"
@@ -30,6 +31,7 @@ const stm32_periph_t stm32_hw = {
     .tim5 = (tim_regs_t *)STM32_TIM5_BASE,
     .exti = (exti_regs_t *)STM32_EXTI_BASE,
     .syscfg = (syscfg_regs_t *)STM32_SYSCFG_BASE,
+    .spi3 = (spi_regs_t *)STM32_SPI3_BASE,
 };
 
 #define RCC (g.hw->rcc)
@@ -45,6 +47,7 @@ const stm32_periph_t stm32_hw = {
 #define IWDG (g.hw->iwdg)
 #define GPIO(port) (g.hw->gpio[(port)])
 #define adc_of (g.hw->adc)
+#define SPI3 (g.hw->spi3)
 
 /* Polls of a ready flag before it counts as a timeout: at most 168 MHz and
  * a few cycles a poll, 200000 polls are over 2 ms, beyond every start-up
@@ -85,6 +88,10 @@ static struct {
     bool watchdog;
     bool encoder_on;            /* the board's encoder runs (encoder_tim.h) */
     bool step_dir_on;           /* the board's step/dir input runs (step_dir.h) */
+    bool gate_fault_on;         /* the gate drivers' nFAULT is watched at every sample */
+    stm32_status_t fault_pending; /* the fault state after this sample's callback */
+    float amp_gain;             /* the amplifiers' gain: the board's, or read back from the gate drivers */
+    drv8301_bus_t drv;          /* the gate drivers' SPI and its last error (drv8301.h) */
     step_dir_t sd;
     encoder_t enc;
     hal_can_frame_t can_rx[16];
@@ -131,6 +138,69 @@ static void pin_af(gpio_pin_t p, gpio_pull_t pull)
     if (p.port != 0xFFu) gpio_config(GPIO(p.port), p.pin, GPIO_AF, p.af, pull);
 }
 
+/* a busy wait of at least n core cycles (each pass takes more than 4) */
+static void spin(uint32_t n)
+{
+    for (volatile uint32_t k = 0; k < n / 4u; ++k) {
+    }
+}
+
+static bool gate_fault_asserted(void)
+{
+    return (GPIO(board.gate_fault.port)->IDR & (1u << board.gate_fault.pin)) == 0u;
+}
+
+/* The gate drivers (drv8301.h) on SPI3, with EN_GATE high: their SPI and
+ * amplifiers run only then (SLOS719: EN_GATE low shuts the DRV8301 down
+ * and its registers return to their reset values); every switch stays
+ * off meanwhile (MOE = 0: the PWM outputs at their idle level, low). Each
+ * one's control registers written and read back; the amplifiers' gain the
+ * one read back. Then nFAULT: low refuses the start. */
+static stm32_status_t gate_drivers_init(uint32_t apb1_hz, uint32_t core_hz)
+{
+    drv8301_chip_t chips[2];
+    uint32_t n = 0u; /* the chips configured: board.gate_drivers, at most 2 */
+    g.drv.error[0] = '\0';
+    if (board.gate_fault_enable) {
+        RCC->AHB1ENR |= RCC_AHB1ENR_GPIO(board.gate_fault.port);
+        gpio_config(GPIO(board.gate_fault.port), board.gate_fault.pin, GPIO_INPUT, 0, GPIO_PULL_UP);
+    }
+    if (board.gate_drivers > 0u) {
+        uint32_t br = 0u;
+        if (!drv8301_spi_divider(apb1_hz, board.spi_max_hz, &br)) return STM32_FAULT_GATE_DRIVER_CONFIG;
+        RCC->APB1ENR |= RCC_APB1ENR_SPI3EN;
+        for (uint32_t k = 0; k < 3u; ++k) pin_af(board.spi_pins[k], GPIO_NO_PULL);
+        /* nCS high at least 1 us between words (a poll takes a cycle or more) */
+        drv8301_bus_init(&g.drv, SPI3, br, STM32_TIMEOUT_POLLS, core_hz / 1000000u);
+        for (; n < board.gate_drivers && n < 2u; ++n) {
+            const gpio_pin_t cs = board.gate_driver_cs[n];
+            RCC->AHB1ENR |= RCC_AHB1ENR_GPIO(cs.port);
+            chips[n] = (drv8301_chip_t){GPIO(cs.port), cs.pin, board.gate_driver_name[n]};
+            drv8301_chip_init(&chips[n]);
+        }
+    }
+    if (board.has_gate_enable) {
+        gpio_write(GPIO(board.gate_enable.port), board.gate_enable.pin, true);
+        spin((uint32_t)((uint64_t)core_hz * board.gate_driver_settle_us / 1000000u));
+    }
+    for (uint32_t k = 0; k < board.gate_drivers && k < 2u; ++k) {
+        uint16_t ctrl2 = 0u;
+        if (!drv8301_configure(&g.drv, &chips[k], board.gate_driver_ctrl1, board.gate_driver_ctrl2, &ctrl2)) {
+            return g.drv.status;
+        }
+        /* the gain the amplifiers run with: the one read back (each chip
+         * read back what was written, so all the same) */
+        g.amp_gain = (float)DRV8301_GAIN_VV(DRV8301_CTRL2_GAIN_OF(ctrl2));
+    }
+    if (board.gate_fault_enable && gate_fault_asserted()) {
+        if (board.gate_drivers == 0u || !drv8301_fault_report(&g.drv, chips, n, "gate driver: nFAULT low at start")) {
+            g.drv.error[0] = '\0';
+        }
+        return STM32_FAULT_GATE_DRIVER_NFAULT;
+    }
+    return STM32_OK;
+}
+
 bool stm32_backend_init(const stm32_periph_t *hw)
 {
     g.hw = hw;
@@ -139,6 +209,9 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     g.error = "";
     g.encoder_on = false;
     g.step_dir_on = false;
+    g.gate_fault_on = false;
+    g.fault_pending = STM32_OK;
+    g.amp_gain = board.amp_gain;
     /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
     const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
     RCC->CSR |= RCC_CSR_RMVF;
@@ -185,8 +258,19 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     }
     if (board.break_enable) pin_af(board.break_pin, board.break_active_high ? GPIO_PULL_DOWN : GPIO_PULL_UP);
     if (wd_reset) return fail(STM32_FAULT_WATCHDOG_RESET);
+    /* 3b. the gate drivers configured over SPI, before the currents' zero
+     * (measured at the gain they run with) */
+    if (board.gate_drivers > 0u || board.gate_fault_enable) {
+        const stm32_status_t st = gate_drivers_init(apb1, board.hse_hz != 0u ? board.sysclk_hz : 16000000u);
+        if (st != STM32_OK) {
+            stm32_backend_fault(st);
+            if (g.drv.error[0] != '\0') g.error = g.drv.error; /* the chip, register, values or flag */
+            return false;
+        }
+        g.gate_fault_on = board.gate_fault_enable;
+    }
     /* 4. the ADCs: the currents' zero with the bridges off, then the trigger */
-    g.amps_per_code = board.current_sign * board.adc_vref_V / 4096.0f / (board.amp_gain * board.shunt_ohm);
+    g.amps_per_code = board.current_sign * board.adc_vref_V / 4096.0f / (g.amp_gain * board.shunt_ohm);
     g.volts_per_code = board.adc_vref_V / 4096.0f * board.vbus_divider;
     if (board.control == BOARD_CONTROL_ADC) {
         for (uint32_t k = 0; k < 4u; ++k) {
@@ -382,6 +466,11 @@ void stm32_backend_control(hal_sample_t *in)
     out.n_phases = board.n_phases;
     for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) out.v_V[k] = MC_ZERO;
     g.fn(g.ctx, in, &out);
+    if (g.fault_pending != STM32_OK) {
+        /* the sample told the drive (its trip bit); now the fault state */
+        stm32_backend_fault(g.fault_pending);
+        g.fault_pending = STM32_OK;
+    }
     if (g.running && board.control == BOARD_CONTROL_ADC) {
         /* phase voltages to duties: a leg about the bus midpoint (3 phases),
          * or a winding across a full bridge driven in opposition (2) */
@@ -456,6 +545,14 @@ void stm32_backend_sample(hal_sample_t *in)
     in->v_bus_V = (mc_t)((float)c0[1] * g.volts_per_code);
     in->status = status;
     if ((TIM1->SR & TIM_SR_BIF) != 0u) in->status |= HAL_STATUS_PWM_TRIP;
+    if (g.gate_fault_on && g.running && gate_fault_asserted()) {
+        /* the gate drivers' fault: every switch off at once; this sample
+         * carries the trip to the drive (DRIVE_FAULT_HW_TRIP), then the
+         * fault state (stm32_backend_control) */
+        in->status |= HAL_STATUS_PWM_TRIP;
+        bridges_off();
+        g.fault_pending = STM32_FAULT_GATE_DRIVER_NFAULT;
+    }
     if (g.encoder_on) {
         /* the count a few microseconds after the currents' sampling
          * instant (the conversions' 2.6 us and the interrupt's entry) */
@@ -522,13 +619,6 @@ void CAN1_SCE_IRQHandler(void)
 {
     /* errors and bus-off: automatic recovery (ABOM); clear the interrupt */
     CAN1->MSR = 1u << 2; /* ERRI */
-}
-
-/* a busy wait of about n core cycles (the fault state has nothing else to do) */
-static void spin(uint32_t n)
-{
-    for (volatile uint32_t k = 0; k < n / 4u; ++k) {
-    }
 }
 
 void stm32_backend_idle(void)

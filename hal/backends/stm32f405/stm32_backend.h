@@ -4,7 +4,9 @@
  *
  * stm32_backend_init() reads why the chip was reset, sets the clocks, the
  * pins, the PWM with its outputs off, the ADC, measures the current
- * sensors' zero with the bridges off, starts the encoder (the board's port,
+ * sensors' zero with the bridges off (after the gate drivers' configuration
+ * over SPI, drv8301.h, on a board that has it: their amplifiers' gain, read
+ * back; nFAULT checked), starts the encoder (the board's port,
  * when the drive's configuration gives its counts per turn), CAN and the
  * watchdog. Any
  * failure ends in the fault state: bridges off (TIM1 MOE = 0, the gate
@@ -42,6 +44,7 @@ typedef struct {
     tim_regs_t *tim5;     /* the step/dir input's counter (step_dir.h) */
     exti_regs_t *exti;    /* the DIR pin's line */
     syscfg_regs_t *syscfg;
+    spi_regs_t *spi3;     /* the gate drivers' SPI (drv8301.h) */
 } stm32_periph_t;
 
 extern const stm32_periph_t stm32_hw;
@@ -69,7 +72,11 @@ void stm32_backend_control(hal_sample_t *in);
  * phase currents and the bus from the injected conversions, the trip and
  * converter status, and with the board's encoder running its angle
  * (has_angle; withheld once the encoder latched an error, whose code
- * stm32_backend_encoder() keeps and hal_last_error() names). */
+ * stm32_backend_encoder() keeps and hal_last_error() names). With the
+ * gate drivers' nFAULT watched (board_t.gate_fault_enable) and low while
+ * running: the bridges off at once, HAL_STATUS_PWM_TRIP in the sample, and
+ * the fault state STM32_FAULT_GATE_DRIVER_NFAULT once stm32_backend_control
+ * has handed the drive that sample. */
 void stm32_backend_sample(hal_sample_t *in);
 
 /* The encoder's state (encoder_tim.h), or NULL if the image runs none. */

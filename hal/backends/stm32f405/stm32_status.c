@@ -25,6 +25,9 @@ const char *stm32_status_text(stm32_status_t s)
     case STM32_FAULT_PWM_SYNC: return "PWM: TIM8 did not start on TIM1's trigger";
     case STM32_FAULT_STEP_DIR_CONFIG: return "step/dir input: configuration the timer cannot run";
     case STM32_FAULT_STEP_DIR_TIMEOUT: return "step/dir input: its timer did not answer the update";
+    case STM32_FAULT_GATE_DRIVER_SPI: return "gate driver: an SPI flag timed out";
+    case STM32_FAULT_GATE_DRIVER_CONFIG: return "gate driver: a control register did not read back as written";
+    case STM32_FAULT_GATE_DRIVER_NFAULT: return "gate driver: nFAULT asserted";
     default: return "unknown fault";
     }
 }

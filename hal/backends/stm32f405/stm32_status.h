@@ -33,7 +33,11 @@ typedef enum {
     STM32_FAULT_ENCODER_INDEX = 18,   /* an index away from where the count puts it */
     STM32_FAULT_PWM_SYNC = 19,        /* TIM8 did not start on TIM1's trigger (pwm_start_synchronised) */
     STM32_FAULT_STEP_DIR_CONFIG = 20, /* the step/dir input's timer or pins cannot be set as asked */
-    STM32_FAULT_STEP_DIR_TIMEOUT = 21 /* the step counter's timer did not answer its update (UIF) */
+    STM32_FAULT_STEP_DIR_TIMEOUT = 21, /* the step counter's timer did not answer its update (UIF) */
+    /* the gate drivers configured over SPI (drv8301.h) */
+    STM32_FAULT_GATE_DRIVER_SPI = 22,    /* an SPI flag (TXE, RXNE, BSY) did not come: the text names it */
+    STM32_FAULT_GATE_DRIVER_CONFIG = 23, /* a control register did not read back as written (or a bad answer) */
+    STM32_FAULT_GATE_DRIVER_NFAULT = 24  /* nFAULT asserted: at start, or while running (the bridges off) */
 } stm32_status_t;
 
 /* A short English text for status s, never NULL. */

@@ -53,6 +53,7 @@ STM32_ASSERT(offsetof(rcc_regs_t, APB2ENR) == 0x44, "RCC_APB2ENR at 0x44");
 #define RCC_CSR_WWDGRSTF (1u << 30)
 #define RCC_AHB1ENR_GPIO(port) (1u << (port)) /* port 0 = A */
 #define RCC_APB1ENR_TIM2EN (1u << 0)
+#define RCC_APB1ENR_SPI3EN (1u << 15) /* RM0090 7.3.13 */
 #define RCC_APB1ENR_TIM3EN (1u << 1) /* RM0090 7.3.13 */
 #define RCC_APB1ENR_TIM5EN (1u << 3) /* RM0090 7.3.13 */
 #define RCC_APB1ENR_CAN1EN (1u << 25)
@@ -210,11 +211,33 @@ typedef struct {
 #define IWDG_SR_PVU (1u << 0)
 #define IWDG_SR_RVU (1u << 1)
 
+/* ---- SPI, RM0090 28.5 (SPI mode; the I2S registers after them unused) ---- */
+typedef struct {
+    REG CR1, CR2, SR, DR, CRCPR, RXCRCR, TXCRCR, I2SCFGR, I2SPR;
+} spi_regs_t;
+STM32_ASSERT(offsetof(spi_regs_t, DR) == 0x0C, "SPI_DR at 0x0C");
+STM32_ASSERT(offsetof(spi_regs_t, I2SPR) == 0x20, "SPI_I2SPR at 0x20");
+#define SPI_CR1_CPHA (1u << 0)     /* data captured on the second clock edge */
+#define SPI_CR1_CPOL (1u << 1)     /* clock idle high */
+#define SPI_CR1_MSTR (1u << 2)
+#define SPI_CR1_BR(x) ((uint32_t)(x) << 3) /* f_PCLK / 2^(x+1), x 0..7 */
+#define SPI_CR1_SPE (1u << 6)
+#define SPI_CR1_LSBFIRST (1u << 7)
+#define SPI_CR1_SSI (1u << 8)      /* the internal NSS level with SSM */
+#define SPI_CR1_SSM (1u << 9)      /* software slave management */
+#define SPI_CR1_DFF (1u << 11)     /* 16-bit frames */
+#define SPI_SR_RXNE (1u << 0)
+#define SPI_SR_TXE (1u << 1)
+#define SPI_SR_MODF (1u << 5)
+#define SPI_SR_OVR (1u << 6)
+#define SPI_SR_BSY (1u << 7)
+
 /* ---- memory map, RM0090 2.3 ---- */
 #define STM32_TIM2_BASE 0x40000000u
 #define STM32_TIM3_BASE 0x40000400u
 #define STM32_TIM5_BASE 0x40000C00u
 #define STM32_IWDG_BASE 0x40003000u
+#define STM32_SPI3_BASE 0x40003C00u
 #define STM32_CAN1_BASE 0x40006400u
 #define STM32_TIM1_BASE 0x40010000u
 #define STM32_TIM8_BASE 0x40010400u

@@ -37,6 +37,24 @@ typedef struct {
     gpio_pin_t break_pin;
     bool has_gate_enable;
     gpio_pin_t gate_enable;           /* the gate driver's enable, high = on */
+    /* gate drivers configured over SPI3 (drv8301.h): 0 none (the
+     * amplifiers at the fixed amp_gain below); else each on its chip
+     * select, all with the same control registers, written at start-up
+     * with EN_GATE high and read back (a difference refuses the start);
+     * the amplifiers' gain is then the GAIN field read back from them, and
+     * amp_gain is not used */
+    uint8_t gate_drivers;             /* 0..2 */
+    gpio_pin_t gate_driver_cs[2];     /* their chip selects, active low */
+    const char *gate_driver_name[2];  /* in the error texts */
+    gpio_pin_t spi_pins[3];           /* SPI3's SCK, MISO, MOSI (AF6) */
+    uint32_t spi_max_hz;              /* the SPI clock at most this (APB1 / 2..256) */
+    uint16_t gate_driver_ctrl1, gate_driver_ctrl2; /* the control registers' 11 data bits */
+    uint32_t gate_driver_settle_us;   /* from EN_GATE high to the first frame */
+    /* the gate drivers' nFAULT (active low, open drain, pulled up): low at
+     * start refuses it; low at a control sample is the trip (the sample's
+     * HAL_STATUS_PWM_TRIP, then the fault state) */
+    bool gate_fault_enable;
+    gpio_pin_t gate_fault;
     gpio_pin_t led_status, led_fault;
     /* currents: phase k on ADC(k+1), channel current_channel[k]; the bus on
      * ADC1 after phase a */
@@ -46,7 +64,8 @@ typedef struct {
     uint8_t vbus_channel;
     gpio_pin_t analog_pins[4];
     float adc_vref_V;                 /* full scale of the 12-bit converter */
-    float shunt_ohm, amp_gain;        /* i = (code - zero) vref/4096 / (gain R) * current_sign */
+    float shunt_ohm, amp_gain;        /* i = (code - zero) vref/4096 / (gain R) * current_sign; the
+                                       * gain amp_gain, or the gate drivers' (gate_drivers > 0) */
     float current_sign;
     float vbus_divider;               /* (R1 + R2)/R2 */
     uint32_t zero_nominal_code, zero_tolerance_code;

@@ -15,17 +15,42 @@
  *     (M1_AH/BH/CH), CH1N-3N on PA7, PB0, PB1 (M1_AL/BL/CL), AF3 (DS8626
  *     table 9); legs A (M0_AH/AL, M1_AH/AL) are not used: held low;
  *   - EN_GATE of both DRV8301 on PB12 (main.h EN_GATE_Pin; board.cpp: "EN
- *     pin (shared between both motors)"); nFAULT on PD2 (not read here);
+ *     pin (shared between both motors)"); their nFAULT, shared, on PD2
+ *     (main.h nFAULT_Pin; board.cpp "nFAULT pin (shared between both
+ *     motors)"), open drain, active low: read with the pull-up at start
+ *     (low: the start refused) and at every control sample (low: the trip,
+ *     both bridges off, the fault state);
+ *   - both DRV8301 on SPI3 (board.cpp: m0_gate_driver, m1_gate_driver on
+ *     spi3_arbiter), each its own chip select: M0 nCS PC13, M1 nCS PC14
+ *     (main.h M0_nCS_Pin, M1_nCS_Pin); SCK PC10, MISO PC11, MOSI PC12, AF6
+ *     (Src/spi.c HAL_SPI_MspInit: GPIO_AF6_SPI3; DS8626 table 9); mode 1
+ *     (CPOL 0, CPHA 1), 16-bit words, APB1 / 16 = 2.625 MHz (Src/spi.c
+ *     MX_SPI3_Init: the vendor's clock);
+ *     EN_GATE high 10 ms before the first word (the vendor's
+ *     Drv8301::init waits as long);
  *   - currents: M0_IB PC0 (ADC123_IN10), M0_IC PC1 (IN11), M1_IC PC2
  *     (IN12), M1_IB PC3 (IN13) (main.h; Src/adc.c's channel list); shunts
  *     500 uOhm (Inc/board.h SHUNT_RESISTANCE for v3.4 and later); the
  *     current i = (code - 2048) 3.3 V/4096 / gain / R_shunt, positive into
  *     the motor (Firmware/MotorControl/motor.cpp phase_current_from_adcval);
- *   - the DRV8301's amplifier gain: 10 V/V, its reset value (DRV8301
- *     datasheet SLOS719, control register 2, GAIN = 00). The vendor
- *     firmware writes 40 V/V over SPI3 (nCS PC13, PC14); this backend has
- *     no SPI driver yet, so the reset gain holds: +-330 A full scale, 0.16 A
- *     a code (README.md, "The ODrive v3.6");
+ *   - the DRV8301s' amplifier gain: 80 V/V (control register 2, GAIN = 11,
+ *     SLOS719; the reset value is 10 V/V, the vendor writes 40), written
+ *     over SPI3 and read back (drv8301.h): +-1.65 V / (80 x 0.5 mOhm) =
+ *     +-41.25 A full scale, 20.1 mA a code. Paper 000's stepper runs at
+ *     most 3 A (firmware/drives/paper000/boards/odrive36.toml [limits]
+ *     i_max_A; the trip 4.5 A): 149 codes at 3 A, 223 at the trip, against
+ *     19 and 28 at the reset gain; 40 V/V (+-82.5 A) would halve them for
+ *     a range this motor never uses. The backend scales the samples with
+ *     the gain read back from the chips (amp_gain is not used);
+ *   - control register 1: over-current latch mode (OCP_MODE = 01: an
+ *     over-current turns the FETs off and pulls nFAULT low, which stops
+ *     the drive), V_DS threshold OC_ADJ_SET = 0, the lowest, 0.060 V
+ *     (SLOS719's OC_ADJ_SET table): 24 A through the 2.5 mOhm
+ *     docs/plant.md assumes for the 24 V board's NTMFS4935N, about 12 A
+ *     scaled from the vendor's note that its 0.730 V is "approximately
+ *     150A at 100degC" (drv8301.cpp, for motors of tens of amperes): above
+ *     the stepper's 4.5 A trip, below the 41.25 A full scale; gate current
+ *     1.7 A, six PWM inputs (GATE_CURRENT = 00, PWM_MODE = 0);
  *   - bus voltage on PA6 (VBUS_S, ADC12_IN6) through the divider
  *     VBUS_S_DIVIDER_RATIO 11 of the 24 V board (19 for the 48 V one:
  *     Inc/board.h);
@@ -44,6 +69,7 @@
  * step at 10 kHz, the drive's Ts.
  */
 #include "boards/board.h"
+#include "drv8301.h"
 
 /* two full bridges: a 2-phase stepper (boards/odrive36.cmake says the same
  * to the configure-time check of a drive's needs) */
@@ -59,6 +85,7 @@ enum { PA = 0, PB = 1, PC = 2, PD = 3 };
 #define AF_TIM1 1u
 #define AF_TIM8 3u
 #define AF_CAN1 9u
+#define AF_SPI3 6u
 
 const board_t board = {
     .name = "ODrive v3.6 (STM32F405RG, two DRV8301)",
@@ -78,12 +105,23 @@ const board_t board = {
     /* legs A of both axes: M0_AH, M0_AL, M1_AH, M1_AL */
     .pins_held_low = {PIN(PA, 8, 0), PIN(PB, 13, 0), PIN(PC, 6, 0), PIN(PA, 7, 0)},
     /* no timer break input is wired on the ODrive (the DRV8301s' nFAULT
-     * goes to PD2, a GPIO; their cycle-by-cycle limit acts by itself) */
+     * goes to PD2, a GPIO, read at each control sample below) */
     .break_enable = false,
     .break_active_high = false,
     .break_pin = NO_PIN,
     .has_gate_enable = true,
     .gate_enable = PIN(PB, 12, 0),
+    /* both DRV8301 on SPI3: M0's amplifier measures winding a, M1's b */
+    .gate_drivers = 2u,
+    .gate_driver_cs = {PIN(PC, 13, 0), PIN(PC, 14, 0)},
+    .gate_driver_name = {"M0 (nCS PC13)", "M1 (nCS PC14)"},
+    .spi_pins = {PIN(PC, 10, AF_SPI3), PIN(PC, 11, AF_SPI3), PIN(PC, 12, AF_SPI3)},
+    .spi_max_hz = 2625000u,
+    .gate_driver_ctrl1 = (uint16_t)(DRV8301_CTRL1_OCP_LATCH | DRV8301_CTRL1_OC_ADJ(0u)),
+    .gate_driver_ctrl2 = (uint16_t)DRV8301_CTRL2_GAIN(DRV8301_GAIN_80),
+    .gate_driver_settle_us = 10000u,
+    .gate_fault_enable = true,
+    .gate_fault = PIN(PD, 2, 0),
     .led_status = NO_PIN,
     .led_fault = NO_PIN,
     .control = BOARD_CONTROL_ADC,
@@ -94,14 +132,17 @@ const board_t board = {
     .analog_pins = {PIN(PC, 0, 0), PIN(PC, 3, 0), PIN(PA, 6, 0), NO_PIN},
     .adc_vref_V = 3.3f,
     .shunt_ohm = 0.0005f,
-    .amp_gain = 10.0f,
+    /* amp_gain: not used, the gain read back from the DRV8301s (80 V/V,
+     * gate_driver_ctrl2 above) */
+    .amp_gain = 0.0f,
     /* leg B's current into the motor is winding current: the vendor's
      * sign (motor.cpp), +1 */
     .current_sign = 1.0f,
     .vbus_divider = 11.0f,
-    /* zero at mid-scale 2048 +- 150 codes (as the VESC 6: the DRV8301's
-     * offset after its calibration is a few mV; 150 codes are 24 A at this
-     * gain, a current that cannot flow with the bridges off) */
+    /* zero at mid-scale 2048 +- 150 codes (as the VESC 6; 150 codes are
+     * 3.0 A at 80 V/V, a current that cannot flow with the bridges off,
+     * and 1.5 mV at the amplifiers' inputs: whether the DRV8301s' offset
+     * stays inside it is for the board to show) */
     .zero_nominal_code = 2048u,
     .zero_tolerance_code = 150u,
     .can_enable = true,

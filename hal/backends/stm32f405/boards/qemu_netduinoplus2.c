@@ -5,8 +5,13 @@
  * USART, SYSCFG, EXTI; RCC, TIM1, triggered ADC conversions, bxCAN and
  * the IWDG are not (README.md). So: no crystal (the reset clock), the
  * control interrupt from TIM2, no ADC (the test feeds recorded samples),
- * no CAN, no watchdog, no power stage. Everything else is the real
- * image's code: start-up, vector table, the backend's control path.
+ * no CAN, no watchdog, no power stage, no gate driver: QEMU maps SPI3
+ * (its stm32f2xx-spi) with nothing on the bus (every word reads back 0)
+ * and the GPIO ports unimplemented (reads 0), so a DRV8301's configuration
+ * would read back 0x000 and its nFAULT (PD2) read low: gate_drivers 0 and
+ * gate_fault_enable false (the zero of the fields left out below) skip
+ * both, as the ADC is skipped. Everything else is the real image's code:
+ * start-up, vector table, the backend's control path.
  */
 #include "boards/board.h"
 
