@@ -258,6 +258,9 @@ bool hal_start(hal_control_fn fn, void* ctx)
         g_hal.error = "hal_start: control callback is NULL";
         return false;
     }
+    if (g_hal.pwm_ratio_bad) {
+        return false;  // hal_last_error() says why (set_inverter)
+    }
     g_hal.control = fn;
     g_hal.control_ctx = ctx;
     g_hal.started = true;

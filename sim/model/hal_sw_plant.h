@@ -98,7 +98,7 @@ void hal_sw_plant_set_board(mcsim::BoardEmulation* board);
 // middle of the zero vector V0); the period's record (v_a_V ...) then holds
 // the averaged model's voltages for the command and the sampled currents.
 // f_pwm times the period must be a whole number (the scenario checks it);
-// else hal_sw_plant_run() refuses to run (returns 0, hal_last_error()).
+// else hal_start() and hal_sw_plant_run() refuse (false, 0; hal_last_error()).
 void hal_sw_plant_set_inverter(const mcsim::Inverter* inverter);
 
 // A position encoder (model/encoder.h): each sample then carries

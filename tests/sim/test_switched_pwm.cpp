@@ -459,7 +459,7 @@ TEST(Backend, SamplesAtTheBoundaryAndHonoursTheComputeDelay)
 }
 
 // A switched inverter whose carrier does not divide the control period:
-// the backend refuses to run (the scenario refuses it first).
+// the backend refuses to start and to run (the scenario refuses it first).
 TEST(Backend, RefusesAFractionalCarrierRatio)
 {
     mcsim::PmPlant plant(paper001_motor(), mcsim::LoadProfile(), 1);
@@ -474,9 +474,9 @@ TEST(Backend, RefusesAFractionalCarrierRatio)
     hal_sw_plant_attach(&plant, &sensor, amp, kTs);
     hal_sw_plant_set_inverter(&inv);
     Ctx ctx;
-    ASSERT_TRUE(hal_start(stepping_commands, &ctx));
-    EXPECT_EQ(hal_sw_plant_run(1), 0u);
+    EXPECT_FALSE(hal_start(stepping_commands, &ctx));
     EXPECT_NE(std::string(hal_last_error()).find("whole number of carrier periods"), std::string::npos);
+    EXPECT_EQ(hal_sw_plant_run(1), 0u);
     hal_sw_plant_detach();
 }
 
