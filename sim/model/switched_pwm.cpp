@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "model/pm_plant.h"
 
@@ -89,7 +90,7 @@ int SwitchedPwm::leg_duties(const Inverter& inv, int n_phases, const double* v_c
         return 3;
     }
     // each winding's H-bridge driven bipolar, as Inverter::winding_voltage
-    for (int w = 0; w < 2; ++w) {
+    for (std::size_t w = 0; w < 2; ++w) {
         const double h = 0.5 * ((v_cmd_V[w] == v_cmd_V[w]) ? v_cmd_V[w] : 0.0);
         d[2 * w] = inv.duty(h, v_dc_V);
         d[2 * w + 1] = inv.duty(-h, v_dc_V);
@@ -106,8 +107,10 @@ SwitchedPwm::SwitchedPwm(const InverterParams& p, int n_legs, double ts_s)
       lo_(std::min(p.t_off_s, p.dead_time_s + p.t_on_s)),
       hi_(std::max(p.t_off_s, p.dead_time_s + p.t_on_s))
 {
-    // four events an edge, two edges a carrier period, and a command
-    // change's edge: reserved once, no allocation in the loop
+    // per leg two events an edge and two edges a carrier period, plus the
+    // edges of a command change (at the period's start and at the delay's
+    // instant) and those carried over: reserved once so that the loop does
+    // not allocate (a reserve, not a limit)
     events_.reserve(static_cast<std::size_t>(n_legs_) * (4u * static_cast<std::size_t>(n_) + 8u));
     carried_.reserve(static_cast<std::size_t>(n_legs_) * 8u);
 }
