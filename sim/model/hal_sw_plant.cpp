@@ -2,8 +2,10 @@
 #include "hal_sw_plant.h"
 
 #include <cmath>
+#include <optional>
 
 #include "mc_convert.h"
+#include "model/switched_pwm.h"
 
 namespace {
 
@@ -27,6 +29,11 @@ struct Backend {
     mcsim::BoardEmulation* board = nullptr;   // DAC/ADC board, or none
     mcsim::Encoder* encoder = nullptr;        // position encoder, or none
     const mcsim::Inverter* inverter = nullptr;  // PWM inverter, or the amplifier
+    // its legs switched at the carrier ([inverter] pwm = "switched"), with
+    // the duties of the last period's command; none: the averaged inverter
+    std::optional<mcsim::SwitchedPwm> pwm;
+    double d_prev[mcsim::SwitchedPwm::kMaxLegs] = {0.5, 0.5, 0.5, 0.5};
+    bool pwm_ratio_bad = false;  // switched with f_pwm Ts not whole: run refuses
     bool amp_output = true;  // neither a board nor an inverter: the amplifier model (one test a period)
     hal_sw_plant_period_t last{};
     const char* error = "";
@@ -75,6 +82,21 @@ void hal_sw_plant_set_inverter(const mcsim::Inverter* inverter)
 {
     g_hal.inverter = inverter;
     g_hal.amp_output = g_hal.board == nullptr && g_hal.inverter == nullptr;
+    g_hal.pwm.reset();
+    g_hal.pwm_ratio_bad = false;
+    if (inverter != nullptr && inverter->params().pwm == mcsim::PwmModel::kSwitched && g_hal.plant != nullptr) {
+        if (mcsim::SwitchedPwm::carrier_periods(inverter->params().f_pwm_Hz, g_hal.ts_s) == 0) {
+            g_hal.pwm_ratio_bad = true;
+            g_hal.error = "hal_sw_plant_set_inverter: switched PWM needs a whole number of carrier periods per control period";
+            return;
+        }
+        const int legs = mcsim::PlantLoad(*g_hal.plant).legs();
+        g_hal.pwm.emplace(inverter->params(), legs, g_hal.ts_s);
+        // before the first command the legs at 0 V, as v_prev
+        const double zero[3] = {0.0, 0.0, 0.0};
+        const double v_bus = g_hal.plant->n_phases() == 3 ? 2.0 * g_hal.amp.v_max_V : g_hal.amp.v_max_V;
+        (void)mcsim::SwitchedPwm::leg_duties(*inverter, g_hal.plant->n_phases(), zero, v_bus, g_hal.d_prev);
+    }
 }
 
 void hal_sw_plant_set_monitor(hal_sw_plant_monitor_fn fn, void* ctx)
@@ -92,6 +114,9 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
     if (g_hal.plant == nullptr || g_hal.sensor == nullptr || !g_hal.started) {
         g_hal.error = "hal_sw_plant_run: no plant attached or hal_start not called";
         return 0;
+    }
+    if (g_hal.pwm_ratio_bad) {
+        return 0;  // hal_last_error() says why (set_inverter)
     }
     mcsim::PmPlant& plant = *g_hal.plant;
     hal_sw_plant_period_t& p = g_hal.last;
@@ -168,7 +193,7 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
             g_hal.board->apply(n_ph, v_cmd, v_supply, v_app);
         } else {
             // the inverter, with the leg currents at the sampling instant
-            // held over the period
+            // held over the period (switched: the period's record only)
             if (n_ph == 3) {
                 g_hal.inverter->apply(3, v_cmd, i_true, v_bus_true, v_app);
             } else {
@@ -190,7 +215,17 @@ std::uint32_t hal_sw_plant_run(std::uint32_t n_periods)
         // The voltage computed from this sample's currents acts d Ts later
         // (d = compute_delay); until then the last one holds. d = 0 is one
         // step, exactly as without a delay.
-        if (g_hal.delay > 0.0) {
+        if (g_hal.pwm && g_hal.board == nullptr) {
+            // the legs switched at the carrier: the last command's duties
+            // before d Ts, this one's after (model/switched_pwm.h)
+            double d_new[mcsim::SwitchedPwm::kMaxLegs];
+            const int legs = mcsim::SwitchedPwm::leg_duties(*g_hal.inverter, n_ph, v_cmd, v_bus_true, d_new);
+            mcsim::PlantLoad load(plant);
+            g_hal.pwm->run_period(load, g_hal.d_prev, d_new, g_hal.delay * g_hal.ts_s, v_bus_true);
+            for (int k = 0; k < legs; ++k) {
+                g_hal.d_prev[k] = d_new[k];
+            }
+        } else if (g_hal.delay > 0.0) {
             plant.step_phases(g_hal.v_prev, g_hal.delay * g_hal.ts_s);
             if (g_hal.delay < 1.0) {
                 plant.step_phases(v_app, (1.0 - g_hal.delay) * g_hal.ts_s);
@@ -222,6 +257,9 @@ bool hal_start(hal_control_fn fn, void* ctx)
     if (fn == nullptr) {
         g_hal.error = "hal_start: control callback is NULL";
         return false;
+    }
+    if (g_hal.pwm_ratio_bad) {
+        return false;  // hal_last_error() says why (set_inverter)
     }
     g_hal.control = fn;
     g_hal.control_ctx = ctx;

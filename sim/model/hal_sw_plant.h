@@ -92,6 +92,13 @@ void hal_sw_plant_set_board(mcsim::BoardEmulation* board);
 // 2 phases: an H-bridge per winding (Inverter::winding_voltage). nullptr
 // (or none set since attach): the amplifier model, as today. A board
 // (hal_sw_plant_set_board) takes precedence. Not owned.
+// With params().pwm == kSwitched (after attach): the legs switched at the
+// carrier instead (model/switched_pwm.h), the plant integrated over each
+// switching segment, the currents sampled at the period's boundary (the
+// middle of the zero vector V0); the period's record (v_a_V ...) then holds
+// the averaged model's voltages for the command and the sampled currents.
+// f_pwm times the period must be a whole number (the scenario checks it);
+// else hal_start() and hal_sw_plant_run() refuse (false, 0; hal_last_error()).
 void hal_sw_plant_set_inverter(const mcsim::Inverter* inverter);
 
 // A position encoder (model/encoder.h): each sample then carries

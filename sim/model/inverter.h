@@ -67,6 +67,12 @@
 
 namespace mcsim {
 
+// How the software plant's backend applies the inverter ([inverter] pwm):
+// the averaged leg voltages of this file, held over each control period
+// (the default), or the legs switched at the carrier with the plant
+// integrated over each switching segment (model/switched_pwm.h).
+enum class PwmModel { kAveraged, kSwitched };
+
 struct InverterParams {
     double f_pwm_Hz = 20e3;       // carrier (switching) frequency
     double dead_time_s = 0.0;     // both switches off between the two states of a leg
@@ -81,6 +87,7 @@ struct InverterParams {
     // true: MOSFETs driven complementary (the channel conducts both ways);
     // false: one-way switches (IGBTs) with freewheeling diodes.
     bool synchronous = true;
+    PwmModel pwm = PwmModel::kAveraged;  // not used by Inverter itself
 
     // The effective error time t_dead + t_on - t_off [s].
     double error_time_s() const { return dead_time_s + t_on_s - t_off_s; }

@@ -11,6 +11,7 @@
 
 #include <toml++/toml.h>
 
+#include "model/switched_pwm.h"
 #include "model/thermal.h"
 #include "trajectory/speed_profile.h"
 #include "scenario/toml_view.h"
@@ -556,7 +557,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& parser_tabl
         {"load", {"steps", "pulses"}},
         {"encoder", {"counts_per_turn", "noise_rad"}},
         {"inverter", {"file", "compensation", "compensation_dead_time_s", "f_pwm_Hz", "dead_time_s", "t_on_s", "t_off_s", "v_switch_V",
-                      "r_switch_Ohm", "v_diode_V", "r_diode_Ohm", "min_pulse_s", "i_transition_A", "synchronous"}},
+                      "r_switch_Ohm", "v_diode_V", "r_diode_Ohm", "min_pulse_s", "i_transition_A", "synchronous", "pwm"}},
         {"drive", {"kind"}}};
     return k;
 }
@@ -1110,6 +1111,22 @@ void read_inverter(const View* v, Scenario* sc)
         // the combinations (each value was checked on its own above)
         v->fail(p.min_pulse_s * 2.0 * p.f_pwm_Hz >= 1.0 ? "min_pulse_s" : "dead_time_s",
                 std::string(why) + " (1/f_pwm_Hz = " + fmt_num(1.0 / p.f_pwm_Hz) + " s)");
+    }
+    // pwm: the averaged legs (default) or the legs switched at the carrier
+    // (model/switched_pwm.h), which needs a whole number of carrier periods
+    // per control period ([run] is read before this table)
+    if (const auto m = v->string("pwm")) {
+        if (*m == "switched") {
+            p.pwm = PwmModel::kSwitched;
+        } else if (*m != "averaged") {
+            v->fail("pwm", "must be \"averaged\" or \"switched\" (got \"" + *m + "\")");
+        }
+    }
+    if (p.pwm == PwmModel::kSwitched && SwitchedPwm::carrier_periods(p.f_pwm_Hz, sc->ts_s) == 0) {
+        v->fail("pwm", "\"switched\" needs a whole number (1 to " + std::to_string(SwitchedPwm::kMaxCarrierPeriods) +
+                           ") of PWM periods per control period: f_pwm_Hz = " + fmt_num(p.f_pwm_Hz) +
+                           " Hz is " + fmt_num(p.f_pwm_Hz * sc->ts_s) + " times the control rate 1/run.Ts_s = " +
+                           fmt_num(1.0 / sc->ts_s) + " Hz");
     }
     sc->inverter = p;
     sc->inverter_given = true;

@@ -152,6 +152,26 @@ bound_load_Nm = 0.2
     EXPECT_EQ(in.control_law, P000_LAW_TWISTING);  // the paper's unless asked
 }
 
+// [inverter] pwm: absent or "averaged" the averaged legs, "switched" the
+// legs at the carrier (20 kHz, two carrier periods per 100 us sample)
+TEST(Scenario, InverterPwmModel)
+{
+    {
+        const TempScenario t(kBase + "[inverter]\ndead_time_s = 500e-9\n");
+        EXPECT_EQ(mcsim::load_scenario(t.path()).inverter.pwm, mcsim::PwmModel::kAveraged);
+    }
+    {
+        const TempScenario t(kBase + "[inverter]\npwm = \"averaged\"\n");
+        EXPECT_EQ(mcsim::load_scenario(t.path()).inverter.pwm, mcsim::PwmModel::kAveraged);
+    }
+    {
+        const TempScenario t(kBase + "[inverter]\npwm = \"switched\"\n");
+        const mcsim::Scenario sc = mcsim::load_scenario(t.path());
+        EXPECT_EQ(sc.inverter.pwm, mcsim::PwmModel::kSwitched);
+        EXPECT_EQ(sc.inverter.f_pwm_Hz, 20e3);
+    }
+}
+
 TEST(Scenario, ControlLawMapsToTheDesign)
 {
     const TempScenario t(kBase + "[design]\ncontrol_law = \"load_angle\"\n");
@@ -250,6 +270,13 @@ INSTANTIATE_TEST_SUITE_P(
                               ":8:14: non-ASCII character (U+03FF) outside a string or a comment"},
                       BadCase{"non_ascii_after_backslash", "", "description = \"\"\"a\\Ω\"\"\"\n",
                               ":16:20: non-ASCII character (U+03A9) right after a backslash in a multi-line string"},
+                      // [inverter] pwm (issue 30): its two values, and the switched legs
+                      // need a whole number of carrier periods per control period
+                      BadCase{"inverter_pwm_kind", "", "[inverter]\npwm = \"carrier\"\n",
+                              "inverter.pwm: must be \"averaged\" or \"switched\" (got \"carrier\")"},
+                      BadCase{"inverter_pwm_ratio", "", "[inverter]\nf_pwm_Hz = 24000\npwm = \"switched\"\n",
+                              "inverter.pwm: \"switched\" needs a whole number (1 to 128) of PWM periods per control "
+                              "period: f_pwm_Hz = 24000 Hz is 2.4 times the control rate 1/run.Ts_s = 10000 Hz"},
                       // a control character in a key: the message stays one line
                       BadCase{"key_control_char", "v_max_V = 30.0", "v_max_V = 30.0\n\"v\\nV\" = 1",
                               "supply.v\\nV: unknown key"}),
