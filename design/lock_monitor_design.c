@@ -37,6 +37,8 @@ void lock_monitor_design_defaults(lock_monitor_design_input_t *in)
     in->eps_Phi = LOCK_EPS_PHI;
     in->delta_max_rad = LOCK_DELTA_MAX_RAD;
     in->di_rel = LOCK_DI_REL;
+    in->L_radial_H = 0.0; /* paper 001: non-salient, i_d* = 0 */
+    in->rho_max = 1.0;
 }
 
 bool lock_monitor_design(const lock_monitor_design_input_t *in, lock_monitor_config_t *cfg, char *err, size_t err_len)
@@ -50,20 +52,51 @@ bool lock_monitor_design(const lock_monitor_design_input_t *in, lock_monitor_con
     if (!(in->eps_Phi >= 0.0 && in->eps_R >= 0.0 && in->eps_L >= 0.0 && in->di_rel >= 0.0 &&
           in->delta_max_rad > 0.0 && in->delta_max_rad < 1.5707963267948966))
         return lock_fail(err, err_len, "tolerances", "eps >= 0, 0 < delta_max < pi/2", in->delta_max_rad);
+    if (!(in->L_radial_H >= 0.0)) return lock_fail(err, err_len, "L_radial_H", "must be >= 0", in->L_radial_H);
+    if (!(in->rho_max >= 1.0)) return lock_fail(err, err_len, "rho_max", "must be >= 1", in->rho_max);
+    if (in->L_radial_H > 0.0 && !(in->eps_Phi > 0.0))
+        return lock_fail(err, err_len, "eps_Phi", "must be > 0 with L_radial_H > 0 (the tangent below)", in->eps_Phi);
     const double np = (double)in->n_p;
     /* a lock that holds, at electrical speed w_e = n_p w: an angle error up
      * to delta_max shows Phi w_e sin(delta_max) along the estimated d axis;
      * a flux (1 + eps) Phi turned at the same speed by an observer pulled to
      * Phi settles at the angle whose cos is 1/(1 + eps), where the radial
-     * correction is Phi w_e sqrt((1 + eps)^2 - 1) (lock_monitor.h) */
+     * correction is Phi w_e sqrt((1 + eps)^2 - 1) (lock_monitor.h). On a
+     * salient motor's active flux of radius a (below) the angle error shows
+     * e_d = a w_e sin(delta), of which the monitor sees e_d / |rho| = Phi
+     * w_e sin(delta) (|rho| = a / Phi): the same with Phi = psi_p; the flux
+     * error's relative size eps_Phi psi_p / a is at most eps_Phi. */
     const double k_speed =
         np * in->Phi_Wb * (sin(in->delta_max_rad) + sqrt((1.0 + in->eps_Phi) * (1.0 + in->eps_Phi) - 1.0));
-    /* eps_L L di/dt of a current turning at w_e: eps_L L n_p w |i| */
-    const double k_speed_cur = in->eps_L * in->L_H * np;
-    /* eps_R R |i| */
+    /* eps_L L di/dt of a current turning at w_e: eps_L L n_p w |i| (the
+     * error of the L in (14) times the current across the estimated axis:
+     * a tangential offset of eta, which the rotation turns into a radial
+     * correction w_e eps_L L |i_q|).
+     * A salient motor on its active flux (paper 002 (1): psi_d = L_d i_d +
+     * psi_p, psi_q = L_q i_q; eta = lambda - L_q i lies along d with the
+     * radius a = psi_p + (L_d - L_q) i_d, the target of (12)): an L_d error
+     * also moves the radius, by eps_L L_d |i_d|, a flux error as eps_Phi's
+     * but relative to a >= psi (i_d <= 0 by MTPA (18) with L_d < L_q). The
+     * monitor's residual gPhi3 |target - |rho|^2| is e_d / |rho| (e_d =
+     * gPhi3 |rho| (target - |rho|^2), (12) along rho), so a radial error
+     * x = dr/a shows psi w_e f(x), f(x) = sqrt((1 + x)^2 - 1), as eps_Phi
+     * above. f is concave: f(eps_Phi + y) <= f(eps_Phi) + f'(eps_Phi) y,
+     * f'(x) = (1 + x)/f(x), and with y <= eps_L L_d |i|/psi the radial part
+     * adds f'(eps_Phi) eps_L L_d n_p |w| |i| (2.02 eps_L L_d at eps_Phi =
+     * 0.15). 0 for L_radial_H = 0 (paper 001: i_d* = 0). */
+    const double radial_H =
+        in->L_radial_H > 0.0
+            ? in->L_radial_H * (1.0 + in->eps_Phi) / sqrt((1.0 + in->eps_Phi) * (1.0 + in->eps_Phi) - 1.0)
+            : 0.0;
+    const double k_speed_cur = in->eps_L * (in->L_H + radial_H) * np;
+    /* eps_R R |i| (along the estimated axis; e_d / |rho| <= e_d with
+     * |rho| >= 1) */
     const double k_cur = in->eps_R * in->R_ohm;
-    /* 2 gamma Phi^2 L di (LOCK_DI_REL): gamma Phi^2 = gPhi3 / Phi */
-    const double floor_v = 2.0 * (in->gPhi3_V / in->Phi_Wb) * in->L_H * in->di_rel * in->i_max_A;
+    /* 2 gamma Phi^2 L di (LOCK_DI_REL): gamma Phi^2 = gPhi3 / Phi; on a
+     * radius |rho| the same di moves |rho|^2 by 2 |rho| L di / Phi: times
+     * rho_max (1 for paper 001) */
+    const double floor_v =
+        2.0 * (in->gPhi3_V / in->Phi_Wb) * in->L_H * in->di_rel * in->i_max_A * in->rho_max;
     cfg->gPhi3_V = mc_from_double(in->gPhi3_V);
     cfg->k_speed_V_s = mc_from_double(k_speed);
     cfg->k_speed_cur_H = mc_from_double(k_speed_cur);

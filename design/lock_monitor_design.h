@@ -18,6 +18,13 @@ extern "C" {
 
 typedef struct {
     double R_ohm, L_H, Phi_Wb; /* the drive's model (L: the one of (14); Phi: the flux |eta| is pulled to) */
+    /* A salient motor observed on its active flux (paper002_drive.h; the
+     * defaults, 0 and 1, are paper 001's non-salient motor at i_d* = 0):
+     * L_radial_H: the inductance whose error moves |eta| radially, L_d of
+     * paper 002 (1) for a drive that drives i_d (MTPA (18)); 0 when i_d* = 0
+     * (paper 001 (11)). rho_max: the largest |eta|/Phi of a lock that holds,
+     * 1 + (L_q - L_d) |i_d| / psi at the largest MTPA i_d (>= 1). */
+    double L_radial_H, rho_max;
     int n_p;
     double gPhi3_V;            /* the flux observer's gamma Phi^3 */
     double i_max_A;
@@ -29,7 +36,8 @@ typedef struct {
     double di_rel;             /* current sensing error relative to i_max */
 } lock_monitor_design_input_t;
 
-/* The defaults of the tolerances (LOCK_EPS_*, LOCK_DELTA_MAX_RAD, LOCK_DI_REL). */
+/* The defaults of the tolerances (LOCK_EPS_*, LOCK_DELTA_MAX_RAD, LOCK_DI_REL),
+ * and of a non-salient motor (L_radial_H = 0, rho_max = 1). */
 void lock_monitor_design_defaults(lock_monitor_design_input_t *in);
 
 /* Fills cfg; false with a message in err when an input is out of range. */

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <stdio.h>
 
+#include "design/lock_monitor_design.h"
 #include "design/paper000_design.h"
 #include "math/mc_convert.h"
 
@@ -96,6 +97,16 @@
 #define P002_STALL_TOL 0.5
 #define P002_STALL_FLOOR_RAD_S 10.0
 #define P002_STALL_S 0.1
+/* Loss of lock of the sensorless variant (supervisor/lock_monitor.h,
+ * design/lock_monitor_design.c; docs/faults.md): the flux observer's
+ * residual along the estimated rotor axis must stay beyond its tolerance
+ * bound for this many time constants of the observer's radial dynamics,
+ * 1/(2 gamma psi^2) = 1/P002_FLUX_RADIAL_RATE_PER_S (20 ms): the residual
+ * is the gradient term of (12) (paper 001), and a radial transient of a
+ * lock that holds (the start, a step of the active flux's target with
+ * i_d) decays at that rate, to e^-5 = 0.7 % after five (0.1 s). The
+ * speed loop (500 rad/s) and the current loop are faster. */
+#define P002_LOCK_SETTLE_PER_RADIAL_TAU 5.0
 /* the initial covariance: what a start at rest leaves unknown */
 #define P002_P0 1e-3
 
@@ -289,6 +300,40 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
                                          mc_from_double(ldexp(1.0 / phi_fs, sh)),
                                          mc_from_double(gamma * psi * psi * psi)};
     cfg->flux_theta0_rad = mc_from_double(in->theta0_rad);
+    /* loss of lock of the sensorless variant: the shared derivation
+     * (design/lock_monitor_design.c) with paper 001's tolerances (R, L
+     * +-50 %, Phi +15 %, 30 degrees, 1 % of i_max in the current) on the
+     * active flux: L of (14) is L_q, the radius psi + (L_d - L_q) i_d moves
+     * with L_d i_d (paper 002 (1)), and |eta|/psi reaches at most rho_max =
+     * 1 + |L_q - L_d| |i_d| / psi at the MTPA point of magnitude i_max: (18)
+     * with i_q^2 = i_max^2 - i_d^2 gives 2 i_d^2 + (psi/(L_d - L_q)) i_d -
+     * i_max^2 = 0, |i_d| = (sqrt(psi^2 + 8 dL^2 i_max^2) - psi) / (4 dL),
+     * dL = |L_q - L_d| (12.6 A, rho_max 2.89 for the reference motor at
+     * 20 A; MTPA's i_d makes the radius grow for either sign of dL). A
+     * non-salient motor (dL = 0) keeps i_d at 0 (control/mtpa.h): paper
+     * 001's case, L_radial 0 and rho_max 1. The encoder variant needs no
+     * lock monitor (ticks 0: off): its angle is measured, not estimated,
+     * and the EKF's angle innovation (LOSS_OF_SYNC) already checks it. */
+    if (flux) {
+        const double dL = fabs(Lq - Ld);
+        const double id_max_A =
+            dL > 0.0 ? (sqrt(psi * psi + 8.0 * dL * dL * in->i_max_A * in->i_max_A) - psi) / (4.0 * dL) : 0.0;
+        lock_monitor_design_input_t li;
+        lock_monitor_design_defaults(&li);
+        li.R_ohm = R;
+        li.L_H = Lq;
+        li.Phi_Wb = psi;
+        li.L_radial_H = dL > 0.0 ? Ld : 0.0;
+        li.rho_max = 1.0 + dL * id_max_A / psi;
+        li.n_p = p;
+        li.gPhi3_V = gamma * psi * psi * psi;
+        li.i_max_A = in->i_max_A;
+        li.settle_s = P002_LOCK_SETTLE_PER_RADIAL_TAU / P002_FLUX_RADIAL_RATE_PER_S;
+        li.ts_s = in->ts_s;
+        if (!lock_monitor_design(&li, &cfg->lock, err, err_len)) {
+            return false;
+        }
+    }
     /* faults (docs/faults.md): the generic set, designed as the other
      * drives' are, and the loss of the estimate */
     fault_monitor_design(&cfg->faults, 3, in->i_max_A, in->i_trip_A, in->i_trip_samples, in->i_rail_A, in->ts_s);

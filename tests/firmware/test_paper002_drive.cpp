@@ -543,3 +543,83 @@ TEST(Paper002Drive, SampleWithoutTheEncodersAngleIsBadInput)
     in.has_angle = true;
     EXPECT_FALSE(paper002_drive_step(&d, &in, &out)) << "latched: the angle back does not restart it";
 }
+
+// Loss of lock (supervisor/lock_monitor.h) in the sensorless variant only.
+// With the design's thresholds (design/lock_monitor_design.c) the flux
+// observer's residual on this plant (the exact model: a lock that holds)
+// stays far below the bound through the start, the ramp and the load
+// pulses. With a bound of nothing (k = 0, floor 1 uV: any residual is
+// beyond it) and a persistence of 20 samples, the flux variant raises
+// LOSS_OF_LOCK on the 20th sample and it goes through the guard like the
+// drive's other faults (SAFE: latched, 0 V; REPORT: recorded, the drive
+// goes on); the encoder variant with the same configuration never calls
+// the monitor (its angle is measured).
+TEST(Paper002Drive, LossOfLockOnlyWithTheFluxAngle)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    p002_design_input_t in;
+    p002_design_defaults(&in);
+    in.angle_source = P002_ANGLE_FLUX;
+    paper002_config_t flux_cfg{};
+    char err[200];
+    ASSERT_TRUE(p002_design(&in, &flux_cfg, err, sizeof err)) << err;
+    ASSERT_GT(flux_cfg.lock.ticks, 0);
+    static paper002_drive_t d;
+    {
+        // the designed thresholds: no alarm, the residual under a tenth of the bound
+        ASSERT_TRUE(paper002_drive_init(&d, &flux_cfg));
+        Truth tr;
+        std::mt19937_64 rng(7);
+        double e = 0.0, worst = 0.0;
+        for (int k = 0; k < 7000; ++k) {
+            ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &e)) << k;
+            worst = std::max(worst, mc_to_double(d.lock.residual_V) / mc_to_double(d.lock.bound_V));
+        }
+        std::printf("flux variant, designed lock thresholds: largest residual/bound %.3g, final |w_d - w| %.3g\n",
+                    worst, std::fabs(e));
+        EXPECT_GT(worst, 0.0) << "the monitor ran";
+        EXPECT_LT(worst, 0.1);
+        EXPECT_EQ(d.rec.events, 0u);
+    }
+    lock_monitor_config_t none = flux_cfg.lock;
+    none.k_speed_V_s = none.k_speed_cur_H = none.k_cur_ohm = MC_ZERO;
+    none.floor_V = M(1e-6);
+    none.ticks = 20;
+    for (const bool report : {false, true}) {
+        paper002_config_t cfg = flux_cfg;
+        cfg.lock = none;
+        if (report) cfg.reaction[DRIVE_FAULT_LOSS_OF_LOCK] = static_cast<uint8_t>(FAULT_REACT_REPORT);
+        ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+        Truth tr;
+        std::mt19937_64 rng(7);
+        double e = 0.0;
+        int trip = -1;
+        for (int k = 0; k < 200 && trip < 0; ++k) {
+            if (!loop_step(&d, &tr, &rng, k * kTs, &e)) trip = k;
+            if (report && d.rec.events > 0) break;
+        }
+        EXPECT_TRUE(d.rec.frozen) << (report ? "REPORT" : "SAFE");
+        EXPECT_EQ(d.rec.fault, DRIVE_FAULT_LOSS_OF_LOCK);
+        EXPECT_EQ(d.rec.fault_tick, 19u) << "the 20th sample beyond the bound";
+        if (report) {
+            EXPECT_EQ(trip, -1);
+            EXPECT_EQ(d.sup.state, SUP_STATE_CLOSED_LOOP);
+        } else {
+            EXPECT_EQ(trip, 19);
+            EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+            EXPECT_EQ(d.sup.fault, DRIVE_FAULT_LOSS_OF_LOCK);
+        }
+    }
+    // the encoder variant: the same lock configuration is never consulted
+    paper002_config_t enc = config(P002_SOSMC, true);
+    enc.lock = none;
+    ASSERT_TRUE(paper002_drive_init(&d, &enc));
+    Truth tr;
+    std::mt19937_64 rng(7);
+    double e = 0.0;
+    for (int k = 0; k < 2000; ++k) ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &e)) << k;
+    EXPECT_EQ(d.rec.events, 0u);
+    EXPECT_EQ(d.lock.run.run, 0);
+}

@@ -351,6 +351,13 @@ MUTANTS = [
     m("lock_design_no_flux_tolerance", "design/lock_monitor_design.c",
       "the bound without the flux tolerance: Phi +15 % at speed reads as a loss of lock",
       ("(sin(in->delta_max_rad) + sqrt((1.0 + in->eps_Phi) * (1.0 + in->eps_Phi) - 1.0))", "sin(in->delta_max_rad)")),
+    m("lock_design_no_rho_max", "design/lock_monitor_design.c",
+      "the floor on the unit circle: a salient motor's active flux (|rho| up to rho_max) not taken into account",
+      ("in->i_max_A * in->rho_max;", "in->i_max_A;")),
+    m("p002_lock_skipped", "drives/paper002/paper002_drive.c", "the sensorless variant without its loss-of-lock monitor",
+      ("    if (flux && lock_monitor_step_flux(", "    if (false && flux && lock_monitor_step_flux(")),
+    m("p002_lock_raised_as_sync", "drives/paper002/paper002_drive.c", "a loss of lock raised as LOSS_OF_SYNC (fault 5, not 12)",
+      ("p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)", "p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)")),
     # ---- the guard every drive runs under (supervisor/guard.c, .h)
     m("guard_relock_ignores_budget", "supervisor/guard.c", "RELOCK answered where the drive cannot re-lock (budget spent)",
       ("if (react == (uint8_t)FAULT_REACT_RELOCK && can_relock) {", "if (react == (uint8_t)FAULT_REACT_RELOCK && (can_relock || !can_relock)) {")),

@@ -18,6 +18,7 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->tick = 0;
     d->los.run = 0;
     d->stall.run = 0;
+    lock_monitor_init(&d->lock, &cfg->lock);
     d->u_ab_prev_V.alpha = MC_ZERO;
     d->u_ab_prev_V.beta = MC_ZERO;
     d->reference = cfg->reference;
@@ -126,6 +127,16 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     const bool stalled =
         fault_persist_step(&d->stall, !mc_le(mc_abs(mc_sub(d->ekf.x[EKF_OMEGA], w_d)), stall_band), c->stall_ticks);
     if ((!corrected || lost || stalled) && p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)) {
+        return false;
+    }
+    /* the sensorless variant's loss of lock (supervisor/lock_monitor.h):
+     * the flux observer's residual along its rotor axis, gPhi3 |target -
+     * |rho|^2| of (12), against the tolerance bound at the EKF's speed and
+     * the current in the observer's frame. Only for the flux angle: the
+     * encoder's is measured (the EKF's innovation above checks it). */
+    if (flux && lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q) !=
+                    LOCK_CRIT_NONE &&
+        p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
         return false;
     }
     d->last.theta_meas_rad = theta_meas;

@@ -31,7 +31,10 @@
  * los_theta_rad for los_ticks samples, its innovation covariance no longer
  * positive definite, or its speed off the reference by more than
  * stall_tol |w_d| + stall_floor_rad_s for stall_ticks samples (a stalled
- * or runaway rotor; LOSS_OF_SYNC). Float only: the EKF's covariances do not fit
+ * or runaway rotor; LOSS_OF_SYNC); with the flux observer (below) also the
+ * loss of lock of supervisor/lock_monitor.h (LOSS_OF_LOCK: its residual
+ * along the estimated rotor axis beyond the tolerance bound, the active
+ * flux's radius as the target; design/lock_monitor_design.c). Float only: the EKF's covariances do not fit
  * Q14.17 (docs/paper002.md).
  *
  * Angle source by configuration (cfg.angle_source), as paper 001's drive
@@ -68,6 +71,7 @@
 #include "model/motor_model.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/flight_recorder.h"
+#include "supervisor/lock_monitor.h"
 #include "supervisor/supervisor.h"
 #include "trajectory/speed_poly.h"
 
@@ -103,6 +107,9 @@ typedef struct {
     int32_t los_ticks;             /* ... for this many consecutive samples */
     mc_t stall_tol, stall_floor_rad_s; /* |w_hat - w_d| > tol |w_d| + floor ... */
     int32_t stall_ticks;           /* ... for this many consecutive samples */
+    lock_monitor_config_t lock;    /* angle_source = FLUX: loss of lock (supervisor/lock_monitor.h), the
+                                    * flux observer's residual along the estimated rotor axis beyond the
+                                    * tolerance bound (LOSS_OF_LOCK; ticks 0: off). The encoder needs none */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
     deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
@@ -122,6 +129,7 @@ typedef struct {
     mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
     fault_monitor_t mon;
     fault_persist_t los, stall;
+    lock_monitor_t lock;           /* angle_source = FLUX */
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
     bool disabled;                 /* CmdEnable 0: 0 V until enabled */
