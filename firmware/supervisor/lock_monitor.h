@@ -41,7 +41,9 @@
  * speed estimate).
  *
  * Fixed point: gPhi3 |target - rho2| <= 24.6 V x 3 for paper 001's motor,
- * the bound's terms are volts; every product is inside Q14.17.
+ * the bound's terms are volts; every product is inside Q14.17. Paper
+ * 002's sensorless variant (gPhi3 = 1 V, rho2 up to 2.89^2 at i_max) is
+ * float only, as its drive.
  */
 #ifndef SUPERVISOR_LOCK_MONITOR_H
 #define SUPERVISOR_LOCK_MONITOR_H

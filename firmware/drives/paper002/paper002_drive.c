@@ -133,7 +133,9 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
      * the flux observer's residual along its rotor axis, gPhi3 |target -
      * |rho|^2| of (12), against the tolerance bound at the EKF's speed and
      * the current in the observer's frame. Only for the flux angle: the
-     * encoder's is measured (the EKF's innovation above checks it). */
+     * encoder's is measured (the EKF's innovation above checks it). No
+     * product of its own here; float only, as the drive (the fixed-point
+     * build refuses paper 002's design, docs/paper002.md). */
     if (flux && lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q) !=
                     LOCK_CRIT_NONE &&
         p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
