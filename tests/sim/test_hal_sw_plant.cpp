@@ -9,21 +9,11 @@
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "mc_convert.h"
+#include "test_motors.h"
 
 namespace {
 
-mcsim::MotorParams paper_motor()
-{
-    mcsim::MotorParams m;
-    m.L_H = 9e-3;
-    m.R_ohm = 3.01;
-    m.K_Nm_per_A = 0.27;
-    m.J_kgm2 = 3.18e-4;
-    m.fv_Nms_per_rad = 2.37e-3;
-    m.coulomb_Nm = 0.0752;
-    m.n_p = 50;
-    return m;
-}
+using mcsim_test::paper000_stepper;
 
 struct Ctx {
     double v_a_V = 0.0;
@@ -49,7 +39,7 @@ void monitor(void*, const hal_sw_plant_period_t* p) { g_periods.push_back(*p); }
 
 class HalSwPlant : public ::testing::Test {
 protected:
-    HalSwPlant() : plant(paper_motor(), mcsim::LoadProfile(), 4), sensor(mcsim::SensorParams{}, 1)
+    HalSwPlant() : plant(paper000_stepper(), mcsim::LoadProfile(), 4), sensor(mcsim::SensorParams{}, 1)
     {
         plant.reset(mcsim::PmPlant::State::Zero());
         amp.v_max_V = 30.0;
@@ -100,7 +90,7 @@ TEST_F(HalSwPlant, VoltagesHeldAndClampedCurrentsSampledAtPeriodStart)
     ctx.v_a_V = 45.0;  // beyond the supply: the amplifier gives 30 V
     ASSERT_TRUE(hal_start(callback, &ctx));
     hal_sw_plant_run(50);
-    const mcsim::MotorParams m = paper_motor();
+    const mcsim::MotorParams m = paper000_stepper();
     ASSERT_EQ(g_periods.size(), 50u);
     for (std::size_t k = 0; k < 50; ++k) {
         EXPECT_EQ(g_periods[k].v_a_cmd_V, 45.0);

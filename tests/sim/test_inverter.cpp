@@ -16,8 +16,11 @@
 #include "model/inverter.h"
 #include "model/load_profile.h"
 #include "model/pm_plant.h"
+#include "test_motors.h"
 
 namespace {
+
+using mcsim_test::paper001_motor;
 
 using mcsim::Inverter;
 using mcsim::InverterParams;
@@ -253,17 +256,6 @@ void hold_voltages(void* ctx, const hal_sample_t*, hal_command_t* out)
     }
 }
 
-mcsim::MotorParams paper001_motor()
-{
-    mcsim::MotorParams m;  // sim/motors/paper001_pmsm.toml
-    m.type = mcsim::MotorType::kPmsm3;
-    m.L_H = 3.8e-3;
-    m.R_ohm = 0.225;
-    m.K_Nm_per_A = 3 * 0.17;
-    m.J_kgm2 = 0.012;
-    m.n_p = 3;
-    return m;
-}
 
 TEST(Backend, AppliesTheInverterAndWithoutItTheAmplifier)
 {

@@ -21,8 +21,12 @@
 #include "model/load_profile.h"
 #include "model/pm_plant.h"
 #include "model/switched_pwm.h"
+#include "test_motors.h"
 
 namespace {
+
+using mcsim_test::paper000_stepper;
+using mcsim_test::paper001_motor;
 
 using mcsim::Inverter;
 using mcsim::InverterParams;
@@ -240,31 +244,6 @@ double ripple_closed_form(double v1, double t_h, double t_l, double R, double L)
     const double a = std::exp(-t_h / tau);
     const double b = std::exp(-t_l / tau);
     return v1 / R * (1.0 - a) * (1.0 - b) / (1.0 - a * b);
-}
-
-mcsim::MotorParams paper001_motor()
-{
-    mcsim::MotorParams m;  // sim/motors/paper001_pmsm.toml
-    m.type = mcsim::MotorType::kPmsm3;
-    m.L_H = 3.8e-3;
-    m.R_ohm = 0.225;
-    m.K_Nm_per_A = 3 * 0.17;
-    m.J_kgm2 = 0.012;
-    m.n_p = 3;
-    return m;
-}
-
-mcsim::MotorParams paper000_stepper()
-{
-    mcsim::MotorParams m;  // sim/motors/paper000_stepper.toml
-    m.L_H = 9e-3;
-    m.R_ohm = 3.01;
-    m.K_Nm_per_A = 0.27;
-    m.J_kgm2 = 3.18e-4;
-    m.fv_Nms_per_rad = 2.37e-3;
-    m.coulomb_Nm = 0.0752;
-    m.n_p = 50;
-    return m;
 }
 
 // Runs the locked plant with the legs at duties d until the ripple is

@@ -9,8 +9,11 @@
 #include "model/load_profile.h"
 #include "model/pm_plant.h"
 #include "model/thermal.h"
+#include "test_motors.h"
 
 namespace {
+
+using mcsim_test::paper001_motor;
 
 using mcsim::PmPlant;
 using mcsim::ThermalModel;
@@ -90,17 +93,6 @@ TEST(Model, ResistanceAndFluxAtTemperature)
     EXPECT_NE(half.problem(), nullptr);
 }
 
-mcsim::MotorParams paper001_motor()
-{
-    mcsim::MotorParams m;  // sim/motors/paper001_pmsm.toml
-    m.type = mcsim::MotorType::kPmsm3;
-    m.L_H = 3.8e-3;
-    m.R_ohm = 0.225;
-    m.K_Nm_per_A = 3 * 0.17;
-    m.J_kgm2 = 0.012;
-    m.n_p = 3;
-    return m;
-}
 
 TEST(Plant, WarmWindingAndItsSteadyState)
 {
