@@ -25,10 +25,16 @@
  *   di_dhat = V_h Ts (cos^2 e / L_d + sin^2 e / L_q)                  (H1)
  *   di_qhat = V_h Ts / 2 (1/L_d - 1/L_q) sin 2e                         (H2)
  * With the sign s_k alternating every sample, the current difference
- * Delta i_k = i_k - i_{k-1} holds the fundamental's slope (slow) plus
- * s_{k-1} times (H1, H2); so
- *   h_k = s_{k-1} (Delta i_k - Delta i_{k-1}) / 2                      (H3)
- * removes the slope and keeps (H1, H2), and
+ * Delta i_k = i_k - i_{k-1} holds the fundamental's slope plus s_{k-1}
+ * times (H1, H2); the slope changes from one sample to the next by what the
+ * change of the fundamental voltage v drives, Ts L^-1 (v_k - v_{k-1})
+ * (v_k the one held over [k-1, k]; L^-1 = diag(1/L_d, 1/L_q) taken in the
+ * injection's frame, exact at e = 0), so
+ *   h_k = s_{k-1} (Delta i_k - Delta i_{k-1} - Ts L^-1 (v_k - v_{k-1})) / 2
+ *                                                                      (H3)
+ * removes the slope and the controller's steps and keeps (H1, H2) (without
+ * the voltage term a 1 V step of the q voltage would read as 0.05 rad of
+ * angle: a current controller's own steps fed back into the angle), and
  *   eps = h_qhat / (g V_h Ts (1/L_d - 1/L_q) / 2) = sin 2e              (H4)
  * is the demodulated error, 2e for small e. g = 1 - 2 d accounts for the
  * board's computation delay d (the voltage over a sample is (1 - d) u_k +
@@ -39,7 +45,12 @@
  *   i_f = (3 i_k + 2 i_{k-1} - i_{k-2}) / 4.                           (H5)
  * A type-2 tracking loop (PLL) on e_hat = eps/2:
  *   omega_hat += k_i e_hat,   theta_hat += Ts (omega_hat + k_p e_hat)  (H6)
- * with k_p = 2 zeta w_n, k_i = w_n^2 Ts (zeta = 1): its noise bandwidth
+ * with k_p = 2 zeta w_n, k_i = w_n^2 Ts (zeta = 1); and the angle each
+ * sample measures, without the loop's filter (for a model-based observer
+ * downstream, which then does the filtering without the loop's lag):
+ *   theta_raw = theta_inj + eps / 2,                                    (H7)
+ * theta_inj the direction of the injection (H3) answers. The loop's noise
+ * bandwidth
  * B_n = w_n (zeta + 1/(4 zeta)) / 2 = 0.625 w_n. The sign of (H4) makes e
  * = 0 stable and e = +-pi/2 unstable: it locks to the d axis from any
  * |e| < pi/2 and to the axis pi away otherwise (the magnet's polarity is
@@ -112,12 +123,16 @@ typedef struct {
     mc_t kp_per_s;       /* k_p = 2 zeta w_n of (H6) */
     mc_t ki_per_s;       /* k_i = w_n^2 Ts of (H6), rad/s per rad per sample */
     mc_t lead_s;         /* the output's angle advanced by (1/2 + d) Ts of speed */
+    mc_t delay;          /* d: the voltage over a sample is (1 - d) u_k + d u_{k-1} */
+    mc_t ts_over_Ld_A_per_V; /* Ts / L_d, Ts / L_q of (H3)'s voltage term */
+    mc_t ts_over_Lq_A_per_V;
 } hf_injection_config_t;
 
 typedef struct {
     hf_injection_config_t cfg;
     mc_ab_t i1_A, i2_A;  /* i_{k-1}, i_{k-2} */
     mc_ab_t di1_A;       /* Delta i_{k-1} */
+    mc_ab_t uf1_V, uf2_V, uf3_V; /* the fundamental commands of the last three steps (hf_injection_hold) */
     mc_rot_t rot_inj;    /* the direction of the last injection (estimated d axis) */
     int32_t sign;        /* s of the last output: +1 or -1 */
     int32_t n;           /* samples since the injection started (saturates) */
@@ -125,7 +140,9 @@ typedef struct {
     /* outputs of the last step */
     mc_t theta_e_rad;    /* electrical angle, wrapped to [-pi, pi) */
     mc_t omega_e_rad_s;  /* electrical speed */
+    mc_t theta_inj_rad;  /* the electrical angle of the last injection (its d axis) */
     mc_t eps;            /* (H4), about sin 2e (0 before the warm-up) */
+    mc_t theta_raw_e_rad; /* (H7): the angle this sample measures, unfiltered */
     mc_t amp;            /* (H1) relative: 1 aligned, L_d/L_q at pi/2 */
     mc_ab_t i_f_A;       /* (H5): the current without the injection */
     mc_ab_t u_h_V;       /* the injection voltage for the coming sample */
@@ -149,8 +166,14 @@ void hf_injection_set_on(hf_injection_t *o, bool on);
  * observer at speed), so that switching on again starts from them. */
 void hf_injection_track(hf_injection_t *o, mc_t theta_e_rad, mc_t omega_e_rad_s);
 
+/* The fundamental voltage commanded for the coming sample (the injection
+ * not included), for (H3)'s voltage term; call it after every step (0 V
+ * if not). */
+void hf_injection_hold(hf_injection_t *o, mc_ab_t u_f_V);
+
 /* One sample: i_A, the measured alpha-beta current of this sample. Updates
- * i_f_A (H5), and when on eps, amp and the PLL (H3)-(H6), and u_h_V, the
+ * i_f_A (H5), and when on eps, amp, the PLL and theta_raw (H3)-(H7) (off or
+ * warming up: theta_raw = theta_e), and u_h_V, the
  * voltage to add to the command for the coming sample (zero when off). */
 void hf_injection_step(hf_injection_t *o, mc_ab_t i_A);
 
