@@ -126,6 +126,10 @@
  * crossover stays under 20 degrees (a second-order estimator at a third of
  * its natural frequency, damping 0.7). */
 #define P002_HFI_SPEED_BELOW_EKF 3.0
+/* The angle hold's gain (paper002_drive.h) a quarter of the speed loop's
+ * pole: the outer loop a factor below the inner one, as the speed loop
+ * under the current loop (P002_SPEED_BELOW_CURRENT). */
+#define P002_HFI_HOLD_BELOW_SPEED 4.0
 /* the initial covariance: what a start at rest leaves unknown */
 #define P002_P0 1e-3
 
@@ -345,6 +349,7 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         cfg->hfi_blend_hi_rad_s = mc_from_double(P002_HFI_BLEND_HI_RAD_S);
         cfg->hfi_on_rad_s = mc_from_double(P002_HFI_ON_RAD_S);
         cfg->hfi_off_rad_s = mc_from_double(P002_HFI_OFF_RAD_S);
+        cfg->hfi_hold_gain_per_s = mc_from_double(ws / P002_HFI_HOLD_BELOW_SPEED);
     }
     const double gamma = P002_FLUX_RADIAL_RATE_PER_S / (2.0 * psi * psi);
     const double phi_fs = psi * fsr;

@@ -14,7 +14,8 @@
 static bool p002_hfi_speeds_ok(const paper002_config_t *c)
 {
     return mc_ge(c->hfi_blend_lo_rad_s, MC_ZERO) && mc_lt(c->hfi_blend_lo_rad_s, c->hfi_blend_hi_rad_s) &&
-           mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) && mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s);
+           mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) && mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s) &&
+           mc_ge(c->hfi_hold_gain_per_s, MC_ZERO);
 }
 
 /* angle_source = HFI, step 1: the injection on or off by the EKF's speed
@@ -61,6 +62,22 @@ static mc_rot_t p002_hfi_angle(paper002_drive_t *d, mc_ab_t *i_ab)
     return mc_rot_from_angle(mc_wrap_pi(mc_mac(th_h, w, mc_wrap_pi(mc_sub(th_f, th_h)))));
 }
 
+/* angle_source = HFI, step 3: the angle hold (paper002_drive.h). The held
+ * angle follows the integral of w_d, and the EKF's angle once the blend is
+ * complete; the correction k (1 - w) wrap(hold - theta_hat) is added to
+ * the speed reference. */
+static mc_t p002_hfi_hold(paper002_drive_t *d, mc_t w_d)
+{
+    const paper002_config_t *c = &d->cfg;
+    const mc_t th = d->ekf.x[EKF_THETA];
+    d->hfi_hold_rad = mc_wrap_pi(mc_mac(d->hfi_hold_rad, w_d, c->model.ts_s));
+    if (mc_eq(d->hfi_weight, MC_ONE)) {
+        d->hfi_hold_rad = th;
+    }
+    const mc_t k = mc_mul(c->hfi_hold_gain_per_s, mc_sub(MC_ONE, d->hfi_weight));
+    return mc_mac(w_d, k, mc_wrap_pi(mc_sub(d->hfi_hold_rad, th)));
+}
+
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
@@ -95,6 +112,7 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     hf_injection_init(&d->hfi, &cfg->hfi, e0);
     hf_injection_set_on(&d->hfi, cfg->angle_source == P002_ANGLE_HFI);
     d->hfi_weight = MC_ZERO;
+    d->hfi_hold_rad = mc_wrap_pi(cfg->flux_theta0_rad);
     /* the electrical angle fixes the mechanical one up to 2 pi/p: the
      * start's turn among the p is kept as an offset */
     d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, m->n_p));
@@ -211,11 +229,13 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.theta_hat_rad = x[EKF_THETA];
     d->last.w_hat_rad_s = x[EKF_OMEGA];
     d->last.M0_hat_Nm = x[EKF_M0];
-    /* 3. reference and torque demand */
+    /* 3. reference and torque demand; with the injection, the hold's
+     * correction on the speed reference */
+    const mc_t w_c = hfi ? p002_hfi_hold(d, w_d) : w_d;
     const mc_t M_d = (c->controller == P002_SOSMC)
-                         ? sosmc_step(&d->sosmc, &c->sosmc, m, w_d, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
+                         ? sosmc_step(&d->sosmc, &c->sosmc, m, w_c, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
                                       x[EKF_M0])
-                         : htsmc_step(&d->htsmc, &c->htsmc, m, w_d, dw_d, x[EKF_OMEGA], x[EKF_M0]);
+                         : htsmc_step(&d->htsmc, &c->htsmc, m, w_c, dw_d, x[EKF_OMEGA], x[EKF_M0]);
     /* 4. MTPA */
     mtpa_out_t ref;
     mtpa_step(&c->mtpa, m, M_d, &ref);

@@ -69,7 +69,14 @@
  *     sample (it has no information of its own there), so that it starts
  *     the blend from the right angle;
  *   - the loss-of-lock check of the flux observer runs only with the
- *     injection off.
+ *     injection off;
+ *   - an angle hold: at low speed the EKF's speed carries the bias of the
+ *     motor model's errors (its R against a warm winding: the back-EMF it
+ *     infers from u - R i), which a speed loop turns into a creep under
+ *     load; the speed reference gets k (1 - w) wrap(hold - theta_hat),
+ *     hold the integral of w_d from the start angle (following theta_hat
+ *     once the blend is complete, so the hold fades in and out with the
+ *     blend without a step).
  * It starts at cfg.flux_theta0_rad as the flux variant: the injection finds
  * the d axis but not the magnet's polarity, and the polarity test
  * (estimators/magnet_polarity.h) has no saturation difference to see in
@@ -141,6 +148,7 @@ typedef struct {
     mc_t hfi_blend_hi_rad_s;       /* flux observer starts and where it is complete */
     mc_t hfi_off_rad_s;            /* angle_source = HFI: the injection off above this |w_hat| ... */
     mc_t hfi_on_rad_s;             /* ... and on again below this (hi <= on < off) */
+    mc_t hfi_hold_gain_per_s;      /* angle_source = HFI: the angle hold's gain k (0: none) */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
     deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
@@ -163,6 +171,7 @@ typedef struct {
     lock_monitor_t lock;           /* angle_source = FLUX (HFI: with the injection off) */
     hf_injection_t hfi;            /* angle_source = HFI */
     mc_t hfi_weight;               /* angle_source = HFI: the blend's w, 0 injection .. 1 flux observer */
+    mc_t hfi_hold_rad;             /* angle_source = HFI: the held (mechanical) angle */
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
     bool disabled;                 /* CmdEnable 0: 0 V until enabled */

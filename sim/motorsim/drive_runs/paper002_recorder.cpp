@@ -57,7 +57,8 @@ std::int64_t Paper002Recorder::on_period(const hal_sw_plant_period_t& p, double*
     th_ss_ += th_err * th_err;
     thm_ss_ += thm_err * thm_err;
     if (drive_.cfg.angle_source == P002_ANGLE_HFI) {
-        // the HF injection (angle source 2): the EKF's largest angle error,
+        // the HF injection (angle source 2): the EKF's largest angle error
+        // from 50 ms (the first correction of the start left out),
         // the rotor's largest excursion from its start (mechanical), the
         // injection's voltage and its current ripple (half the change of
         // the true alpha-beta current from one sample to the next, the
@@ -65,7 +66,9 @@ std::int64_t Paper002Recorder::on_period(const hal_sw_plant_period_t& p, double*
         if (index() == 0) {
             theta0_ = th;
         }
-        th_err_max_ = std::max(th_err_max_, std::fabs(th_err));
+        if (t >= kRmseSkip_s - 1e-12) {
+            th_err_max_ = std::max(th_err_max_, std::fabs(th_err));
+        }
         drift_max_ = std::max(drift_max_, std::fabs(wrap_pi(th - theta0_)));
         const double ia = plant_.i_a_A(), ib = plant_.i_b_A();
         if (drive_.hfi.on) {

@@ -27,7 +27,7 @@
 //   theta_est_err_max_rad, position_drift_max_rad, hfi_on_fraction,
 //   hfi_current_ripple_rms_A, hfi_voltage_rms_V   angle source 2 (HF
 //                                 injection) only: max |theta_hat - theta|
-//                                 of the EKF, max |theta - theta(0)| (the
+//                                 of the EKF from 50 ms on, max |theta - theta(0)| (the
 //                                 rotor's excursion from its start), both
 //                                 mechanical; the share of samples with the
 //                                 injection on, and while on the RMS of half
