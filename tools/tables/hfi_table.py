@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
-"""Issue 31's table: paper 002's IPMSM held at 0 rpm without a sensor
+"""Issue 31's tables: paper 002's IPMSM held at 0 rpm without a sensor
 (sim/scenarios/ipmsm_zero_speed.toml), with the HF injection (the
 scenario's estimator = "hfi") and with it off (--estimator flux: paper
 001's flux observer alone, the variant that existed before), over seeds;
-then the injection's cost: its current ripple and added voltage.
+the injection's cost: its current ripple and added voltage; then the start
+from rest and the handover to the flux observer
+(sim/scenarios/ipmsm_hfi_handover.toml) over seeds, against the flux
+variant told the start angle (--table handover).
 
 Every number from the runs' CSV logs, one definition for both estimators:
   theta_err_max   max |theta_hat - theta| of the EKF from 50 ms on (rad, mechanical)
@@ -16,7 +19,7 @@ against the scenario's [expect] (outcome: pass, or the metrics it missed;
 the flux runs are judged on the [expect] keys they share: fault,
 theta_est_rmse_rad, speed_err_max_rad_s).
 
-    python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8]
+    python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8] [--table zero|handover]
 
 Standard library only; about 10 s for 8 seeds.
 """
@@ -32,6 +35,7 @@ from lib import motorsim  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIO = ROOT / "sim" / "scenarios" / "ipmsm_zero_speed.toml"
+HANDOVER = ROOT / "sim" / "scenarios" / "ipmsm_hfi_handover.toml"
 SKIP_S = 0.05  # the EKF's start (its first correction) left out, as the metric's
 # the [expect] keys both estimators have (the others exist for the injection only)
 SHARED = {"fault": (None, 0.0), "theta_est_rmse_rad": (None, None), "speed_err_max_rad_s": (None, None)}
@@ -41,10 +45,10 @@ def wrap(a: float) -> float:
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-def expect_bounds() -> dict[str, tuple[float | None, float | None]]:
+def expect_bounds(path: Path = SCENARIO) -> dict[str, tuple[float | None, float | None]]:
     """The scenario's [expect] as {key: (min, max)} (tomllib: Python 3.11)."""
     import tomllib
-    doc = tomllib.loads(SCENARIO.read_text(encoding="utf-8"))
+    doc = tomllib.loads(path.read_text(encoding="utf-8"))
     return {k: (v.get("min"), v.get("max")) for k, v in doc.get("expect", {}).items()}
 
 
@@ -70,15 +74,35 @@ def judged(m: dict, bounds: dict, keys) -> str:
     return "pass" if not missed else "missed " + ", ".join(missed)
 
 
+def handover(ms, seeds: int) -> int:
+    """The start from rest and the handover: the injection over seeds, the
+    flux variant (told the start angle) once."""
+    bounds = expect_bounds(HANDOVER)
+    keys = [("speed_err_max_rad_s", "%.3f"), ("speed_rmse_rad_s", "%.3f"), ("final_omega_rad_s", "%.2f"),
+            ("theta_est_rmse_rad", "%.2e"), ("hfi_on_fraction", "%.4f"), ("fault", "%d")]
+    print("| estimator | seed | outcome | " + " | ".join(f"`{k}`" for k, _ in keys) + " |")
+    print("|---|---|---|" + "---|" * len(keys))
+    for est, seed in [("hfi", s) for s in range(1, seeds + 1)] + [("flux", 1)]:
+        r = motorsim.run(ms, HANDOVER, seed=seed, estimator=est, expect=False, ok=None)
+        m = r.metrics or {}
+        out = judged(m, bounds, bounds.keys() if est == "hfi" else [k for k in bounds if k in m])
+        cells = ["—" if m.get(k) is None else fmt % m[k] for k, fmt in keys]
+        print(f"| {est} | {seed} | {out} | " + " | ".join(cells) + " |")
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(motorsim.DEFAULT_BUILD))
     ap.add_argument("--seeds", type=int, default=8, help="seeds 1..N (default 8)")
+    ap.add_argument("--table", choices=("zero", "handover"), default="zero")
     a = ap.parse_args()
     if a.seeds < 1:
         print("hfi_table: --seeds: must be >= 1", file=sys.stderr)
         return 2
     ms = motorsim.find(build=a.build)
+    if a.table == "handover":
+        return handover(ms, a.seeds)
     bounds = expect_bounds()
     print("| estimator | seed | outcome | theta_err_max (rad) | drift_max (rad) | speed_err_max (rad/s) "
           "| speed_rmse_rad_s | fault |")
