@@ -6,7 +6,9 @@ scenario's estimator = "hfi") and with it off (--estimator flux: paper
 the injection's cost: its current ripple and added voltage; then the start
 from rest and the handover to the flux observer
 (sim/scenarios/ipmsm_hfi_handover.toml) over seeds, against the flux
-variant told the start angle (--table handover).
+variant told the start angle (--table handover); and the reversal through
+zero under load on the injection (sim/scenarios/ipmsm_hfi_reversal.toml,
+--table reversal) over seeds.
 
 Every number from the runs' CSV logs, one definition for both estimators:
   theta_err_max   max |theta_hat - theta| of the EKF from 50 ms on (rad, mechanical)
@@ -19,7 +21,7 @@ against the scenario's [expect] (outcome: pass, or the metrics it missed;
 the flux runs are judged on the [expect] keys they share: fault,
 theta_est_rmse_rad, speed_err_max_rad_s).
 
-    python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8] [--table zero|handover]
+    python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8] [--table zero|handover|reversal]
 
 Standard library only; about 10 s for 8 seeds.
 """
@@ -36,6 +38,7 @@ from lib import motorsim  # noqa: E402
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIO = ROOT / "sim" / "scenarios" / "ipmsm_zero_speed.toml"
 HANDOVER = ROOT / "sim" / "scenarios" / "ipmsm_hfi_handover.toml"
+REVERSAL = ROOT / "sim" / "scenarios" / "ipmsm_hfi_reversal.toml"
 SKIP_S = 0.05  # the EKF's start (its first correction) left out, as the metric's
 # the [expect] keys both estimators have (the others exist for the injection only)
 SHARED = {"fault": (None, 0.0), "theta_est_rmse_rad": (None, None), "speed_err_max_rad_s": (None, None)}
@@ -91,11 +94,26 @@ def handover(ms, seeds: int) -> int:
     return 0
 
 
+def reversal(ms, seeds: int) -> int:
+    """The reversal through zero under load, on the injection, over seeds."""
+    bounds = expect_bounds(REVERSAL)
+    keys = [("theta_est_err_max_rad", "%.4f"), ("theta_est_rmse_rad", "%.4f"),
+            ("speed_rmse_after_50ms_rad_s", "%.3f"), ("final_omega_rad_s", "%.2f"), ("fault", "%d")]
+    print("| seed | outcome | " + " | ".join(f"`{k}`" for k, _ in keys) + " |")
+    print("|---|---|" + "---|" * len(keys))
+    for seed in range(1, seeds + 1):
+        r = motorsim.run(ms, REVERSAL, seed=seed, expect=False, ok=None)
+        m = r.metrics or {}
+        cells = ["—" if m.get(k) is None else fmt % m[k] for k, fmt in keys]
+        print(f"| {seed} | {judged(m, bounds, bounds.keys())} | " + " | ".join(cells) + " |")
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(motorsim.DEFAULT_BUILD))
     ap.add_argument("--seeds", type=int, default=8, help="seeds 1..N (default 8)")
-    ap.add_argument("--table", choices=("zero", "handover"), default="zero")
+    ap.add_argument("--table", choices=("zero", "handover", "reversal"), default="zero")
     a = ap.parse_args()
     if a.seeds < 1:
         print("hfi_table: --seeds: must be >= 1", file=sys.stderr)
@@ -103,6 +121,8 @@ def main() -> int:
     ms = motorsim.find(build=a.build)
     if a.table == "handover":
         return handover(ms, a.seeds)
+    if a.table == "reversal":
+        return reversal(ms, a.seeds)
     bounds = expect_bounds()
     print("| estimator | seed | outcome | theta_err_max (rad) | drift_max (rad) | speed_err_max (rad/s) "
           "| speed_rmse_rad_s | fault |")
