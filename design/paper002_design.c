@@ -295,10 +295,17 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         r_th = fmax(s_th * s_th, 1e-12);
     }
     if (hfi) {
-        /* the injection's unfiltered angle (H7) at standstill
-         * (estimators/hf_injection.h): the demodulated error's noise per
-         * sample, sigma_i sqrt(5/3) sqrt(6)/2 times (H4)'s gain, halved (e
-         * = eps/2); over p mechanical */
+        /* the injection's angle at standstill (estimators/hf_injection.h):
+         * the EKF gets the tracking loop's angle (H6), whose noise is
+         * filtered and so correlated from sample to sample, and is told
+         * the noise of the unfiltered measurement (H7) per sample: the
+         * demodulated error's sigma_i sqrt(5/3) sqrt(6)/2 times (H4)'s
+         * gain, halved (e = eps/2), over p mechanical (0.0089 rad). Told
+         * the loop's own 0.0018 rad the EKF took it as white, its speed
+         * bandwidth and the speed loop's rose 2.2 times and the
+         * reversal and the handover lost synchronism; given the unfiltered
+         * angle (H7) instead, the EKF's angle was 1.6-3 times worse at 0
+         * rpm (docs/hf_injection.md). */
         const double dinv = 1.0 / Ld - 1.0 / Lq;
         const double g = 1.0 - 2.0 * in->compute_delay_samples;
         const double s_eps = in->sigma_i_A * sqrt(5.0 / 3.0) * sqrt(6.0) / 2.0 * 2.0 /

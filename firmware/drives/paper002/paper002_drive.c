@@ -49,12 +49,11 @@ static mc_rot_t p002_hfi_angle(paper002_drive_t *d, mc_ab_t *i_ab)
                                    mc_sub(c->hfi_blend_hi_rad_s, c->hfi_blend_lo_rad_s)),
                             MC_ZERO, MC_ONE);
     d->hfi_weight = w;
-    /* the injection's unfiltered angle (H7): the EKF filters it with its
-     * model, without the tracking loop's lag in the speed loop */
-    const mc_t th_h = d->hfi.theta_raw_e_rad;
+    /* the injection's tracked angle (H6) */
+    const mc_t th_h = d->hfi.theta_e_rad;
     if (mc_eq(w, MC_ZERO)) {
         /* the observer knows nothing here: it takes the injection's angle */
-        flux_observer_init(&d->flux, &c->flux, mc_rot_from_angle(d->hfi.theta_e_rad), *i_ab);
+        flux_observer_init(&d->flux, &c->flux, mc_rot_from_angle(th_h), *i_ab);
         flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
         return mc_rot_from_angle(th_h);
     }
