@@ -4,13 +4,13 @@
 #include "boards/board.h"
 #include "drives/paper001/paper001_drive.h"
 
-_Static_assert(sizeof(paper001_config_t) == 884, "paper001_config_t layout differs from the host's");
+_Static_assert(sizeof(paper001_config_t) == 900, "paper001_config_t layout differs from the host's");
 _Static_assert(MC_FIXED == 0, "made for the other numeric type");
 
 const char board_drive_cfg_source[] = "firmware/drives/paper001/boards/vesc6.toml (paper001, estimator flux, float32)";
-const uint32_t board_drive_cfg_bytes = 884u;
+const uint32_t board_drive_cfg_bytes = 900u;
 const uint32_t board_encoder_counts_per_turn = 0u;
-const uint32_t board_drive_cfg_words[221] = {
+const uint32_t board_drive_cfg_words[225] = {
   0x00000003u,0x00000000u,0x00000003u,0x00002710u,0x38d1b717u,0x3e666666u,0x3b79096cu,0x3b79096cu,
   0x3b79096cu,0x3e2e147bu,0x3c449ba6u,0x3cd79436u,0x3c3ac711u,0x3f028f5cu,0x00000000u,0x42a6aaabu,
   0x3c088889u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x41000000u,0x41400000u,
@@ -38,5 +38,6 @@ const uint32_t board_drive_cfg_words[221] = {
   0x3fcb4b4bu,0x41400000u,0x00000001u,0x42c00000u,0x3bd1b717u,0x42f00000u,0x000003e8u,0x00000032u,
   0x40000000u,0x4324e110u,0x00000002u,0x000003e8u,0x00000bb8u,0x00000000u,0x00000000u,0x00000000u,
   0x00000000u,0x3e800000u,0x40100000u,0x00000032u,0x3f000000u,0x41200000u,0x000007d0u,0x402abc90u,
-  0x3f0b6c80u,0x3bbac711u,0x3de66666u,0x3c1c5288u,0x0000021du,
+  0x3f0b6c80u,0x3bbac711u,0x3de66666u,0x3c1c5288u,0x0000021du,0x00000000u,0x00000000u,0x00000000u,
+  0x00000000u,
 };
