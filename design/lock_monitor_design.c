@@ -22,6 +22,15 @@
  * which the gradient term answers with 2 gamma Phi^2 L di volts. */
 #define LOCK_DI_REL 0.01
 
+/* LOCK_CRIT_ANGLE_INNOVATION's noise part: 6 standard deviations of the
+ * innovation. A Gaussian innovation leaves +-6 sigma with probability
+ * 2.0e-9 per sample (one sample in 14 hours at 10 kHz), and the leaky
+ * count needs glitch_s / Ts such samples before a leak of one per sample
+ * within drains them, so the noise alone never fills it; the innovation
+ * of a consistent filter is not heavier-tailed than that unless the
+ * model is wrong, which is what the tolerance part answers. */
+#define LOCK_INNOV_K_SIGMA 6.0
+
 static bool lock_fail(char *err, size_t n, const char *field, const char *why, double got)
 {
     if (err != NULL && n > 0) {
@@ -103,5 +112,41 @@ bool lock_monitor_design(const lock_monitor_design_input_t *in, lock_monitor_con
     cfg->k_cur_ohm = mc_from_double(k_cur);
     cfg->floor_V = mc_from_double(floor_v);
     cfg->ticks = (int32_t)ceil(in->settle_s / in->ts_s - 1e-9);
+    return true;
+}
+
+void lock_innovation_design_defaults(lock_innovation_design_input_t *in)
+{
+    in->k_sigma = LOCK_INNOV_K_SIGMA;
+    in->glitch_s = 0.0;
+    in->forget_s = 0.0;
+    in->ts_s = 0.0;
+}
+
+bool lock_monitor_design_innovation(const lock_innovation_design_input_t *in, lock_monitor_config_t *cfg, char *err,
+                                    size_t err_len)
+{
+    if (!(in->ts_s > 0.0)) return lock_fail(err, err_len, "ts_s", "must be > 0", in->ts_s);
+    if (!(in->k_sigma > 0.0)) return lock_fail(err, err_len, "k_sigma", "must be > 0", in->k_sigma);
+    if (!(in->glitch_s >= in->ts_s))
+        return lock_fail(err, err_len, "glitch_s", "must be at least a sample (Ts)", in->glitch_s);
+    if (!(in->forget_s >= in->glitch_s))
+        return lock_fail(err, err_len, "forget_s", "must be >= glitch_s", in->forget_s);
+    /* the persistence: glitch_s / Ts consecutive samples beyond the bound
+     * (the count's limit over its step up); a full count drains at one per
+     * sample within in about forget_s: up = forget / glitch samples, so a
+     * loss is more than 1 sample in (up + 1) beyond the bound, sustained
+     * (lock_monitor.h) */
+    const double glitch_n = ceil(in->glitch_s / in->ts_s - 1e-9);
+    const double forget_n = ceil(in->forget_s / in->ts_s - 1e-9);
+    if (!(forget_n <= 1e8)) return lock_fail(err, err_len, "forget_s", "at most 1e8 samples", forget_n);
+    double up = floor(forget_n / glitch_n + 1e-9);
+    if (up < 1.0) {
+        up = 1.0;
+    }
+    cfg->innov_k2 = mc_from_double(in->k_sigma * in->k_sigma);
+    cfg->ts_s = mc_from_double(in->ts_s);
+    cfg->innov_up = (int32_t)up;
+    cfg->innov_limit = (int32_t)(up * glitch_n);
     return true;
 }

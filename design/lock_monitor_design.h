@@ -43,6 +43,23 @@ void lock_monitor_design_defaults(lock_monitor_design_input_t *in);
 /* Fills cfg; false with a message in err when an input is out of range. */
 bool lock_monitor_design(const lock_monitor_design_input_t *in, lock_monitor_config_t *cfg, char *err, size_t err_len);
 
+/* LOCK_CRIT_ANGLE_INNOVATION (supervisor/lock_monitor.h) for an estimator
+ * that corrects its angle with a measured or observed one. */
+typedef struct {
+    double k_sigma;   /* the bound's noise part in standard deviations of the innovation (LOCK_INNOV_K_SIGMA) */
+    double glitch_s;  /* the longest run of samples beyond the bound a lock rides out: the count's persistence */
+    double forget_s;  /* the time a full count drains in (and so the share of samples beyond that is a loss) */
+    double ts_s;
+} lock_innovation_design_input_t;
+
+/* k_sigma = LOCK_INNOV_K_SIGMA; the times and Ts 0 (the drive's to give). */
+void lock_innovation_design_defaults(lock_innovation_design_input_t *in);
+
+/* Fills cfg's innov_* and ts_s (nothing else); false with a message in err
+ * when an input is out of range. */
+bool lock_monitor_design_innovation(const lock_innovation_design_input_t *in, lock_monitor_config_t *cfg, char *err,
+                                    size_t err_len);
+
 #ifdef __cplusplus
 }
 #endif

@@ -134,6 +134,32 @@
  * drift it detects grows over the mechanical time (0.1-1 s). 54 ms on
  * paper 001's motor. */
 #define P001_LOCK_SETTLE_PER_WN 5.0
+/* Resistance and flux tracking (estimators/resistance_tracker.h), with
+ * track_resistance:
+ * - tau_R = 15 time constants of the I&I observer (its poles' real part
+ *   -n_p a1/2: 33 ms on paper 001's motor, tau_R 0.5 s): slow against the
+ *   speed loop and the observer's transients after a load step, fast
+ *   against the winding's heating (900 s) and the benchmark's holds
+ *   (1.5-5 s).
+ * - i_gate = 10 % of i_max (0.8 A on paper 001's motor): below a voltage
+ *   of R i_gate (0.18 V) in m^2 the steps shrink; there the dead time's
+ *   error is in its transition near zero current, not a resistance, and
+ *   the residual is sensor noise.
+ * - e_clamp = half the largest resistive drop, R i_max / 2 (0.9 V): a
+ *   voltage error beyond it in one sample is a transient, not R or Phi.
+ * - dR_max = R: R_hat within [0, 2 R] (copper from the model's
+ *   temperature to 255 K above it, and the equivalent resistance of a
+ *   dead-time compensation off by half on paper 001's motor under
+ *   1 N m, 0.3 V / 1.3 A = 0.23 Ohm = 1.0 R).
+ * - dPhi_rel_max = 0.2: NdFeB loses about 0.1 %/K, 20 % over 200 K. */
+#define P001_RTRACK_TAU_PER_OBSERVER 15.0
+#define P001_RTRACK_I_GATE_SHARE 0.1
+#define P001_RTRACK_E_CLAMP_SHARE 0.5
+#define P001_RTRACK_DR_MAX_SHARE 1.0
+#define P001_RTRACK_DPHI_REL_MAX 0.2
+/* The fixed-point accumulators of the tracker hold up to (R + dR_max)
+ * tau_R/Ts (Q14.17 ends at 16384). */
+#define P001_RTRACK_ACC_MAX 16000.0
 
 static bool p001_fail(char *err, size_t n, const char *field, const char *why, double got)
 {
@@ -159,6 +185,7 @@ void p001_design_defaults(p001_design_input_t *in)
     in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
     in->i_rail_A = 0.0;              /* unknown: no rail check */
     in->i_trip_samples = 1;          /* the instantaneous trip */
+    in->track_resistance = false;
 }
 
 /* A per-sample coefficient the fixed-point build can hold. */
@@ -284,6 +311,41 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         return p001_fail(err, err_len, "motor.Phi_Wb", "Phi/Ts above 2^17 V", phi_fs);
     }
     fo->rho_pre = mc_from_double(ldexp(1.0, -s));
+    /* resistance tracking (estimators/resistance_tracker.h; constants above) */
+    {
+        resistance_tracker_config_t *rt = &cfg->rtrack;
+        const double tau_R = P001_RTRACK_TAU_PER_OBSERVER * 2.0 / (np * a1);
+        const double i_gate = P001_RTRACK_I_GATE_SHARE * in->i_max_A;
+        const double e_clamp = P001_RTRACK_E_CLAMP_SHARE * m->R_ohm * in->i_max_A;
+        const double dR_max = P001_RTRACK_DR_MAX_SHARE * m->R_ohm;
+        const double n_tau = round(tau_R * fsr);
+        rt->enabled = in->track_resistance && in->estimator == P001_ESTIMATOR_FLUX;
+        if (rt->enabled) {
+            if (!(m->R_ohm > 0.0)) {
+                return p001_fail(err, err_len, "motor.R_ohm", "must be > 0 to track R", m->R_ohm);
+            }
+            if (!((m->R_ohm + dR_max) * n_tau <= P001_RTRACK_ACC_MAX)) {
+                return p001_fail(err, err_len, "track_resistance",
+                                 "2 R tau_R/Ts must stay below 16000 (the fixed-point accumulator)",
+                                 (m->R_ohm + dR_max) * n_tau);
+            }
+        }
+        rt->R0_ohm = mc_from_double(m->R_ohm);
+        rt->L_fs_ohm = mc_from_double(m->L_H / ts);
+        rt->Phi0_fs_V = mc_from_double(Phi / ts);
+        rt->K_e_V_s = mc_from_double(Ke);
+        rt->v_gate2_V2 = mc_from_double(m->R_ohm * i_gate * m->R_ohm * i_gate);
+        rt->e_clamp_V = mc_from_double(e_clamp);
+        rt->dR_max_ohm = mc_from_double(dR_max);
+        rt->dPhi_rel_max = mc_from_double(P001_RTRACK_DPHI_REL_MAX);
+        rt->n_tau = (int32_t)n_tau;
+        if (rep != NULL) {
+            rep->rtrack_tau_s = n_tau * ts;
+            rep->rtrack_i_gate_A = i_gate;
+            rep->rtrack_e_clamp_V = e_clamp;
+            rep->rtrack_dR_max_ohm = dR_max;
+        }
+    }
     /* I&I observer (15)-(16), increment form (speed_load_observer.h) */
     speed_load_observer_config_t *so = &cfg->speed;
     ok = ok && p001_coeff(ts * Kt / m->J_kgm2, "speed.ts_kt_over_J", &so->ts_kt_over_J, err, err_len) &&

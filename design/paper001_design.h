@@ -43,6 +43,7 @@ typedef struct {
     double i_rail_A;
     int i_trip_samples;      /* consecutive samples beyond i_trip_A that trip (0 or 1: instantaneous; up to 8) */         /* current at the ADC's rail; 0: unknown (no rail check) */
     double omega_lim_rad_s;  /* BACK_EMF: closed loop from |w*| >= this; <= 0: derived */
+    bool track_resistance;   /* FLUX: R tracked on line (estimators/resistance_tracker.h) */
     /* speed profile: corners (t [s], w [rad/s mechanical]) */
     size_t n_points;
     double t_s[SPEED_PROFILE_MAX_POINTS];
@@ -59,6 +60,7 @@ typedef struct {
     double i_open_loop_A;
     double probe_s, i_probe_A;
     double lock_settle_s;    /* the loss-of-lock persistence (supervisor/lock_monitor.h) */
+    double rtrack_tau_s, rtrack_i_gate_A, rtrack_e_clamp_V, rtrack_dR_max_ohm; /* track_resistance */
 } p001_design_report_t;
 
 /* Fills the defaults of section 5 into *in (motor and profile left as given). */

@@ -107,6 +107,20 @@
  * i_d) decays at that rate, to e^-5 = 0.7 % after five (0.1 s). The
  * speed loop (500 rad/s) and the current loop are faster. */
 #define P002_LOCK_SETTLE_PER_RADIAL_TAU 5.0
+/* ... and by its angle innovation (LOCK_CRIT_ANGLE_INNOVATION, the EKF's
+ * angle innovation against the flux observer's angle): the flux
+ * residual sees a steady drift, but this variant's losses are a limit
+ * cycle and 180-degree flips (docs/paper002.md). The bound's noise part
+ * is 6 sigma of the innovation (LOCK_INNOV_K_SIGMA, S = P^-_thth + r_th
+ * at run time), its tolerance part the speed error the drive accepts
+ * from a lock, its stall band 0.5 |w_d| + 10 rad/s, times Ts (the EKF
+ * predicts the angle a sample ahead with its speed). The count's
+ * persistence is the glitch the angle innovation's LOSS_OF_SYNC already
+ * rides out, P002_LOS_S (5 ms, 50 samples in a row), and a full count
+ * drains in the stall criterion's P002_STALL_S (0.1 s): up = 20, limit
+ * 1000; a loss is more than 1 sample in 21 beyond the bound. */
+#define P002_LOCK_INNOV_GLITCH_S P002_LOS_S
+#define P002_LOCK_INNOV_FORGET_S P002_STALL_S
 /* The HF injection's handover (angle_source HFI, paper002_drive.h), by
  * the EKF's |speed| (mechanical). The flux observer's angle error from a
  * voltage error dV is about dV / (p psi w): the dead time's 0.48 V on the
@@ -397,6 +411,14 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         li.settle_s = P002_LOCK_SETTLE_PER_RADIAL_TAU / P002_FLUX_RADIAL_RATE_PER_S;
         li.ts_s = in->ts_s;
         if (!lock_monitor_design(&li, &cfg->lock, err, err_len)) {
+            return false;
+        }
+        lock_innovation_design_input_t ii;
+        lock_innovation_design_defaults(&ii);
+        ii.glitch_s = P002_LOCK_INNOV_GLITCH_S;
+        ii.forget_s = P002_LOCK_INNOV_FORGET_S;
+        ii.ts_s = in->ts_s;
+        if (!lock_monitor_design_innovation(&ii, &cfg->lock, err, err_len)) {
             return false;
         }
     }

@@ -87,6 +87,9 @@ static inline void flux_observer_set_target(flux_observer_t *o, mc_t rho2_target
  * rho_hat re-evaluated with the current of the last step. */
 void flux_observer_shift(flux_observer_t *o, mc_ab_t c);
 
+/* The R of (12) from the next sample on (a tracked R: estimators/resistance_tracker.h). */
+static inline void flux_observer_set_R(flux_observer_t *o, mc_t R_ohm) { o->cfg.R_ohm = R_ohm; }
+
 /* The voltage that will be held over the coming sample. */
 static inline void flux_observer_hold(flux_observer_t *o, mc_ab_t v_V) { o->v_prev_V = v_V; }
 

@@ -6,6 +6,8 @@ void lock_monitor_init(lock_monitor_t *m, const lock_monitor_config_t *cfg)
     m->run.run = 0;
     m->residual_V = MC_ZERO;
     m->bound_V = MC_ZERO;
+    m->innov_count = 0;
+    m->innov_ratio = MC_ZERO;
 }
 
 lock_criterion_t lock_monitor_step_flux(lock_monitor_t *m, mc_t rho2, mc_t rho2_target, mc_t omega_hat_rad_s,
@@ -27,11 +29,32 @@ lock_criterion_t lock_monitor_step_flux(lock_monitor_t *m, mc_t rho2, mc_t rho2_
                                                                                      : LOCK_CRIT_NONE;
 }
 
+lock_criterion_t lock_monitor_step_innovation(lock_monitor_t *m, mc_t nu_rad, mc_t s_rad2, mc_t omega_tol_rad_s)
+{
+    const lock_monitor_config_t *c = &m->cfg;
+    if (c->innov_limit <= 0) {
+        return LOCK_CRIT_NONE;
+    }
+    /* bound^2 = k^2 S + (w_tol Ts)^2 (lock_monitor.h) */
+    const mc_t tol_rad = mc_mul(mc_abs(omega_tol_rad_s), c->ts_s);
+    const mc_t bound2 = mc_mac(mc_mul(tol_rad, tol_rad), c->innov_k2, s_rad2);
+    const mc_t nu2 = mc_mul(nu_rad, nu_rad);
+    m->innov_ratio = mc_gt(bound2, MC_ZERO) ? mc_div(nu2, bound2) : nu2;
+    if (mc_gt(nu2, bound2)) {
+        m->innov_count = (m->innov_count > c->innov_limit - c->innov_up) ? c->innov_limit
+                                                                           : m->innov_count + c->innov_up;
+    } else if (m->innov_count > 0) {
+        m->innov_count -= 1;
+    }
+    return (m->innov_count >= c->innov_limit) ? LOCK_CRIT_ANGLE_INNOVATION : LOCK_CRIT_NONE;
+}
+
 const char *lock_criterion_name(lock_criterion_t c)
 {
     switch (c) {
     case LOCK_CRIT_NONE: return "none";
     case LOCK_CRIT_FLUX_RESIDUAL: return "flux-residual";
+    case LOCK_CRIT_ANGLE_INNOVATION: return "angle-innovation";
     default: return "unknown";
     }
 }

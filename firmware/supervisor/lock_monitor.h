@@ -40,6 +40,31 @@
  * estimate, which is why the drift at standstill is invisible to the
  * speed estimate).
  *
+ * LOCK_CRIT_ANGLE_INNOVATION (a Kalman-type estimator that corrects its
+ * angle with a measured or observed one: paper 002's EKF fed by the flux
+ * observer's angle). The angle innovation nu = theta_meas - theta_hat^-
+ * (the measurement minus the one-sample prediction) of a lock that holds
+ * is the measurement noise, of variance S = P^-_thth + r_th (the
+ * estimator's own), plus what the estimator's tolerated speed error
+ * w_tol puts into the one-sample prediction, w_tol Ts (the drive passes
+ * w_tol: the speed error it accepts from a lock, e.g. its stall band):
+ *   nu^2 > innov_k2 S + (w_tol Ts)^2
+ * is a sample beyond the bound (innov_k2 = k^2: k standard deviations of
+ * the noise). A lost estimate does not drift: it chatters (the cascade's
+ * limit cycle swings the estimated speed by hundreds of rad/s) and flips,
+ * so its innovations leave the bound on a share of the samples, in bursts
+ * of a few to a few hundred, not on every sample. The persistence is a
+ * leaky count that survives that oscillation: +innov_up per sample
+ * beyond, -1 per sample within, floored at 0 and held at innov_limit;
+ * reaching innov_limit is the loss. It fires after innov_limit /
+ * innov_up consecutive samples beyond the bound (the glitch a lock rides
+ * out: one wild current sample turns the observed angle for a few
+ * samples), and on intermittent losses as soon as more than 1 sample in
+ * (innov_up + 1) is beyond for long enough; a full count drains in
+ * innov_limit samples. The derivation: design/lock_monitor_design.c.
+ * Not this criterion's: a drift slow enough for the estimator to follow
+ * (its innovation stays at the noise; the flux residual above sees it).
+ *
  * Fixed point: gPhi3 |target - rho2| <= 24.6 V x 3 for paper 001's motor,
  * the bound's terms are volts; every product is inside Q14.17. Paper
  * 002's sensorless variant (gPhi3 = 1 V, rho2 up to 2.89^2 at i_max) is
@@ -60,7 +85,9 @@ extern "C" {
 
 typedef enum {
     LOCK_CRIT_NONE = 0,
-    LOCK_CRIT_FLUX_RESIDUAL = 1 /* the flux observer's d-axis residual beyond the tolerance bound */
+    LOCK_CRIT_FLUX_RESIDUAL = 1,   /* the flux observer's d-axis residual beyond the tolerance bound */
+    LOCK_CRIT_ANGLE_INNOVATION = 2 /* the estimator's angle innovation beyond its noise and tolerance bound on
+                                    * more samples than a lock shows (leaky count) */
 } lock_criterion_t;
 
 typedef struct {
@@ -70,6 +97,11 @@ typedef struct {
     mc_t k_cur_ohm;        /* bound per |i| (d-q current magnitude) [V/A] */
     mc_t floor_V;          /* bound at rest without current [V] */
     int32_t ticks;         /* consecutive samples beyond the bound; 0: the monitor is off */
+    /* LOCK_CRIT_ANGLE_INNOVATION (innov_limit 0: off) */
+    mc_t innov_k2;         /* k^2: the bound's noise part in units of the innovation's variance S [-] */
+    mc_t ts_s;             /* the sample time: the tolerated speed error's angle over one prediction [s] */
+    int32_t innov_up;      /* added per sample beyond the bound (1 removed per sample within) */
+    int32_t innov_limit;   /* the count that is a loss; 0: the criterion is off */
 } lock_monitor_config_t;
 
 typedef struct {
@@ -77,6 +109,8 @@ typedef struct {
     fault_persist_t run;
     mc_t residual_V;       /* the last sample's e_d */
     mc_t bound_V;          /* and its bound */
+    int32_t innov_count;   /* LOCK_CRIT_ANGLE_INNOVATION's leaky count, in [0, innov_limit] */
+    mc_t innov_ratio;      /* the last sample's nu^2 over its bound^2 (> 1: beyond) */
 } lock_monitor_t;
 
 void lock_monitor_init(lock_monitor_t *m, const lock_monitor_config_t *cfg);
@@ -89,7 +123,18 @@ void lock_monitor_init(lock_monitor_t *m, const lock_monitor_config_t *cfg);
 lock_criterion_t lock_monitor_step_flux(lock_monitor_t *m, mc_t rho2, mc_t rho2_target, mc_t omega_hat_rad_s,
                                         mc_t i_d_A, mc_t i_q_A);
 
-/* Short name of a criterion ("flux-residual"; "none"): static strings. */
+/* One sample of LOCK_CRIT_ANGLE_INNOVATION, after the estimator's
+ * correction: its angle innovation nu_rad, the innovation's variance
+ * s_rad2 (C P^- C^T + R for the angle, >= 0), the speed error the drive
+ * accepts from a lock now, omega_tol_rad_s (>= 0; the angle's unit per
+ * second). Returns LOCK_CRIT_ANGLE_INNOVATION while the leaky count is at
+ * innov_limit, else LOCK_CRIT_NONE (always NONE with innov_limit 0).
+ * Float in practice: S of a 1e-4 rad sensor (1e-8 rad^2) is below
+ * Q14.17's resolution, so a fixed-point build would need nu and S scaled
+ * by the drive first (no fixed-point drive uses it). */
+lock_criterion_t lock_monitor_step_innovation(lock_monitor_t *m, mc_t nu_rad, mc_t s_rad2, mc_t omega_tol_rad_s);
+
+/* Short name of a criterion ("flux-residual", "angle-innovation"; "none"): static strings. */
 const char *lock_criterion_name(lock_criterion_t c);
 
 #ifdef __cplusplus

@@ -20,7 +20,7 @@ std::vector<std::string> p001_keys()
 {
     return {
         "profile_rpm", "gamma", "a1", "a2", "r_ohm", "handover_sweep_rad", "fit_det_min", "blend_tau_s",
-        "probe_s", "identify", "estimator"
+        "probe_s", "identify", "track_resistance", "estimator"
     };
 }
 
@@ -56,6 +56,9 @@ void p001_parse(const View* v, Scenario* sc)
     }
     if (const auto b = v->boolean("identify")) {
         sc->speed_gains.identify = *b;
+    }
+    if (const auto b = v->boolean("track_resistance")) {
+        sc->speed_gains.track_resistance = *b;
     }
     if (const auto x = v->number("probe_s")) {
         ge(*v, "probe_s", *x, 0.0);
@@ -100,6 +103,7 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
     in->handover_sweep_rad = sc.speed_gains.handover_sweep_rad;
     in->fit_det_min = sc.speed_gains.fit_det_min;
     in->estimator = sc.speed_gains.estimator;
+    in->track_resistance = sc.speed_gains.track_resistance;
     in->omega_lim_rad_s = sc.omega_lim_rad_s;
     if (sc.speed_gains.probe_s >= 0.0) {
         in->probe_s = sc.speed_gains.probe_s;

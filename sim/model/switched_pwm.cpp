@@ -159,6 +159,22 @@ void SwitchedPwm::add_piece(int leg, double t0, double t1, double d)
     }
 }
 
+double SwitchedPwm::slew_time(double i_A, bool old_high) const
+{
+    const double t_f = hi_ - lo_;
+    if (!(p_.i_transition_A > 0.0) || !(p_.error_time_s() > 0.0) || !(t_f > 0.0)) {
+        return 0.0;  // no capacitance, or no interval with both switches off
+    }
+    // only a current that leaves toward the other rail slews the node; the
+    // other direction holds it at the outgoing rail through the diode
+    const bool away = old_high ? i_A > 0.0 : i_A < 0.0;
+    if (!away) {
+        return 0.0;
+    }
+    const double x = std::fabs(i_A) / p_.i_transition_A;
+    return (x >= 1.0) ? t_f / (2.0 * x) : t_f * (1.0 - 0.5 * x);
+}
+
 SwitchedPwm::Node SwitchedPwm::node(int leg) const
 {
     const Leg& l = legs_[leg];
@@ -197,38 +213,66 @@ void SwitchedPwm::run_period(PwmLoad& load, const double* d_prev, const double* 
     }
     double i[kMaxLegs] = {0.0, 0.0, 0.0, 0.0};
     double v[kMaxLegs] = {0.0, 0.0, 0.0, 0.0};
+    double t = 0.0;
     auto segment = [&](double dt) {
         load.leg_currents(i);
+        const double half = 0.5 * v_dc_V;
         for (int k = 0; k < n_legs_; ++k) {
-            v[k] = node_voltage(p_, node(k), i[k], v_dc_V, legs_[k].free_high);
+            const Leg& l = legs_[k];
+            // a slewing node: at the outgoing rail, no device conducting
+            v[k] = (l.slew_end_s > t) ? (l.slew_high ? half : -half)
+                                       : node_voltage(p_, node(k), i[k], v_dc_V, l.free_high);
         }
         load.step(v, dt);
         ++segments_;
     };
+    // steps to t_end, split where a node's slew ends
+    auto advance = [&](double t_end) {
+        while (t_end > t) {
+            double next = t_end;
+            for (int k = 0; k < n_legs_; ++k) {
+                if (legs_[k].slew_end_s > t && legs_[k].slew_end_s < next) {
+                    next = legs_[k].slew_end_s;
+                }
+            }
+            segment(next - t);
+            t = next;
+        }
+    };
     segments_ = 0;
-    double t = 0.0;
     std::size_t a = 0;
     for (; a < events_.size() && events_[a].t_s < ts_; ++a) {
         const Event& e = events_[a];
-        if (e.t_s > t) {
-            segment(e.t_s - t);
-            t = e.t_s;
-        }
+        advance(e.t_s);
         Leg& l = legs_[e.leg];
+        const bool opening = e.delta > 0 && l.free == 0;
         l.free += e.delta;
         if (e.delta < 0) {
             l.settled_high = e.high;
+            if (l.free == 0) {
+                l.slew_end_s = -1.0;  // the incoming switch clamps the node
+            }
         } else {
             l.free_high = e.high;
         }
+        if (opening && v_dc_V > 0.0) {
+            load.leg_currents(i);
+            const double t_a = slew_time(i[e.leg], l.settled_high);
+            if (t_a > 0.0) {
+                l.slew_end_s = e.t_s + t_a;
+                l.slew_high = l.settled_high;
+            }
+        }
     }
-    if (ts_ > t) {
-        segment(ts_ - t);
-    }
+    advance(ts_);
     for (; a < events_.size(); ++a) {
         Event e = events_[a];
         e.t_s -= ts_;
         carried_.push_back(e);
+    }
+    for (int k = 0; k < n_legs_; ++k) {
+        Leg& l = legs_[k];
+        l.slew_end_s = (l.slew_end_s > ts_) ? l.slew_end_s - ts_ : -1.0;
     }
 }
 

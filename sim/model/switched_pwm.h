@@ -49,9 +49,27 @@
 // |t_dead + t_on - t_off| merge (a pulse shorter than the dead time is not
 // produced, the averaged model's clamp of d_eff). Over a carrier period at a
 // constant current this gives exactly the averaged model's (2) with the hard
-// sign (i_transition_A = 0); the switched model has no node capacitance, so
-// i_transition_A is not used: the ripple itself now smooths the zero
-// crossing (a current changing sign within the period).
+// sign (i_transition_A = 0).
+//
+// The node capacitance (i_transition_A > 0, both switches off in the free
+// interval, t_f = t_dead + t_on - t_off > 0): when the current leaves the
+// node toward the other rail (i > 0 after the high switch turned off, i < 0
+// after the low one), it does not jump there; the current slews the node
+// across the bus at i/C, C = i_transition_A t_f / V_dc (docs/plant.md, the
+// transition near zero current: i_transition_A is the current whose ramp
+// just fills the free interval). With x = |i|/i_transition_A at the
+// interval's opening, the ramp's volt-seconds are those of the node held at
+// the outgoing rail for
+//     t_a = t_f / (2 x)      (x >= 1: the ramp ends within t_f), or
+//     t_a = t_f (1 - x/2)    (x < 1: the incoming switch clamps it),
+// then at the diode's rail; the leg is stepped so (a step of equal area in
+// place of the ramp, a few hundred nanoseconds). Over a carrier period at a
+// constant current that is the averaged model's (2) with g(x) exactly
+// (ctest sim.switched_pwm.Leg.CarrierPeriodMeanIsTheAveragedLegWithTheTransition);
+// with it the switched and the averaged models share the soft zero
+// crossing, which the drives' compensation assumes. During the slew no
+// device conducts: no drops. With the current's ripple the zero crossing is
+// smoothed further (a current changing sign within the period).
 //
 // The devices' drops of (3) per segment, on whichever device conducts, with
 // the hard sign s = sgn(i): high or low with MOSFETs driven complementary
@@ -165,7 +183,15 @@ private:
         bool settled_high = false;
         bool free_high = false;  // the state the last edge to open a free interval commands
         int free = 0;           // free intervals open
+        // the node still slewing on its capacitance from the outgoing
+        // switch's rail (slew_high) until slew_end_s (< 0: not slewing)
+        double slew_end_s = -1.0;
+        bool slew_high = false;
     };
+    // The node capacitance's commutation at a free interval's opening
+    // (see above): the equivalent time the node stays at the outgoing
+    // rail, for a leg current i_A.
+    double slew_time(double i_A, bool old_high) const;
     void add_piece(int leg, double t0, double t1, double d);
     void add_edge(int leg, double t_e, bool high);
     Node node(int leg) const;

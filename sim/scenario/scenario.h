@@ -130,6 +130,7 @@ struct Scenario {
         double handover_sweep_rad = 0.0, fit_det_min = 0.0, blend_tau_s = 0.0;
         double probe_s = -1.0;  // start-up probe [s]; 0: none; < 0: the design's default
         bool identify = false;  // commissioning run (R, L, Phi) before the run
+        bool track_resistance = false;  // R of the flux observer tracked on line
         int estimator = 0;      // p001_estimator_t: 0 flux (paper 001), 1 back_emf (paper 000)
     } speed_gains;
 

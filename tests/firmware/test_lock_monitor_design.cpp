@@ -4,7 +4,10 @@
 // sensorless variant on the active flux (design/paper002_design.c) against
 // values computed here by hand: k_speed = n_p psi (sin 30 deg + sqrt(1.15^2
 // - 1)), k_speed_cur = eps_L n_p (L_q + f'(eps_Phi) L_d), floor = 2 gamma
-// psi^2 L_q 0.01 i_max rho_max with rho_max from MTPA (18) at i_max.
+// psi^2 L_q 0.01 i_max rho_max with rho_max from MTPA (18) at i_max. The
+// angle-innovation criterion's count (lock_monitor_design_innovation):
+// glitch_s / Ts samples in a row, up = forget / glitch samples, limit =
+// up x glitch; k^2 = 36; paper 002's 5 ms and 0.1 s at 10 kHz: 20, 1000.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -84,10 +87,70 @@ TEST(LockMonitorDesign, SalientActiveFluxOfPaper002)
     EXPECT_NEAR(mc_to_double(c.floor_V), 2.0 * 25.0 * Lq * 0.01 * i_max * rho_max, 1e-5);
     // five radial time constants of 20 ms at 10 kHz
     EXPECT_EQ(c.ticks, 1000);
+    // the angle innovation: 6 sigma, 50 samples in a row (5 ms), drained in 0.1 s
+    EXPECT_EQ(mc_to_double(c.innov_k2), 36.0);
+    EXPECT_EQ(c.innov_up, 20);
+    EXPECT_EQ(c.innov_limit, 1000);
+    EXPECT_EQ(c.ts_s, mc_from_double(1e-4));
     // the encoder variant has none (its angle is measured)
     in.angle_source = P002_ANGLE_ENCODER;
     ASSERT_TRUE(p002_design(&in, &cfg, err, sizeof err)) << err;
     EXPECT_EQ(cfg.lock.ticks, 0);
+    EXPECT_EQ(cfg.lock.innov_limit, 0);
+}
+
+TEST(LockMonitorDesign, InnovationCountFromGlitchAndForgetTimes)
+{
+    lock_innovation_design_input_t in;
+    lock_innovation_design_defaults(&in);
+    EXPECT_EQ(in.k_sigma, 6.0);
+    in.glitch_s = 5e-3;
+    in.forget_s = 0.1;
+    in.ts_s = 1e-4;
+    lock_monitor_config_t c{};
+    char err[160] = "";
+    ASSERT_TRUE(lock_monitor_design_innovation(&in, &c, err, sizeof err)) << err;
+    EXPECT_EQ(c.innov_up, 20);
+    EXPECT_EQ(c.innov_limit, 1000);
+    EXPECT_EQ(c.ticks, 0) << "the flux residual's fields are not its";
+    // 3 samples of glitch, 10 to forget: up = floor(10 / 3) = 3, limit 9 (3 in a row)
+    in.glitch_s = 3e-4;
+    in.forget_s = 1e-3;
+    ASSERT_TRUE(lock_monitor_design_innovation(&in, &c, err, sizeof err)) << err;
+    EXPECT_EQ(c.innov_up, 3);
+    EXPECT_EQ(c.innov_limit, 9);
+    // forget = glitch: up 1, a plain up/down count
+    in.forget_s = 3e-4;
+    ASSERT_TRUE(lock_monitor_design_innovation(&in, &c, err, sizeof err)) << err;
+    EXPECT_EQ(c.innov_up, 1);
+    EXPECT_EQ(c.innov_limit, 3);
+}
+
+TEST(LockMonitorDesign, RefusesTheInnovationInputsOutOfRange)
+{
+    lock_innovation_design_input_t in;
+    lock_innovation_design_defaults(&in);
+    in.glitch_s = 5e-3;
+    in.forget_s = 0.1;
+    in.ts_s = 1e-4;
+    lock_monitor_config_t c{};
+    char err[160] = "";
+    lock_innovation_design_input_t bad = in;
+    bad.ts_s = 0.0;
+    EXPECT_FALSE(lock_monitor_design_innovation(&bad, &c, err, sizeof err));
+    EXPECT_NE(std::strstr(err, "lock_monitor.ts_s"), nullptr) << err;
+    bad = in;
+    bad.k_sigma = 0.0;
+    EXPECT_FALSE(lock_monitor_design_innovation(&bad, &c, err, sizeof err));
+    EXPECT_NE(std::strstr(err, "lock_monitor.k_sigma"), nullptr) << err;
+    bad = in;
+    bad.glitch_s = 5e-5;
+    EXPECT_FALSE(lock_monitor_design_innovation(&bad, &c, err, sizeof err));
+    EXPECT_NE(std::strstr(err, "lock_monitor.glitch_s"), nullptr) << err;
+    bad = in;
+    bad.forget_s = 1e-3;
+    EXPECT_FALSE(lock_monitor_design_innovation(&bad, &c, err, sizeof err));
+    EXPECT_NE(std::strstr(err, "lock_monitor.forget_s"), nullptr) << err;
 }
 
 TEST(LockMonitorDesign, RefusesTheSalientInputsOutOfRange)

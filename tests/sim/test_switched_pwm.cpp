@@ -177,6 +177,62 @@ TEST(Leg, CarrierPeriodMeanIsTheAveragedLegWithTheHardSign)
     }
 }
 
+// (a') With the node capacitance (i_transition_A > 0; switched_pwm.h): the
+// carrier period's mean at a constant current is the averaged model's
+// leg_voltage with its transition g(x), to 1e-9 of the voltage, for
+// currents on both sides of i_transition_A and both signs. Without drops:
+// the averaged model weighs its drops with the smooth g(x) too, the
+// switched leg with the conducting device's (hard) sign, and during a slew
+// nothing conducts. Pulses shorter than the free interval are left out as
+// in (a).
+// Broken once: the slew time of x >= 1 taken as t_f/x (the whole ramp, not
+// its half): every case with |i| >= i_transition_A fails.
+TEST(Leg, CarrierPeriodMeanIsTheAveragedLegWithTheTransition)
+{
+    struct Config {
+        const char* name;
+        InverterParams p;
+    };
+    std::vector<Config> configs;
+    {
+        InverterParams p;
+        p.dead_time_s = 500e-9;
+        p.i_transition_A = 0.4;  // sim/inverters/vesc6.toml
+        configs.push_back({"dead time", p});
+        p.t_on_s = 120e-9;
+        p.t_off_s = 200e-9;
+        configs.push_back({"dead time and delays", p});
+        InverterParams t;
+        t.dead_time_s = 500e-9;
+        t.i_transition_A = 1.5;
+        t.min_pulse_s = 1e-6;
+        configs.push_back({"minimum pulse", t});
+    }
+    const double cmds[] = {-30.0, -24.0, -17.3, -3.0, 0.0, 0.7, 9.6, 24.0, 31.0};
+    const double currents[] = {7.5, -7.5, 1.0, -1.0, 0.4, -0.4, 0.2, -0.2, 0.03, -0.03, 0.0};
+    for (const Config& c0 : configs) {
+        InverterParams p = c0.p;
+        p.f_pwm_Hz = kFpwm;
+        ASSERT_EQ(p.problem(), nullptr) << c0.name;
+        const Inverter inv(p);
+        for (double v : cmds) {
+            for (double i : currents) {
+                const double avg = inv.leg_voltage(v, i, kVdc);
+                const double sw = switched_mean(p, v, i);
+                EXPECT_NEAR(sw, avg, 1e-9 * std::max(std::fabs(avg), 1.0))
+                    << c0.name << ": v_cmd " << v << " V, i " << i << " A";
+            }
+        }
+        // and it is not the hard sign's: within the transition the error is
+        // below the full dead-time error
+        const double hard = with_hard_sign(p).i_transition_A;
+        EXPECT_EQ(hard, 0.0);
+        InverterParams ph = with_hard_sign(p);
+        ph.min_pulse_s = p.min_pulse_s;
+        EXPECT_GT(std::fabs(switched_mean(p, 0.7, 0.2) - switched_mean(ph, 0.7, 0.2)), 0.1) << c0.name;
+    }
+}
+
 // The stepper's H-bridge: two legs on one carrier at +v/2 and -v/2, the
 // winding current out of the first; the winding's mean is
 // Inverter::winding_voltage with the hard sign. Broken once as above.

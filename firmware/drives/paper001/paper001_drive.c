@@ -122,6 +122,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     d->ol_origin_mech_rad = MC_ZERO;
     fg_estimator_init(&d->emf, &cfg->emf);
     const bool dtc_ok = deadtime_comp_init(&d->dtc, &cfg->deadtime);
+    const bool rtrack_ok = resistance_tracker_init(&d->rtrack, &cfg->rtrack);
     speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
     ida_pbc_init(&d->ctrl);
     const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
@@ -143,7 +144,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     for (uint32_t k = 0; k + 1u < cfg->profile.n_points && k < SPEED_PROFILE_MAX_POINTS; ++k) {
         d->stop_ramp_rad_s2 = mc_max(d->stop_ramp_rad_s2, mc_abs(cfg->profile.slope_rad_s2[k]));
     }
-    if (!p001_config_ok(cfg) || !profile_ok || !dtc_ok) {
+    if (!p001_config_ok(cfg) || !profile_ok || !dtc_ok || !rtrack_ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
@@ -172,6 +173,7 @@ static void p001_probe(paper001_drive_t *d)
             centre.alpha = mc_add(d->probe_anchor.alpha, mc_div_i(centre.alpha, P001_PROBE_POINT_SCALE));
             centre.beta = mc_add(d->probe_anchor.beta, mc_div_i(centre.beta, P001_PROBE_POINT_SCALE));
             flux_observer_shift(&d->flux, centre);
+            resistance_tracker_unprime(&d->rtrack); /* the angle jumped */
             found = true;
         }
     }
@@ -310,8 +312,16 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         return p001_finish(d, in, out);
     }
 
-    /* 2. flux observer */
+    /* 2. flux observer; the R it subtracts tracked from the q-axis voltage
+     * balance of the sample it just integrated (closed loop only) */
+    const mc_ab_t v_held = d->flux.v_prev_V;
     flux_observer_step(&d->flux, i_ab);
+    if (d->rtrack.cfg.enabled) {
+        resistance_tracker_step(&d->rtrack, v_held, i_ab, d->flux.unit, d->speed.omega_rad_s,
+                                d->sup.state == SUP_STATE_CLOSED_LOOP);
+        flux_observer_set_R(&d->flux, d->rtrack.R_ohm);
+        flux_observer_set_target(&d->flux, mc_mul(d->rtrack.Phi_rel, d->rtrack.Phi_rel)); /* |eta| -> Phi_hat */
+    }
 
     /* 3. open loop: the probe, the circle fit, then the switch to closed loop */
     bool switched = false;
@@ -324,6 +334,7 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         mc_ab_t centre;
         if (!mc_lt(swept, c->handover_sweep_rad) && flux_circle_fit_center(&d->fit, &centre)) {
             flux_observer_shift(&d->flux, centre);
+            resistance_tracker_unprime(&d->rtrack); /* the angle jumped */
             flux_observer_set_gradient(&d->flux, true);
             speed_load_observer_init(&d->speed, &c->speed, d->flux.unit, d->ref.omega_rad_s, MC_ZERO);
             switched = supervisor_dispatch(&d->sup, SUP_EV_ESTIMATE_TRUSTED);
@@ -442,6 +453,7 @@ void paper001_drive_get_telemetry(const paper001_drive_t *d, paper001_telemetry_
         t->load_est_Nm = d->speed.load_Nm;
     }
     t->rho2 = d->flux.rho2;
+    t->R_obs_ohm = d->flux.cfg.R_ohm;
     t->estimate_valid = d->sup.state == SUP_STATE_CLOSED_LOOP;
     t->i_d_A = d->last.i_d_A;
     t->i_q_A = d->last.i_q_A;

@@ -61,6 +61,7 @@
 #include "estimators/estimate.h"
 #include "estimators/fg_estimator.h"
 #include "estimators/flux_observer.h"
+#include "estimators/resistance_tracker.h"
 #include "estimators/speed_load_observer.h"
 #include "hal/hal_types.h"
 #include "math/frame_fg.h"
@@ -92,6 +93,8 @@ typedef struct {
     motor_model_t model;           /* R, L, K_e = n_p Phi (K_V_s), n_p, fs */
     drive_limits_t limits;         /* i_trip_A on every phase; v_max_V unused (the bus is measured) */
     flux_observer_config_t flux;
+    resistance_tracker_config_t rtrack; /* estimator FLUX: R of (12) tracked on line in closed
+                                    * loop (estimators/resistance_tracker.h); disabled: the model's */
     speed_load_observer_config_t speed;
     ida_pbc_config_t ctrl;
     open_loop_config_t open_loop;  /* v_max_V: a cap below the bus, if any */
@@ -184,6 +187,7 @@ typedef struct {
     mc_t theta_e_rad;
     mc_t omega_est_rad_s, load_est_Nm;
     mc_t rho2;                     /* |rho_hat|^2 of the flux observer (1 when consistent) */
+    mc_t R_obs_ohm;                /* the R the flux observer subtracts: the model's, or tracked */
     bool estimate_valid;
     /* currents in the estimated dq frame, the reference, the command */
     mc_t i_d_A, i_q_A, i_q_ref_A;
@@ -202,6 +206,7 @@ typedef struct {
     fault_persist_t rho_persist, speed_persist;
     lock_monitor_t lock;
     flux_observer_t flux;
+    resistance_tracker_t rtrack;   /* cfg.rtrack.enabled: the R the flux observer subtracts */
     flux_circle_fit_t fit;
     flux_circle_fit_t probe;       /* points P001_PROBE_SCALE (rho - probe_anchor) */
     mc_ab_t probe_anchor;          /* rho_hat when the probe starts */

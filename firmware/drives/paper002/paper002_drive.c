@@ -197,7 +197,10 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     }
     mc_t i_d, i_q;
     mc_rot_fwd(r_meas, i_ab.alpha, i_ab.beta, &i_d, &i_q);
-    /* 2. the EKF's correction */
+    /* 2. the EKF's correction; sensorless, the angle innovation's variance
+     * S = P^-_thth + r_th first (the a priori covariance, C = [I_3 0]: the
+     * angle is measurement 2 and state 2), for the loss of lock below */
+    const mc_t s_theta_rad2 = (flux || hfi) ? mc_add(d->ekf.P[EKF_THETA][EKF_THETA], d->ekf.cfg.r[EKF_THETA]) : MC_ZERO;
     const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
     mc_t w_d, dw_d;
     speed_poly_eval(&d->reference, d->tick, &w_d, &dw_d);
@@ -209,17 +212,28 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     if ((!corrected || lost || stalled) && p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)) {
         return false;
     }
-    /* the sensorless variant's loss of lock (supervisor/lock_monitor.h):
-     * the flux observer's residual along its rotor axis, gPhi3 |target -
-     * |rho|^2| of (12), against the tolerance bound at the EKF's speed and
-     * the current in the observer's frame. Only for the flux angle: the
-     * encoder's is measured (the EKF's innovation above checks it). No
-     * product of its own here; float only, as the drive (the fixed-point
-     * build refuses paper 002's design, docs/paper002.md). */
-    if ((flux || (hfi && !d->hfi.on)) && lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q) !=
-                    LOCK_CRIT_NONE &&
-        p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
-        return false;
+    /* the sensorless variant's loss of lock (supervisor/lock_monitor.h),
+     * two named criteria, each stepped every sample: the flux observer's
+     * residual along its rotor axis, gPhi3 |target - |rho|^2| of (12),
+     * against the tolerance bound at the EKF's speed and the current in
+     * the observer's frame (a steady drift); and the EKF's angle
+     * innovation against 6 sigma of its noise and the stall band's speed
+     * error over a sample, by a leaky count (the limit cycle and the flips
+     * of this variant's losses, docs/paper002.md). Only for the flux
+     * angle: the encoder's is measured (the EKF's innovation above checks
+     * it). With the injection (HFI) only while it is off, the flux
+     * observer's angle then in use. No product of its own here; float
+     * only, as the drive (the fixed-point build refuses paper 002's
+     * design, docs/paper002.md). */
+    if (flux || (hfi && !d->hfi.on)) {
+        const lock_criterion_t by_flux =
+            lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q);
+        const lock_criterion_t by_innov =
+            lock_monitor_step_innovation(&d->lock, d->ekf.innovation[EKF_THETA], s_theta_rad2, stall_band);
+        if ((by_flux != LOCK_CRIT_NONE || by_innov != LOCK_CRIT_NONE) &&
+            p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
+            return false;
+        }
     }
     d->last.theta_meas_rad = theta_meas;
     const mc_t *x = d->ekf.x;

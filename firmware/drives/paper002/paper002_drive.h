@@ -32,9 +32,14 @@
  * positive definite, or its speed off the reference by more than
  * stall_tol |w_d| + stall_floor_rad_s for stall_ticks samples (a stalled
  * or runaway rotor; LOSS_OF_SYNC); with the flux observer (below) also the
- * loss of lock of supervisor/lock_monitor.h (LOSS_OF_LOCK: its residual
- * along the estimated rotor axis beyond the tolerance bound, the active
- * flux's radius as the target; design/lock_monitor_design.c). Float only: the EKF's covariances do not fit
+ * loss of lock of supervisor/lock_monitor.h (LOSS_OF_LOCK), by either of
+ * two criteria: the flux observer's residual along the estimated rotor
+ * axis beyond the tolerance bound, the active flux's radius as the target
+ * (a steady drift); or the EKF's angle innovation against the observer's
+ * angle beyond 6 sigma of its variance S = P^-_thth + r_th plus the stall
+ * band's speed error over a sample, by a leaky count (the chattering
+ * limit cycle and the 180-degree flips this variant's losses are;
+ * design/lock_monitor_design.c, design/paper002_design.c). Float only: the EKF's covariances do not fit
  * Q14.17 (docs/paper002.md).
  *
  * Angle source by configuration (cfg.angle_source), as paper 001's drive
@@ -142,7 +147,9 @@ typedef struct {
     int32_t stall_ticks;           /* ... for this many consecutive samples */
     lock_monitor_config_t lock;    /* angle_source = FLUX: loss of lock (supervisor/lock_monitor.h), the
                                     * flux observer's residual along the estimated rotor axis beyond the
-                                    * tolerance bound (LOSS_OF_LOCK; ticks 0: off). The encoder needs none */
+                                    * tolerance bound (ticks 0: off), or the EKF's angle innovation by
+                                    * the leaky count (innov_limit 0: off) (LOSS_OF_LOCK). The encoder
+                                    * needs none */
     hf_injection_config_t hfi;     /* angle_source = HFI: the injection (estimators/hf_injection.h) */
     mc_t hfi_blend_lo_rad_s;       /* angle_source = HFI: |w_hat| (mechanical) where the blend to the */
     mc_t hfi_blend_hi_rad_s;       /* flux observer starts and where it is complete */
