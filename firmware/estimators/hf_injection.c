@@ -4,7 +4,7 @@ bool hf_injection_design(hf_injection_config_t *cfg, mc_t Ld_H, mc_t Lq_H, mc_t 
                          mc_t delay)
 {
     if (!(mc_gt(Ld_H, MC_ZERO) && mc_lt(Ld_H, Lq_H) && mc_gt(ts_s, MC_ZERO) && mc_gt(v_h_V, MC_ZERO) &&
-          mc_gt(wn_rad_s, MC_ZERO) && mc_lt(mc_mul(wn_rad_s, ts_s), MC_C(0.2)) && mc_ge(delay, MC_ZERO) &&
+          mc_gt(wn_rad_s, MC_ZERO) && mc_lt(mc_mul(wn_rad_s, ts_s), HF_INJ_MAX_WN_TS) && mc_ge(delay, MC_ZERO) &&
           mc_le(delay, MC_ONE))) {
         return false;
     }

@@ -111,6 +111,11 @@ extern "C" {
 /* |g| = |1 - 2 d| below this: the delayed voltage cancels the injection
  * (d near 1/2), refused. */
 #define HF_INJ_MIN_DELAY_GAIN MC_C(0.5)
+/* The largest w_n Ts accepted: the discrete loop (H6), Euler-integrated
+ * once per sample, stays within a few percent of the continuous one it is
+ * designed as (its poles e^{-w_n Ts} against 1 - w_n Ts: 2.3 % apart at
+ * 0.2); 2 pi 50 Hz at 10 kHz is 0.031. */
+#define HF_INJ_MAX_WN_TS MC_C(0.2)
 /* Demodulation starts this many samples after the injection starts:
  * (H3) needs three samples of the alternating voltage. */
 #define HF_INJ_WARMUP_SAMPLES 3
@@ -149,8 +154,8 @@ typedef struct {
 } hf_injection_t;
 
 /* Derives the configuration: L_d < L_q (a salient interior machine), Ts >
- * 0, v_h_V > 0, wn_rad_s > 0 with wn Ts < 0.2 (the discrete loop near the
- * continuous one), delay d in [0, 1] with |1 - 2 d| >= 1/2. False (cfg
+ * 0, v_h_V > 0, wn_rad_s > 0 with wn Ts < HF_INJ_MAX_WN_TS (the discrete
+ * loop near the continuous one), delay d in [0, 1] with |1 - 2 d| >= 1/2. False (cfg
  * untouched): any other input. */
 bool hf_injection_design(hf_injection_config_t *cfg, mc_t Ld_H, mc_t Lq_H, mc_t ts_s, mc_t v_h_V, mc_t wn_rad_s,
                          mc_t delay);
