@@ -44,6 +44,7 @@ struct MotorParams {
     // T0 from t = 0, held there without a thermal model), R_th and C_th the
     // first-order thermal model (both > 0: T follows the copper loss).
     double i_sat_A = 0.0;
+    double i_sat_bias_A = 0.0;  // the magnet's bias on the d-axis iron (saturation.h), 0: none
     double R_th_K_per_W = 0.0;
     double C_th_J_per_K = 0.0;
     double T_ambient_C = 20.0;

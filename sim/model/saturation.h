@@ -47,6 +47,22 @@
 // k (L_d0 - L_q0) i_d i_q), the co-energy's derivative in the rotor angle
 // (Fitzgerald et al. chapter 3 again), so the electrical power in equals
 // R i^2 + dW/dt + T w with W = i.psi - W' the stored field energy.
+// The magnet's bias (i_bias_A > 0, optional): the magnet's flux also runs
+// through the stator's d-axis iron, so that iron is already part saturated
+// at zero current and saturates further when i_d adds to the magnet than
+// when it opposes it (what the polarity test of HF-injection drives reads:
+// estimators/magnet_polarity.h). Modelled by shifting the d current the
+// iron sees by i_b, the magnet's bias expressed as a d-axis current, in the
+// saturating part of (S1), and taking off the linear part that shift adds
+// at zero current, so that psi_d(0) stays Phi:
+//   u_b(i) = (L_d0 (i_d + i_b)^2 + L_q0 i_q^2) / 2,   k_b = 1/sqrt(1 + u_b/u_s),
+//   W'(i)  = Phi i_d + 2 u_s (sqrt(1 + u_b/u_s) - sqrt(1 + u_b(0)/u_s)) - k_b(0) L_d0 i_b i_d
+//   psi_d  = Phi + L_d0 (k_b (i_d + i_b) - k_b(0) i_b),   psi_q = k_b L_q0 i_q
+// The Hessian, and so (S3), is that of (S1) with i_d + i_b in place of i_d
+// (the linear term has none). The incremental L_d at zero current is then
+// L_d0 / (1 + (i_b/i_sat)^2)^(3/2): L_d0 is the unbiased iron's, and a
+// scenario that gives a bias states how it chose L_d0 and i_b. i_b = 0:
+// (S1)-(S3) as above, bit for bit.
 // Not modelled: the magnet's operating point moving with i_d (Phi does not
 // saturate), iron losses, hysteresis.
 //
@@ -61,6 +77,9 @@ struct SaturationParams {
     // The d-axis current (with i_q = 0) at which the apparent L_d has fallen
     // to L_d0 / sqrt(2) [A]; 0: linear (no saturation).
     double i_sat_A = 0.0;
+    // The magnet's bias on the d-axis iron as a d current [A] (see above;
+    // 0: none, the iron's saturation even in i_d).
+    double i_bias_A = 0.0;
     bool enabled() const { return i_sat_A > 0.0; }
     // The i_sat that makes the apparent inductance of a non-salient motor
     // (1 - fraction) L0 at the current magnitude i_A (e.g. 20 % at i_max):
@@ -104,6 +123,8 @@ public:
 private:
     double L_d0_, L_q0_, Phi_;
     double inv_2us_;  // 1 / (2 u_s) = 1 / (L_d0 i_sat^2)
+    double i_b_;      // the magnet's bias, i_b
+    double c0_;       // k_b(0) L_d0 i_b: psi_d's offset at zero current (0 without a bias)
 };
 
 }  // namespace mcsim

@@ -29,6 +29,7 @@ struct Rig {
         if (sc.motor.i_sat_A > 0.0) {
             SaturationParams s;
             s.i_sat_A = sc.motor.i_sat_A;
+            s.i_bias_A = sc.motor.i_sat_bias_A;
             plant.set_saturation(s);
         }
         const ThermalParams th = thermal_params(sc.motor);

@@ -352,6 +352,12 @@ void read_motor_fields(const View& v, MotorParams* m, bool required, bool with_f
             return false;
         };
         if (opt("i_sat_A", &m->i_sat_A)) ge(v, "i_sat_A", m->i_sat_A, 0.0);
+        if (opt("i_sat_bias_A", &m->i_sat_bias_A)) {
+            ge(v, "i_sat_bias_A", m->i_sat_bias_A, 0.0);
+            if (m->i_sat_bias_A > 0.0 && !(m->i_sat_A > 0.0)) {
+                v.fail("i_sat_bias_A", "the magnet's bias on the iron needs its saturation: i_sat_A > 0");
+            }
+        }
         if (opt("R_th_K_per_W", &m->R_th_K_per_W)) ge(v, "R_th_K_per_W", m->R_th_K_per_W, 0.0);
         if (opt("C_th_J_per_K", &m->C_th_J_per_K)) ge(v, "C_th_J_per_K", m->C_th_J_per_K, 0.0);
         if ((m->R_th_K_per_W > 0.0) != (m->C_th_J_per_K > 0.0)) {
@@ -384,7 +390,7 @@ const std::vector<std::string>& motor_file_keys()
                                                "coulomb_Nm", "coulomb_omega_s_rad_s", "n_p",
                                                "lugre_sigma0_Nm_per_rad", "lugre_sigma1_Nms_per_rad",
                                                "lugre_sigma2_Nms_per_rad", "lugre_Mc_Nm", "lugre_Ms_Nm",
-                                               "lugre_ws_rad_s", "i_sat_A", "R_th_K_per_W", "C_th_J_per_K",
+                                               "lugre_ws_rad_s", "i_sat_A", "i_sat_bias_A", "R_th_K_per_W", "C_th_J_per_K",
                                                "T_ambient_C", "T0_C", "alpha_cu_per_K", "beta_pm_per_K"};
     return k;
 }
