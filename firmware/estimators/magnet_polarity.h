@@ -29,11 +29,13 @@
  *
  * What it cannot do: a plant whose saturation is even in i_d has no
  * difference to see. This project's simulated plant (sim/model/saturation.h)
- * is such a one: its co-energy holds L_d0 i_d^2, the magnet's flux does
- * not enter the saturation ("not modelled: the magnet's operating point"),
- * so the two peaks are equal up to the noise and the test answers 0 there
- * (docs/hf_injection.md). The unit tests use a motor whose d-axis flux
- * saturates as a whole, magnet included.
+ * is such a one by default (its co-energy holds L_d0 i_d^2): the two peaks
+ * are equal up to the noise and the test answers 0; with the magnet's bias
+ * ([motor] i_sat_bias_A) it decides (tests/sim/test_hfi_polarity.cpp,
+ * docs/hf_injection.md). The unit tests use a motor whose d-axis flux
+ * saturates as a whole, magnet included. Size the pulse on the saturated
+ * iron: along the magnet the current rises far above V_p n_pulse Ts / L_d
+ * (9.6 A for 5 A on the biased plant).
  *
  * Float: the fixed-point build compiles it; no design uses it there.
  */

@@ -83,9 +83,10 @@
  *     once the blend is complete, so the hold fades in and out with the
  *     blend without a step).
  * It starts at cfg.flux_theta0_rad as the flux variant: the injection finds
- * the d axis but not the magnet's polarity, and the polarity test
- * (estimators/magnet_polarity.h) has no saturation difference to see in
- * this project's plant (docs/hf_injection.md), so it is not run here.
+ * the d axis but not the magnet's polarity; the polarity test
+ * (estimators/magnet_polarity.h) is not run here yet (the plant's default
+ * saturation is even in i_d; with [motor] i_sat_bias_A it reads the
+ * polarity: docs/hf_injection.md).
  */
 #ifndef DRIVES_PAPER002_DRIVE_H
 #define DRIVES_PAPER002_DRIVE_H
