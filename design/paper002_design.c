@@ -121,6 +121,29 @@
  * 1000; a loss is more than 1 sample in 21 beyond the bound. */
 #define P002_LOCK_INNOV_GLITCH_S P002_LOS_S
 #define P002_LOCK_INNOV_FORGET_S P002_STALL_S
+/* The HF injection's handover (angle_source HFI, paper002_drive.h), by
+ * the EKF's |speed| (mechanical). The flux observer's angle error from a
+ * voltage error dV is about dV / (p psi w): the dead time's 0.48 V on the
+ * VESC 6 (v_bus t_dead f_pwm, what its compensation leaves is a part of
+ * that) and the 60 K warm winding's R error (0.07 ohm x a few A) are
+ * fractions of a volt, so the blend starts at 15 rad/s (back-EMF p psi w =
+ * 2.4 V, five times 0.48 V) and is complete at 30 rad/s (4.8 V, ten
+ * times); the injection is on below 30 rad/s and off above 40: 10 rad/s
+ * of hysteresis, twice the speed loop's largest error in the 16 cases
+ * (P002_STALL_FLOOR_RAD_S's note), so it does not chatter. */
+#define P002_HFI_BLEND_LO_RAD_S 15.0
+#define P002_HFI_BLEND_HI_RAD_S 30.0
+#define P002_HFI_ON_RAD_S 30.0
+#define P002_HFI_OFF_RAD_S 40.0
+/* With the injection the speed loop's double pole at most a third of the
+ * EKF's speed bandwidth (paper002_design.c): its phase lag at the loop's
+ * crossover stays under 20 degrees (a second-order estimator at a third of
+ * its natural frequency, damping 0.7). */
+#define P002_HFI_SPEED_BELOW_EKF 3.0
+/* The angle hold's gain (paper002_drive.h) a quarter of the speed loop's
+ * pole: the outer loop a factor below the inner one, as the speed loop
+ * under the current loop (P002_SPEED_BELOW_CURRENT). */
+#define P002_HFI_HOLD_BELOW_SPEED 4.0
 /* the initial covariance: what a start at rest leaves unknown */
 #define P002_P0 1e-3
 
@@ -209,8 +232,11 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     if (!(in->i_trip_A >= in->i_max_A)) return p002_fail(err, err_len, "limits.i_trip_A", "must be >= i_max_A", in->i_trip_A);
     if (!fault_trip_samples_ok(in->i_trip_samples))
         return p002_fail(err, err_len, "limits.i_trip_samples", "must be 1..8 (0: 1)", (double)in->i_trip_samples);
-    const bool flux = in->angle_source == P002_ANGLE_FLUX;
+    const bool hfi = in->angle_source == P002_ANGLE_HFI;
+    /* the sensorless variants: the flux observer alone, or behind the injection */
+    const bool flux = in->angle_source == P002_ANGLE_FLUX || hfi;
     if (!flux && in->angle_source != P002_ANGLE_ENCODER) return p002_fail(err, err_len, "paper002.estimator", "unknown angle source", in->angle_source);
+    if (hfi && !(Lq > Ld)) return p002_fail(err, err_len, "motor.L_q_H", "the HF injection needs a salient motor, L_q > L_d", Lq);
     if (!flux && in->encoder_counts < 1) return p002_fail(err, err_len, "encoder.counts_per_turn", "must be >= 1", (double)in->encoder_counts);
     if (!(in->sigma_i_A >= 0.0)) return p002_fail(err, err_len, "sensor.noise_A", "must be >= 0", in->sigma_i_A);
     if (!(in->sigma_theta_rad >= 0.0)) return p002_fail(err, err_len, "encoder.noise_rad", "must be >= 0", in->sigma_theta_rad);
@@ -282,6 +308,25 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         const double s_th = Lq * in->sigma_i_A * sqrt(2.0 / 3.0) / psi / (double)p;
         r_th = fmax(s_th * s_th, 1e-12);
     }
+    if (hfi) {
+        /* the injection's angle at standstill (estimators/hf_injection.h):
+         * the EKF gets the tracking loop's angle (H6), whose noise is
+         * filtered and so correlated from sample to sample, and is told
+         * the noise of the unfiltered measurement (H7) per sample: the
+         * demodulated error's sigma_i sqrt(5/3) sqrt(6)/2 times (H4)'s
+         * gain, halved (e = eps/2), over p mechanical (0.0089 rad). Told
+         * the loop's own 0.0018 rad the EKF took it as white, its speed
+         * bandwidth and the speed loop's rose 2.2 times and the
+         * reversal and the handover lost synchronism; given the unfiltered
+         * angle (H7) instead, the EKF's angle was 1.6-3 times worse at 0
+         * rpm (docs/hf_injection.md). */
+        const double dinv = 1.0 / Ld - 1.0 / Lq;
+        const double g = 1.0 - 2.0 * in->compute_delay_samples;
+        const double s_eps = in->sigma_i_A * sqrt(5.0 / 3.0) * sqrt(6.0) / 2.0 * 2.0 /
+                             fabs(g * mc_to_double(HF_INJ_VOLTAGE_V) * in->ts_s * dinv);
+        const double s_th = 0.5 * s_eps / (double)p;
+        r_th = fmax(s_th * s_th, 1e-12);
+    }
     e->r[0] = mc_from_double(user_r ? in->ekf_r[0] : r_i);
     e->r[1] = mc_from_double(user_r ? in->ekf_r[1] : r_i);
     e->r[2] = mc_from_double(user_r ? in->ekf_r[2] : r_th);
@@ -293,7 +338,15 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     /* MTPA (15)/(18) */
     cfg->mtpa = (mtpa_config_t){mc_from_double(in->i_max_A)};
     /* SOSMC: s^2 + alpha_0 s + alpha_I with a double pole at w_s */
-    const double ws = lambda / P002_SPEED_BELOW_CURRENT;
+    double ws = lambda / P002_SPEED_BELOW_CURRENT;
+    if (hfi) {
+        /* the injection's angle is 40 times noisier than the encoder's: the
+         * EKF's speed from it has the bandwidth of a Kalman filter on a
+         * double integrator, (q_omega / (r_theta Ts^2))^(1/4) (188 rad/s on
+         * the reference set), and the speed loop stays a factor below it */
+        const double w_ekf = pow((user_q ? in->ekf_q[3] : P002_Q_OMEGA) / (e->r[2] * in->ts_s * in->ts_s), 0.25);
+        ws = fmin(ws, w_ekf / P002_HFI_SPEED_BELOW_EKF);
+    }
     cfg->sosmc = (sosmc_config_t){mc_from_double(2.0 * ws), mc_from_double(ws * ws), mc_from_double(P002_SOSMC_ETA),
                                   mc_from_double(P002_SOSMC_EPS), mc_from_double(M_max), in->compensate};
     /* HTSMC */
@@ -305,7 +358,20 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
     cfg->controller = (in->controller == P002_HTSMC) ? P002_HTSMC : P002_SOSMC;
     /* the angle source; the flux observer (12)-(14) on the active flux
      * (L = L_q, paper002_drive.h) in w = lambda/Ts units (flux_observer.h) */
-    cfg->angle_source = flux ? P002_ANGLE_FLUX : P002_ANGLE_ENCODER;
+    cfg->angle_source = hfi ? P002_ANGLE_HFI : (flux ? P002_ANGLE_FLUX : P002_ANGLE_ENCODER);
+    if (hfi) {
+        if (!hf_injection_design(&cfg->hfi, mc_from_double(Ld), mc_from_double(Lq), mc_from_double(in->ts_s),
+                                 HF_INJ_VOLTAGE_V, HF_INJ_PLL_WN_RAD_S, mc_from_double(in->compute_delay_samples))) {
+            return p002_fail(err, err_len, "run.compute_delay_samples",
+                             "the HF injection needs a delay within [0, 0.25] or [0.75, 1] (hf_injection.h)",
+                             in->compute_delay_samples);
+        }
+        cfg->hfi_blend_lo_rad_s = mc_from_double(P002_HFI_BLEND_LO_RAD_S);
+        cfg->hfi_blend_hi_rad_s = mc_from_double(P002_HFI_BLEND_HI_RAD_S);
+        cfg->hfi_on_rad_s = mc_from_double(P002_HFI_ON_RAD_S);
+        cfg->hfi_off_rad_s = mc_from_double(P002_HFI_OFF_RAD_S);
+        cfg->hfi_hold_gain_per_s = mc_from_double(ws / P002_HFI_HOLD_BELOW_SPEED);
+    }
     const double gamma = P002_FLUX_RADIAL_RATE_PER_S / (2.0 * psi * psi);
     const double phi_fs = psi * fsr;
     const int sh = (int)floor(log2(phi_fs)) + 1;

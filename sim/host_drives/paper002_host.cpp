@@ -47,8 +47,10 @@ void p002_parse(const View* v, Scenario* sc)
             sc->ipmsm.estimator = 0;
         } else if (*e == "flux") {
             sc->ipmsm.estimator = 1;
+        } else if (*e == "hfi") {
+            sc->ipmsm.estimator = 2;
         } else {
-            v->fail("estimator", "must be \"encoder\" or \"flux\" (got \"" + *e + "\")");
+            v->fail("estimator", "must be \"encoder\", \"flux\" or \"hfi\" (got \"" + *e + "\")");
         }
     }
     if (const auto c = v->string("controller")) {
@@ -78,7 +80,7 @@ void p002_parse(const View* v, Scenario* sc)
     }
     if (sc->ipmsm.estimator == 0 && !sc->encoder.present()) {
         throw ScenarioError(sc->path + ": encoder: missing required table: paper 002's drive reads an encoder (or set "
-                            "paper002.estimator = \"flux\")");
+                            "paper002.estimator = \"flux\" or \"hfi\")");
     }
 }
 
@@ -134,11 +136,11 @@ void p002_design(Scenario& sc, drive_config_storage_t* out)
 
 void p002_select_estimator(Scenario* sc, const std::string& name)
 {
-    if (name == "encoder" || name == "flux") {
-        sc->ipmsm.estimator = (name == "flux") ? 1 : 0;
+    if (name == "encoder" || name == "flux" || name == "hfi") {
+        sc->ipmsm.estimator = (name == "hfi") ? 2 : ((name == "flux") ? 1 : 0);
         return;
     }
-    throw std::invalid_argument("--estimator: " + name + ": paper 002's drive takes encoder or flux");
+    throw std::invalid_argument("--estimator: " + name + ": paper 002's drive takes encoder, flux or hfi");
 }
 
 // The C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0).

@@ -646,9 +646,10 @@ int main(int argc, char** argv)
                                  ->type_name("D");
     app.add_option("--estimator", opt.estimator,
                    "the drive's estimator, overrides its table's: paper 001's speed drive flux (its flux and I&I "
-                   "observers) or back_emf (paper 000's back-EMF chain); paper 002's drive encoder or flux (paper "
-                   "001's flux observer, sensorless); a drive with one estimator refuses it")
-        ->check(CLI::IsMember({"flux", "back_emf", "encoder"}))
+                   "observers) or back_emf (paper 000's back-EMF chain); paper 002's drive encoder, flux (paper "
+                   "001's flux observer, sensorless) or hfi (HF injection at low speed, the flux observer at "
+                   "speed); a drive with one estimator refuses it")
+        ->check(CLI::IsMember({"flux", "back_emf", "encoder", "hfi"}))
         ->type_name("NAME");
     app.add_flag("--no-expect", opt.no_expect,
                  "do not judge the metrics against the scenario's [expect] table (for variants: another "

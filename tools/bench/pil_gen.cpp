@@ -21,7 +21,7 @@
 // overrides a [speed] scenario's estimator (paper 001's drive), encoder|flux
 // a [paper002] scenario's (its drive's host part checks which it takes).
 //
-// Usage: mc_pil_gen [--drive NAME] [--estimator flux|back_emf|encoder] SCENARIO.toml OUT.c [MAX_SAMPLES]
+// Usage: mc_pil_gen [--drive NAME] [--estimator flux|back_emf|encoder|hfi] SCENARIO.toml OUT.c [MAX_SAMPLES]
 //        mc_pil_gen --board-config [--drive NAME] [--estimator ...] SCENARIO.toml OUT.c
 //                   (an MCU board's drive configuration only, see write_board_config)
 #include <array>
@@ -97,7 +97,8 @@ void design(const std::string& name, const Options& opt, mcsim::Scenario& sc, dr
 std::string estimator_note(const std::string& name, const drive_config_storage_t& cfg)
 {
     if (name == "paper002") {
-        return std::string(", estimator ") + (cfg.paper002.angle_source == P002_ANGLE_FLUX ? "flux" : "encoder");
+        const int a = cfg.paper002.angle_source;
+        return std::string(", estimator ") + (a == P002_ANGLE_HFI ? "hfi" : (a == P002_ANGLE_FLUX ? "flux" : "encoder"));
     }
     if (name != "paper001") return "";
     return std::string(", estimator ") + (cfg.paper001.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux");
@@ -300,8 +301,8 @@ int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* give
 int main(int argc, char** argv)
 {
     const char* usage =
-        "usage: %s [--drive NAME] [--estimator flux|back_emf|encoder] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
-        "       %s --board-config [--drive NAME] [--estimator flux|back_emf|encoder] SCENARIO.toml OUT.c\n"
+        "usage: %s [--drive NAME] [--estimator flux|back_emf|encoder|hfi] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
+        "       %s --board-config [--drive NAME] [--estimator flux|back_emf|encoder|hfi] SCENARIO.toml OUT.c\n"
         "NAME: a drive of the registry (default: the scenario's):";
     Options opt;
     bool board = false;

@@ -10,6 +10,73 @@
  * sequence is v_bus/sqrt(3) */
 #define P002_INV_SQRT3 MC_C(0.57735026918962576)
 
+/* The injection's speeds (paper002_drive.h): 0 <= lo < hi <= on < off. */
+static bool p002_hfi_speeds_ok(const paper002_config_t *c)
+{
+    return mc_ge(c->hfi_blend_lo_rad_s, MC_ZERO) && mc_lt(c->hfi_blend_lo_rad_s, c->hfi_blend_hi_rad_s) &&
+           mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) && mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s) &&
+           mc_ge(c->hfi_hold_gain_per_s, MC_ZERO);
+}
+
+/* angle_source = HFI, step 1: the injection on or off by the EKF's speed
+ * (hysteresis), one step of it (the fundamental current, H5, back in
+ * *i_ab), the flux observer on the fundamental, and the blended electrical
+ * angle. */
+static mc_rot_t p002_hfi_angle(paper002_drive_t *d, mc_ab_t *i_ab)
+{
+    const paper002_config_t *c = &d->cfg;
+    const motor_model_t *m = &c->model;
+    const mc_t w_abs = mc_abs(d->ekf.x[EKF_OMEGA]);
+    if (d->hfi.on && mc_gt(w_abs, c->hfi_off_rad_s)) {
+        hf_injection_set_on(&d->hfi, false);
+    } else if (!d->hfi.on && mc_lt(w_abs, c->hfi_on_rad_s)) {
+        hf_injection_set_on(&d->hfi, true);
+    }
+    if (!d->hfi.on) {
+        /* off: the loop follows the observer, to start from it when on */
+        hf_injection_track(&d->hfi, mc_atan2(d->flux.unit.s, d->flux.unit.c),
+                           mc_mul_i(d->ekf.x[EKF_OMEGA], m->n_p));
+    }
+    hf_injection_step(&d->hfi, *i_ab);
+    *i_ab = d->hfi.i_f_A;
+    /* the flux observer on the fundamental, its target as the flux
+     * variant's */
+    const mc_t ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
+    flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+    flux_observer_step(&d->flux, *i_ab);
+    /* the blend's weight, 0 below lo, 1 above hi */
+    const mc_t w = mc_clamp(mc_div(mc_sub(w_abs, c->hfi_blend_lo_rad_s),
+                                   mc_sub(c->hfi_blend_hi_rad_s, c->hfi_blend_lo_rad_s)),
+                            MC_ZERO, MC_ONE);
+    d->hfi_weight = w;
+    /* the injection's tracked angle (H6) */
+    const mc_t th_h = d->hfi.theta_e_rad;
+    if (mc_eq(w, MC_ZERO)) {
+        /* the observer knows nothing here: it takes the injection's angle */
+        flux_observer_init(&d->flux, &c->flux, mc_rot_from_angle(th_h), *i_ab);
+        flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+        return mc_rot_from_angle(th_h);
+    }
+    const mc_t th_f = mc_atan2(d->flux.unit.s, d->flux.unit.c);
+    return mc_rot_from_angle(mc_wrap_pi(mc_mac(th_h, w, mc_wrap_pi(mc_sub(th_f, th_h)))));
+}
+
+/* angle_source = HFI, step 3: the angle hold (paper002_drive.h). The held
+ * angle follows the integral of w_d, and the EKF's angle once the blend is
+ * complete; the correction k (1 - w) wrap(hold - theta_hat) is added to
+ * the speed reference. */
+static mc_t p002_hfi_hold(paper002_drive_t *d, mc_t w_d)
+{
+    const paper002_config_t *c = &d->cfg;
+    const mc_t th = d->ekf.x[EKF_THETA];
+    d->hfi_hold_rad = mc_wrap_pi(mc_mac(d->hfi_hold_rad, w_d, c->model.ts_s));
+    if (mc_eq(d->hfi_weight, MC_ONE)) {
+        d->hfi_hold_rad = th;
+    }
+    const mc_t k = mc_mul(c->hfi_hold_gain_per_s, mc_sub(MC_ONE, d->hfi_weight));
+    return mc_mac(w_d, k, mc_wrap_pi(mc_sub(d->hfi_hold_rad, th)));
+}
+
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
@@ -34,12 +101,17 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
                     mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
                     mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
                     mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
-                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX) &&
+                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX ||
+                     (cfg->angle_source == P002_ANGLE_HFI && p002_hfi_speeds_ok(cfg))) &&
                     deadtime_comp_init(&d->dtc, &cfg->deadtime);
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
     const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, m->n_p);
     flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
     angle_unwrap_init(&d->unwrap, e0);
+    hf_injection_init(&d->hfi, &cfg->hfi, e0);
+    hf_injection_set_on(&d->hfi, cfg->angle_source == P002_ANGLE_HFI);
+    d->hfi_weight = MC_ZERO;
+    d->hfi_hold_rad = mc_wrap_pi(cfg->flux_theta0_rad);
     /* the electrical angle fixes the mechanical one up to 2 pi/p: the
      * start's turn among the p is kept as an offset */
     d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, m->n_p));
@@ -84,7 +156,8 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     }
     d->v_bus_V = in->v_bus_V;
     const bool flux = c->angle_source == P002_ANGLE_FLUX;
-    if (!phase_adapter_accepts(in, 3u) || (!flux && !in->has_angle)) {
+    const bool hfi = c->angle_source == P002_ANGLE_HFI;
+    if (!phase_adapter_accepts(in, 3u) || (!flux && !hfi && !in->has_angle)) {
         return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
     }
     const drive_fault_t f_in = fault_monitor_sample(&d->mon, in, 3u);
@@ -94,17 +167,24 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 1. d-q currents with the encoder's electrical angle, or the flux
      * observer's */
     mc_t i_zero;
-    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
+    mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
     (void)i_zero;
     mc_rot_t r_meas;
     mc_t theta_meas;
-    if (flux) {
-        /* the active flux's radius psi + (L_d - L_q) i_d at the EKF's i_d,
-         * relative to psi, squared: the gradient term's target */
-        const mc_t ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
-        flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
-        flux_observer_step(&d->flux, i_ab);
-        r_meas = d->flux.unit;
+    if (flux || hfi) {
+        if (hfi) {
+            /* the injection's angle blended into the observer's; the
+             * fundamental current from here on */
+            r_meas = p002_hfi_angle(d, &i_ab);
+        } else {
+            /* the active flux's radius psi + (L_d - L_q) i_d at the EKF's
+             * i_d, relative to psi, squared: the gradient term's target */
+            const mc_t ratio =
+                mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
+            flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+            flux_observer_step(&d->flux, i_ab);
+            r_meas = d->flux.unit;
+        }
         angle_unwrap_step(&d->unwrap, r_meas.s, r_meas.c);
         /* the mechanical angle: (e + 2 pi n)/p, with n taken modulo p first
          * (n p-fold is a whole mechanical turn) so the sum stays small */
@@ -120,7 +200,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 2. the EKF's correction; sensorless, the angle innovation's variance
      * S = P^-_thth + r_th first (the a priori covariance, C = [I_3 0]: the
      * angle is measurement 2 and state 2), for the loss of lock below */
-    const mc_t s_theta_rad2 = flux ? mc_add(d->ekf.P[EKF_THETA][EKF_THETA], d->ekf.cfg.r[EKF_THETA]) : MC_ZERO;
+    const mc_t s_theta_rad2 = (flux || hfi) ? mc_add(d->ekf.P[EKF_THETA][EKF_THETA], d->ekf.cfg.r[EKF_THETA]) : MC_ZERO;
     const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
     mc_t w_d, dw_d;
     speed_poly_eval(&d->reference, d->tick, &w_d, &dw_d);
@@ -141,9 +221,11 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
      * error over a sample, by a leaky count (the limit cycle and the flips
      * of this variant's losses, docs/paper002.md). Only for the flux
      * angle: the encoder's is measured (the EKF's innovation above checks
-     * it). No product of its own here; float only, as the drive (the
-     * fixed-point build refuses paper 002's design, docs/paper002.md). */
-    if (flux) {
+     * it). With the injection (HFI) only while it is off, the flux
+     * observer's angle then in use. No product of its own here; float
+     * only, as the drive (the fixed-point build refuses paper 002's
+     * design, docs/paper002.md). */
+    if (flux || (hfi && !d->hfi.on)) {
         const lock_criterion_t by_flux =
             lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q);
         const lock_criterion_t by_innov =
@@ -160,16 +242,22 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.theta_hat_rad = x[EKF_THETA];
     d->last.w_hat_rad_s = x[EKF_OMEGA];
     d->last.M0_hat_Nm = x[EKF_M0];
-    /* 3. reference and torque demand */
+    /* 3. reference and torque demand; with the injection, the hold's
+     * correction on the speed reference */
+    const mc_t w_c = hfi ? p002_hfi_hold(d, w_d) : w_d;
     const mc_t M_d = (c->controller == P002_SOSMC)
-                         ? sosmc_step(&d->sosmc, &c->sosmc, m, w_d, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
+                         ? sosmc_step(&d->sosmc, &c->sosmc, m, w_c, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
                                       x[EKF_M0])
-                         : htsmc_step(&d->htsmc, &c->htsmc, m, w_d, dw_d, x[EKF_OMEGA], x[EKF_M0]);
+                         : htsmc_step(&d->htsmc, &c->htsmc, m, w_c, dw_d, x[EKF_OMEGA], x[EKF_M0]);
     /* 4. MTPA */
     mtpa_out_t ref;
     mtpa_step(&c->mtpa, m, M_d, &ref);
     /* 5. current control on the EKF's currents and speed */
-    const mc_t u_max = mc_mul(in->v_bus_V, P002_INV_SQRT3);
+    mc_t u_max = mc_mul(in->v_bus_V, P002_INV_SQRT3);
+    if (hfi && d->hfi.on) {
+        /* the injection's share of the voltage kept free */
+        u_max = mc_max(MC_ZERO, mc_sub(u_max, c->hfi.v_h_V));
+    }
     ibcc_out_t u_dq;
     ibcc_step(&d->ibcc, &c->ibcc, m, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_dq);
     const mc_t u_d = u_dq.u_d_V, u_q = u_dq.u_q_V;
@@ -182,7 +270,14 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     const mc_rot_t rot_out = mc_rot_from_angle(th_el); /* also the compensation's way back */
     mc_ab_t u_ab;
     mc_rot_inv(rot_out, u_d, u_q, &u_ab.alpha, &u_ab.beta);
-    phase_adapter_voltages(3u, u_ab, out);
+    if (hfi && d->hfi.on) {
+        /* the injection on top of the command; the estimators see the
+         * command alone */
+        const mc_ab_t u_out = {mc_add(u_ab.alpha, d->hfi.u_h_V.alpha), mc_add(u_ab.beta, d->hfi.u_h_V.beta)};
+        phase_adapter_voltages(3u, u_out, out);
+    } else {
+        phase_adapter_voltages(3u, u_ab, out);
+    }
     /* the inverter's expected error added to the command; what the bus
      * clamp takes of it is in the voltage the estimators use */
     mc_t u_d_est = u_d, u_q_est = u_q;
@@ -208,6 +303,9 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
         ekf_ipmsm_predict(&d->ekf, m, u_d_mean, u_q_mean);
     }
     d->u_ab_prev_V = u_ab;
+    if (hfi) {
+        hf_injection_hold(&d->hfi, u_ab);
+    }
     d->last.w_d_rad_s = w_d;
     d->last.M_d_Nm = M_d;
     d->last.i_dd_A = ref.i_d_A;

@@ -55,6 +55,38 @@
  * observer starts at cfg.flux_theta0_rad: the rotor's angle is known at
  * start (an alignment before the run); a flux observer has no
  * information at standstill and cannot find it.
+ *
+ * With P002_ANGLE_HFI (issue 31, beyond the paper) the angle at standstill
+ * and low speed comes from the square-wave HF injection
+ * (estimators/hf_injection.h) and the flux observer above takes over:
+ *   - the injection's voltage (+-V_h on its estimated d axis) is added to
+ *     the command; the controller's limit is v_bus/sqrt(3) - V_h while it
+ *     injects; the EKF, the flux observer and the current loop see the
+ *     fundamental only: the currents of (H5), the command without it;
+ *   - the electrical angle is theta_hfi + w wrap(theta_flux - theta_hfi),
+ *     w = 0 below hfi_blend_lo_rad_s of the EKF's |speed|, 1 above
+ *     hfi_blend_hi_rad_s, linear between;
+ *   - the injection goes off above hfi_off_rad_s and on again below
+ *     hfi_on_rad_s (hysteresis; on < off, hi <= on: the blend is complete
+ *     before it stops); off, its loop follows the flux observer's angle
+ *     and the EKF's speed, on again it starts from them;
+ *   - with w = 0 the flux observer is set to the injection's angle every
+ *     sample (it has no information of its own there), so that it starts
+ *     the blend from the right angle;
+ *   - the loss-of-lock check of the flux observer runs only with the
+ *     injection off;
+ *   - an angle hold: at low speed the EKF's speed carries the bias of the
+ *     motor model's errors (its R against a warm winding: the back-EMF it
+ *     infers from u - R i), which a speed loop turns into a creep under
+ *     load; the speed reference gets k (1 - w) wrap(hold - theta_hat),
+ *     hold the integral of w_d from the start angle (following theta_hat
+ *     once the blend is complete, so the hold fades in and out with the
+ *     blend without a step).
+ * It starts at cfg.flux_theta0_rad as the flux variant: the injection finds
+ * the d axis but not the magnet's polarity; the polarity test
+ * (estimators/magnet_polarity.h) is not run here yet (the plant's default
+ * saturation is even in i_d; with [motor] i_sat_bias_A it reads the
+ * polarity: docs/hf_injection.md).
  */
 #ifndef DRIVES_PAPER002_DRIVE_H
 #define DRIVES_PAPER002_DRIVE_H
@@ -70,6 +102,7 @@
 #include "estimators/angle_unwrap.h"
 #include "estimators/ekf_ipmsm.h"
 #include "estimators/flux_observer.h"
+#include "estimators/hf_injection.h"
 #include "drives/drive.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
@@ -89,7 +122,8 @@ typedef enum { P002_SOSMC = 0, P002_HTSMC = 1 } p002_controller_t;
 /* Where the angle comes from. */
 typedef enum {
     P002_ANGLE_ENCODER = 0, /* the paper: an encoder (hal_sample_t angle_rad) */
-    P002_ANGLE_FLUX = 1     /* sensorless: paper 001's flux observer on the active flux */
+    P002_ANGLE_FLUX = 1,    /* sensorless: paper 001's flux observer on the active flux */
+    P002_ANGLE_HFI = 2      /* sensorless from standstill: HF injection, the flux observer at speed */
 } p002_angle_source_t;
 
 typedef struct {
@@ -117,6 +151,12 @@ typedef struct {
                                     * tolerance bound (ticks 0: off), or the EKF's angle innovation by
                                     * the leaky count (innov_limit 0: off) (LOSS_OF_LOCK). The encoder
                                     * needs none */
+    hf_injection_config_t hfi;     /* angle_source = HFI: the injection (estimators/hf_injection.h) */
+    mc_t hfi_blend_lo_rad_s;       /* angle_source = HFI: |w_hat| (mechanical) where the blend to the */
+    mc_t hfi_blend_hi_rad_s;       /* flux observer starts and where it is complete */
+    mc_t hfi_off_rad_s;            /* angle_source = HFI: the injection off above this |w_hat| ... */
+    mc_t hfi_on_rad_s;             /* ... and on again below this (hi <= on < off) */
+    mc_t hfi_hold_gain_per_s;      /* angle_source = HFI: the angle hold's gain k (0: none) */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
     deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
@@ -136,7 +176,10 @@ typedef struct {
     mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
     fault_monitor_t mon;
     fault_persist_t los, stall;
-    lock_monitor_t lock;           /* angle_source = FLUX */
+    lock_monitor_t lock;           /* angle_source = FLUX (HFI: with the injection off) */
+    hf_injection_t hfi;            /* angle_source = HFI */
+    mc_t hfi_weight;               /* angle_source = HFI: the blend's w, 0 injection .. 1 flux observer */
+    mc_t hfi_hold_rad;             /* angle_source = HFI: the held (mechanical) angle */
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
     bool disabled;                 /* CmdEnable 0: 0 V until enabled */

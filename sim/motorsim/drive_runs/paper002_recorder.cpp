@@ -56,6 +56,30 @@ std::int64_t Paper002Recorder::on_period(const hal_sw_plant_period_t& p, double*
     const double thm_err = wrap_pi(to_double(l.theta_meas_rad) - th);
     th_ss_ += th_err * th_err;
     thm_ss_ += thm_err * thm_err;
+    if (drive_.cfg.angle_source == P002_ANGLE_HFI) {
+        // the HF injection (angle source 2): the EKF's largest angle error
+        // from 50 ms (the first correction of the start left out),
+        // the rotor's largest excursion from its start (mechanical), the
+        // injection's voltage and its current ripple (half the change of
+        // the true alpha-beta current from one sample to the next, the
+        // triangle's amplitude) while it is on
+        if (index() == 0) {
+            theta0_ = th;
+        }
+        if (t >= kRmseSkip_s - 1e-12) {
+            th_err_max_ = std::max(th_err_max_, std::fabs(th_err));
+        }
+        drift_max_ = std::max(drift_max_, std::fabs(wrap_pi(th - theta0_)));
+        const double ia = plant_.i_a_A(), ib = plant_.i_b_A();
+        if (drive_.hfi.on) {
+            n_hfi_on_ += 1;
+            hfi_ripple_ss_ += 0.25 * ((ia - prev_ia_) * (ia - prev_ia_) + (ib - prev_ib_) * (ib - prev_ib_));
+            const double ua = to_double(drive_.hfi.u_h_V.alpha), ub = to_double(drive_.hfi.u_h_V.beta);
+            hfi_u_ss_ += ua * ua + ub * ub;
+        }
+        prev_ia_ = ia;
+        prev_ib_ = ib;
+    }
     // the lumped disturbance the EKF estimates: everything that brakes the
     // rotor besides the viscous d w of its model (load, LuGre friction)
     const double M0 = plant_.load_torque_Nm();
@@ -146,6 +170,13 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
     m.emplace_back("theta_est_rmse_rad", rms(th_ss_, n_rec));
     m.emplace_back("theta_meas_rmse_rad", rms(thm_ss_, n_rec));
     m.emplace_back("angle_source", static_cast<std::int64_t>(drive_.cfg.angle_source));
+    if (drive_.cfg.angle_source == P002_ANGLE_HFI) {
+        m.emplace_back("theta_est_err_max_rad", th_err_max_);
+        m.emplace_back("position_drift_max_rad", drift_max_);
+        m.emplace_back("hfi_on_fraction", n > 0 ? static_cast<double>(n_hfi_on_) / n : 0.0);
+        m.emplace_back("hfi_current_ripple_rms_A", rms(hfi_ripple_ss_, n_hfi_on_));
+        m.emplace_back("hfi_voltage_rms_V", rms(hfi_u_ss_, n_hfi_on_));
+    }
     m.emplace_back("voltage_hf_rms_V", std::sqrt(hf_d * hf_d + hf_q * hf_q));
     m.emplace_back("voltage_rms_V", ud_.empty() ? 0.0 : std::sqrt(u_ss / static_cast<double>(ud_.size())));
     m.emplace_back("ekf_p_min_eig", p_min_eig_);

@@ -24,6 +24,16 @@
 //   ekf_p_asym_max                the largest |P_ij - P_ji| after any sample
 //   ekf_spd_ok                    1 if every correction found S positive
 //                                 definite and P stayed SPD, else 0
+//   theta_est_err_max_rad, position_drift_max_rad, hfi_on_fraction,
+//   hfi_current_ripple_rms_A, hfi_voltage_rms_V   angle source 2 (HF
+//                                 injection) only: max |theta_hat - theta|
+//                                 of the EKF from 50 ms on, max |theta - theta(0)| (the
+//                                 rotor's excursion from its start), both
+//                                 mechanical; the share of samples with the
+//                                 injection on, and while on the RMS of half
+//                                 the true alpha-beta current's change per
+//                                 sample (the triangle's amplitude) and of
+//                                 the injected voltage
 //   max_abs_current_A, voltage_saturated_fraction, fault, ...
 #ifndef MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H
 #define MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H
@@ -91,6 +101,10 @@ private:
     double ss_ = 0.0, ss50_ = 0.0, err_max_ = 0.0, est_ss_ = 0.0, m0_ss_ = 0.0, i_max_ = 0.0, th_ss_ = 0.0, thm_ss_ = 0.0;
     double p_min_eig_ = 1e300, p_asym_ = 0.0;
     bool spd_ok_ = true;
+    // the HF injection's metrics (angle source 2 only; metrics() lists them then)
+    double th_err_max_ = 0.0, drift_max_ = 0.0, theta0_ = 0.0, hfi_ripple_ss_ = 0.0, hfi_u_ss_ = 0.0;
+    double prev_ia_ = 0.0, prev_ib_ = 0.0;
+    std::uint64_t n_hfi_on_ = 0;
     std::int64_t fault_ = 0;
 };
 
