@@ -19,7 +19,7 @@ metric hfi_start_polarity 0, motorsim's exit status 3, and the rotor not
 moved by more than --back before the fault (after it the scenario's load
 turns the unpowered rotor).
 
-usage: check_hfi_start16.py MOTORSIM SCENARIO.toml [--expect-refusal]
+usage: check_hfi_start16.py MOTORSIM SCENARIO.toml [--expect-refusal] [--seed N]
 """
 import argparse
 import csv
@@ -48,6 +48,7 @@ def main():
     ap.add_argument("--final", type=float, default=10.0, help="rad/s: the reference's end")
     ap.add_argument("--final-tol", type=float, default=2.0)
     ap.add_argument("--expect-refusal", action="store_true")
+    ap.add_argument("--seed", type=int, default=None, help="motorsim --seed (default: the scenario's)")
     a = ap.parse_args()
     if a.angles < 1 or a.n_p < 1:
         sys.exit("check_hfi_start16.py: --angles and --n-p must be >= 1")
@@ -61,6 +62,8 @@ def main():
             js = os.path.join(out, "m.json")
             cmd = [a.motorsim, "--scenario", a.scenario, "--theta0-rad", repr(th0), "--out", out,
                    "--metrics-out", js, "--no-plot", "--quiet"]
+            if a.seed is not None:
+                cmd += ["--seed", str(a.seed)]
             if a.expect_refusal:
                 cmd.append("--no-expect")
             p = subprocess.run(cmd, capture_output=True, text=True)
