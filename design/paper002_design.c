@@ -144,6 +144,22 @@
  * pole: the outer loop a factor below the inner one, as the speed loop
  * under the current loop (P002_SPEED_BELOW_CURRENT). */
 #define P002_HFI_HOLD_BELOW_SPEED 4.0
+/* The start from an unknown angle (hfi_find_angle, paper002_drive.h).
+ * LOCK: 0.1 s of injection alone, twice the 50 ms in which the unit
+ * tests' PLL locked from +-1.3 rad (docs/hf_injection.md; the loop's w_n
+ * 2 pi 50 Hz, zeta 1: a start near the unstable pi/2 leaves it first on
+ * the noise). The polarity test's pulses: 20 V to 5 A on L_d, the sizing
+ * measured on the plant's biased iron (tests/sim/test_hfi_polarity.cpp:
+ * 9.6 A with the magnet, 6.8 A against, under the 20 A i_max; sized to 15
+ * A they reach 35 A, beyond the 30 A trip), 18 + 8 L_d/R samples a half
+ * (magnet_polarity.c). */
+#define P002_HFI_LOCK_S 0.1
+#define P002_POLARITY_PULSE_V 20.0
+#define P002_POLARITY_PEAK_A 5.0
+/* The margin's noise floor: a noiseless simulated sensor still gets 6
+ * sqrt(10/3) x 1 mA = 11 mA of margin; a real sensor's is larger (a 12-bit
+ * converter over +-40 A alone: 5.6 mA, docs/hf_injection.md). */
+#define P002_POLARITY_SIGMA_FLOOR_A 1e-3
 /* the initial covariance: what a start at rest leaves unknown */
 #define P002_P0 1e-3
 
@@ -191,6 +207,7 @@ void p002_design_defaults(p002_design_input_t *in)
     in->compensate = true;
     in->angle_source = P002_ANGLE_ENCODER;
     in->theta0_rad = 0.0;
+    in->hfi_find_angle = false;
     in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
     for (int i = 0; i < EKF_N; ++i) {
         in->ekf_q[i] = 0.0; /* the design's Q */
@@ -371,7 +388,19 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         cfg->hfi_on_rad_s = mc_from_double(P002_HFI_ON_RAD_S);
         cfg->hfi_off_rad_s = mc_from_double(P002_HFI_OFF_RAD_S);
         cfg->hfi_hold_gain_per_s = mc_from_double(ws / P002_HFI_HOLD_BELOW_SPEED);
+        cfg->hfi_find_angle = in->hfi_find_angle;
+        if (in->hfi_find_angle) {
+            cfg->hfi_lock_ticks = (int32_t)ceil(P002_HFI_LOCK_S / in->ts_s);
+            if (!magnet_polarity_design(&cfg->magpol, mc_from_double(P002_POLARITY_PULSE_V),
+                                        mc_from_double(P002_POLARITY_PEAK_A), mc_from_double(Ld), mc_from_double(R),
+                                        mc_from_double(in->ts_s), mc_from_double(fmax(in->sigma_i_A, P002_POLARITY_SIGMA_FLOOR_A)))) {
+                return p002_fail(err, err_len, "paper002.hfi_find_angle",
+                                 "the magnet polarity test's design refused the motor (magnet_polarity.h)", Ld);
+            }
+        }
     }
+    /* hfi_find_angle with another angle source (motorsim --estimator over
+     * an hfi scenario): that variant is told theta0_rad, as it always is */
     const double gamma = P002_FLUX_RADIAL_RATE_PER_S / (2.0 * psi * psi);
     const double phi_fs = psi * fsr;
     const int sh = (int)floor(log2(phi_fs)) + 1;
@@ -379,7 +408,8 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
                                          mc_from_double(phi_fs), mc_from_double(ldexp(1.0, -sh)),
                                          mc_from_double(ldexp(1.0 / phi_fs, sh)),
                                          mc_from_double(gamma * psi * psi * psi)};
-    cfg->flux_theta0_rad = mc_from_double(in->theta0_rad);
+    /* the start angle: told (an alignment), or found by the drive */
+    cfg->flux_theta0_rad = mc_from_double((hfi && in->hfi_find_angle) ? 0.0 : in->theta0_rad);
     /* loss of lock of the sensorless variant: the shared derivation
      * (design/lock_monitor_design.c) with paper 001's tolerances (R, L
      * +-50 %, Phi +15 %, 30 degrees, 1 % of i_max in the current) on the

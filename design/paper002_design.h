@@ -41,6 +41,10 @@ typedef struct {
      * start, known from an alignment (paper002_drive.h) */
     int angle_source;
     double theta0_rad;
+    /* HFI only: the start angle unknown (theta0_rad not told to the
+     * drive): it locks the injection, runs the magnet polarity test and
+     * refuses to run when undecided (paper002_drive.h) */
+    bool hfi_find_angle;
     /* the board's computation delay in samples, [0, 1] (paper002_drive.h) */
     double compute_delay_samples;
     /* the EKF's noise covariances given by the user instead of the

@@ -22,7 +22,7 @@ std::vector<std::string> p002_keys()
 {
     return {
         "controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega_start_rad_s",
-        "omega0_rad_s", "estimator", "ekf_q", "ekf_r"
+        "omega0_rad_s", "estimator", "ekf_q", "ekf_r", "hfi_find_angle"
     };
 }
 
@@ -53,6 +53,9 @@ void p002_parse(const View* v, Scenario* sc)
             v->fail("estimator", "must be \"encoder\", \"flux\" or \"hfi\" (got \"" + *e + "\")");
         }
     }
+    if (const auto b = v->boolean("hfi_find_angle")) {
+        sc->ipmsm.hfi_find_angle = *b;
+    }
     if (const auto c = v->string("controller")) {
         if (*c == "sosmc") {
             sc->ipmsm.controller = 0;
@@ -77,6 +80,9 @@ void p002_parse(const View* v, Scenario* sc)
     sc->omega0_rad_s = sc->ipmsm.omega0_rad_s;
     if (sc->motor.type != MotorType::kPmsm3) {
         throw ScenarioError(sc->path + ": motor.file: paper 002's drive needs a pmsm3 motor (this one is a stepper2)");
+    }
+    if (sc->ipmsm.hfi_find_angle && sc->ipmsm.estimator != 2) {
+        v->fail("hfi_find_angle", "needs estimator = \"hfi\" (the start angle is found by the HF injection)");
     }
     if (sc->ipmsm.estimator == 0 && !sc->encoder.present()) {
         throw ScenarioError(sc->path + ": encoder: missing required table: paper 002's drive reads an encoder (or set "
@@ -106,6 +112,7 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->w1_rad_s = sc.ipmsm.omega_final_rad_s;
     in->angle_source = sc.ipmsm.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
+    in->hfi_find_angle = sc.ipmsm.hfi_find_angle;  // or the start angle found (the injection, the polarity test)
     std::copy(std::begin(sc.ipmsm.ekf_q), std::end(sc.ipmsm.ekf_q), in->ekf_q);
     std::copy(std::begin(sc.ipmsm.ekf_r), std::end(sc.ipmsm.ekf_r), in->ekf_r);
 }

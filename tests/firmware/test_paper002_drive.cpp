@@ -693,3 +693,46 @@ TEST(Paper002Drive, LossOfLockByTheAngleInnovation)
         }
     }
 }
+
+// The start from an unknown angle (paper002_drive.h, hfi_find_angle): the
+// design fills the lock time and the polarity test (0.1 s: 1000 samples;
+// 20 V pulses), the drive starts in LOCK with the injection on; a
+// configuration without a lock time or a test is bad input, refused at
+// init with DRIVE_FAULT_BAD_INPUT latched.
+TEST(Paper002Drive, FindAngleStartIsDesignedAndBadConfigurationRefused)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    p002_design_input_t in;
+    p002_design_defaults(&in);
+    in.angle_source = P002_ANGLE_HFI;
+    in.hfi_find_angle = true;
+    in.theta0_rad = 0.7;
+    paper002_config_t c{};
+    char err[200];
+    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    EXPECT_TRUE(c.hfi_find_angle);
+    EXPECT_EQ(c.hfi_lock_ticks, 1000);
+    EXPECT_NEAR(mc_to_double(c.magpol.v_p_V), 20.0, 1e-6);
+    EXPECT_GE(c.magpol.n_pulse, 1);
+    EXPECT_EQ(mc_to_double(c.flux_theta0_rad), 0.0) << "the start angle is not told";
+    static paper002_drive_t d;
+    ASSERT_TRUE(paper002_drive_init(&d, &c));
+    EXPECT_EQ(d.start_phase, P002_START_LOCK);
+    EXPECT_TRUE(d.hfi.on);
+    paper002_config_t bad = c;
+    bad.hfi_lock_ticks = 0;
+    EXPECT_FALSE(paper002_drive_init(&d, &bad));
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_BAD_INPUT);
+    bad = c;
+    bad.magpol.n_pulse = 0;
+    EXPECT_FALSE(paper002_drive_init(&d, &bad));
+    EXPECT_EQ(d.sup.fault, DRIVE_FAULT_BAD_INPUT);
+    // the encoder's variant ignores the flag: it starts in RUN
+    in.angle_source = P002_ANGLE_ENCODER;
+    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    EXPECT_FALSE(c.hfi_find_angle);
+    ASSERT_TRUE(paper002_drive_init(&d, &c));
+    EXPECT_EQ(d.start_phase, P002_START_RUN);
+}

@@ -82,11 +82,25 @@
  *     hold the integral of w_d from the start angle (following theta_hat
  *     once the blend is complete, so the hold fades in and out with the
  *     blend without a step).
- * It starts at cfg.flux_theta0_rad as the flux variant: the injection finds
- * the d axis but not the magnet's polarity; the polarity test
- * (estimators/magnet_polarity.h) is not run here yet (the plant's default
- * saturation is even in i_d; with [motor] i_sat_bias_A it reads the
- * polarity: docs/hf_injection.md).
+ * It starts at cfg.flux_theta0_rad as the flux variant, unless
+ * cfg.hfi_find_angle: then the start angle is unknown and the drive finds
+ * it before it closes the speed loop (issue 31):
+ *   1. LOCK: the injection alone (no current command) for hfi_lock_ticks;
+ *      its PLL settles on the d axis, at theta or theta + pi (H2 is even in
+ *      the polarity); then magpol.n_rest samples at 0 V (the injection's
+ *      ripple current decays: it would bias the test's first pulse);
+ *   2. POLARITY: the injection off, the magnet polarity test
+ *      (estimators/magnet_polarity.h) along the PLL's angle: +1 keep it,
+ *      -1 flip it by pi, 0 (undecided: a plant whose saturation does not
+ *      show the magnet) refuse to run: DRIVE_FAULT_LOSS_OF_LOCK latched
+ *      (the safe state, whatever the reaction table; criterion
+ *      "polarity-undecided", docs/faults.md), never a start that may run
+ *      backwards;
+ *   3. RUN: the injection, the flux observer and the EKF restarted at the
+ *      angle found (mechanical: e/p, the turn among the n_p unknown and of
+ *      no matter to a speed drive), the cascade as above.
+ * The speed reference runs on the drive's sample count from power-up: the
+ * start's samples come off the start of the profile.
  */
 #ifndef DRIVES_PAPER002_DRIVE_H
 #define DRIVES_PAPER002_DRIVE_H
@@ -103,6 +117,7 @@
 #include "estimators/ekf_ipmsm.h"
 #include "estimators/flux_observer.h"
 #include "estimators/hf_injection.h"
+#include "estimators/magnet_polarity.h"
 #include "drives/drive.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
@@ -125,6 +140,14 @@ typedef enum {
     P002_ANGLE_FLUX = 1,    /* sensorless: paper 001's flux observer on the active flux */
     P002_ANGLE_HFI = 2      /* sensorless from standstill: HF injection, the flux observer at speed */
 } p002_angle_source_t;
+
+/* The start with cfg.hfi_find_angle (header): the injection locks, the
+ * polarity test, then the cascade. Without it the drive starts in RUN. */
+typedef enum {
+    P002_START_LOCK = 0,
+    P002_START_POLARITY = 1,
+    P002_START_RUN = 2
+} p002_start_phase_t;
 
 typedef struct {
     motor_model_t model;           /* the one motor model: R, L_d, L_q, psi, n_p, J, f_v, Ts; every
@@ -157,6 +180,9 @@ typedef struct {
     mc_t hfi_off_rad_s;            /* angle_source = HFI: the injection off above this |w_hat| ... */
     mc_t hfi_on_rad_s;             /* ... and on again below this (hi <= on < off) */
     mc_t hfi_hold_gain_per_s;      /* angle_source = HFI: the angle hold's gain k (0: none) */
+    bool hfi_find_angle;           /* angle_source = HFI: the start angle unknown: lock, polarity test, run */
+    int32_t hfi_lock_ticks;        /* hfi_find_angle: samples of injection alone before the test (>= 1) */
+    magnet_polarity_config_t magpol; /* hfi_find_angle: the polarity test */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
     deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
@@ -180,6 +206,10 @@ typedef struct {
     hf_injection_t hfi;            /* angle_source = HFI */
     mc_t hfi_weight;               /* angle_source = HFI: the blend's w, 0 injection .. 1 flux observer */
     mc_t hfi_hold_rad;             /* angle_source = HFI: the held (mechanical) angle */
+    p002_start_phase_t start_phase; /* hfi_find_angle: LOCK, POLARITY, then RUN (else RUN from init) */
+    int32_t start_k;               /* samples within the LOCK phase */
+    magnet_polarity_t magpol;      /* hfi_find_angle: the test */
+    int32_t polarity;              /* the test's result once done: +1 kept, -1 flipped, 0 undecided/not run */
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
     bool disabled;                 /* CmdEnable 0: 0 V until enabled */

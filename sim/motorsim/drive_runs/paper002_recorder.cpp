@@ -176,6 +176,12 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
         m.emplace_back("hfi_on_fraction", n > 0 ? static_cast<double>(n_hfi_on_) / n : 0.0);
         m.emplace_back("hfi_current_ripple_rms_A", rms(hfi_ripple_ss_, n_hfi_on_));
         m.emplace_back("hfi_voltage_rms_V", rms(hfi_u_ss_, n_hfi_on_));
+        if (drive_.cfg.hfi_find_angle) {
+            // the start's polarity test: +1 kept, -1 flipped, 0 undecided (or not reached)
+            m.emplace_back("hfi_start_polarity", static_cast<std::int64_t>(drive_.polarity));
+            // its difference of the two peaks (A; 0 until it is done)
+            m.emplace_back("hfi_start_polarity_diff_A", to_double(drive_.magpol.diff_A));
+        }
     }
     m.emplace_back("voltage_hf_rms_V", std::sqrt(hf_d * hf_d + hf_q * hf_q));
     m.emplace_back("voltage_rms_V", ud_.empty() ? 0.0 : std::sqrt(u_ss / static_cast<double>(ud_.size())));

@@ -34,6 +34,10 @@
 //                                 the true alpha-beta current's change per
 //                                 sample (the triangle's amplitude) and of
 //                                 the injected voltage
+//   hfi_start_polarity            with [paper002] hfi_find_angle only: the
+//                                 start's polarity test, +1 kept, -1 flipped
+//                                 by pi, 0 undecided (the drive refused)
+//   hfi_start_polarity_diff_A     the test's i_pos - i_neg (A)
 //   max_abs_current_A, voltage_saturated_fraction, fault, ...
 #ifndef MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H
 #define MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H

@@ -4,13 +4,13 @@
 #include "boards/board.h"
 #include "drives/paper002/paper002_drive.h"
 
-_Static_assert(sizeof(paper002_config_t) == 492, "paper002_config_t layout differs from the host's");
+_Static_assert(sizeof(paper002_config_t) == 516, "paper002_config_t layout differs from the host's");
 _Static_assert(MC_FIXED == 0, "made for the other numeric type");
 
 const char board_drive_cfg_source[] = "firmware/drives/paper002/boards/vesc6_sensorless.toml (paper002, estimator flux, float32)";
-const uint32_t board_drive_cfg_bytes = 492u;
+const uint32_t board_drive_cfg_bytes = 516u;
 const uint32_t board_encoder_counts_per_turn = 0u;
-const uint32_t board_drive_cfg_words[123] = {
+const uint32_t board_drive_cfg_words[129] = {
   0x00000004u,0x00002710u,0x38d1b717u,0x3e99999au,0x3b449ba6u,0x3b449ba6u,0x3c1374bcu,0x3d23d70au,
   0x3a83126fu,0x3d088889u,0x3c449ba6u,0x3e23d70au,0x3a03126fu,0x447a0000u,0x3dcccccdu,0x3bcccccdu,
   0x3b4ccccdu,0x3e400000u,0x3dc00000u,0x00000000u,0x38d1b717u,0x38d1b717u,0x2b8cbcccu,0x3a83126fu,
@@ -26,5 +26,6 @@ const uint32_t board_drive_cfg_words[123] = {
   0x00000014u,0x000003e8u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
   0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
   0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
-  0x00000000u,0x00000000u,0x00000000u,
+  0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
+  0x00000000u,
 };
