@@ -29,23 +29,10 @@ bool magnet_polarity_design(magnet_polarity_config_t *cfg, mc_t v_p_V, mc_t i_pe
     return true;
 }
 
-void magnet_polarity_init(magnet_polarity_t *o, const magnet_polarity_config_t *cfg)
+/* A test from its first sample along the axis at theta_e_rad, nothing measured yet. */
+static void magpol_begin(magnet_polarity_t *o, magpol_state_t state, mc_t theta_e_rad)
 {
-    o->cfg = *cfg;
-    o->state = MAGPOL_IDLE;
-    o->k = 0;
-    o->axis = mc_rot_from_angle(MC_ZERO);
-    o->i_pos_A = MC_ZERO;
-    o->i_neg_A = MC_ZERO;
-    o->diff_A = MC_ZERO;
-    o->result = 0;
-    o->u_V.alpha = MC_ZERO;
-    o->u_V.beta = MC_ZERO;
-}
-
-void magnet_polarity_start(magnet_polarity_t *o, mc_t theta_e_rad)
-{
-    o->state = MAGPOL_RUNNING;
+    o->state = state;
     o->k = 0;
     o->axis = mc_rot_from_angle(theta_e_rad);
     o->i_pos_A = MC_ZERO;
@@ -53,6 +40,16 @@ void magnet_polarity_start(magnet_polarity_t *o, mc_t theta_e_rad)
     o->diff_A = MC_ZERO;
     o->result = 0;
 }
+
+void magnet_polarity_init(magnet_polarity_t *o, const magnet_polarity_config_t *cfg)
+{
+    o->cfg = *cfg;
+    magpol_begin(o, MAGPOL_IDLE, MC_ZERO);
+    o->u_V.alpha = MC_ZERO;
+    o->u_V.beta = MC_ZERO;
+}
+
+void magnet_polarity_start(magnet_polarity_t *o, mc_t theta_e_rad) { magpol_begin(o, MAGPOL_RUNNING, theta_e_rad); }
 
 void magnet_polarity_step(magnet_polarity_t *o, mc_ab_t i_A)
 {
