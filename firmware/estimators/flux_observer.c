@@ -35,6 +35,17 @@ void flux_observer_init(flux_observer_t *o, const flux_observer_config_t *cfg, m
     flux_observer_eval(o, i0_A);
 }
 
+void flux_observer_seed(flux_observer_t *o, mc_rot_t angle, mc_ab_t i_A, mc_t radius)
+{
+    const flux_observer_config_t *c = &o->cfg;
+    /* w = (L i + r Phi (cos, sin))/Ts, (14) solved for lambda_hat */
+    const mc_t r_fs = mc_mul(c->Phi_fs_V, radius);
+    o->w_V.alpha = mc_add(mc_mul(c->L_fs_ohm, i_A.alpha), mc_mul(r_fs, angle.c));
+    o->w_V.beta = mc_add(mc_mul(c->L_fs_ohm, i_A.beta), mc_mul(r_fs, angle.s));
+    o->unit = angle;
+    flux_observer_eval(o, i_A);
+}
+
 void flux_observer_step(flux_observer_t *o, mc_ab_t i_A)
 {
     const flux_observer_config_t *c = &o->cfg;

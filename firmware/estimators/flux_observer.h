@@ -67,6 +67,20 @@ typedef struct {
 /* lambda_hat(0) = L i0 + Phi (cos, sin)(angle0) (errata: a unit rho_hat(0)). */
 void flux_observer_init(flux_observer_t *o, const flux_observer_config_t *cfg, mc_rot_t angle0, mc_ab_t i0_A);
 
+/* Sets the estimate to a rotor angle known from elsewhere (the HF
+ * injection's, paper002_drive.h), at the radius |eta| = radius Phi:
+ * lambda_hat = L i + radius Phi (cos, sin)(angle), (14) solved for it.
+ * For the active flux of a salient motor radius is psi + (L_d - L_q)
+ * i_d over psi, the target's square root: seeded at Phi instead, the
+ * estimate starts (L_d - L_q) i_d off radially, an offset fixed in the
+ * stator frame that the gradient removes only at half its radial rate
+ * while the rotation turns it into an angle error at the electrical
+ * frequency (measured: 0.2 rad electrical at the handover of
+ * ipmsm_hfi_handover_hw.toml, i_d = -1.5 A). The configuration, the
+ * target, the held voltage and the gradient's switch are kept.
+ * Fixed point: radius is near 1 (the active flux within its bounds). */
+void flux_observer_seed(flux_observer_t *o, mc_rot_t angle, mc_ab_t i_A, mc_t radius);
+
 /* One sample: integrates (12) over the last sample with the voltage given
  * to flux_observer_hold() then, and evaluates (13)-(14) with i[k]. */
 void flux_observer_step(flux_observer_t *o, mc_ab_t i_A);

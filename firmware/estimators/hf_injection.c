@@ -49,6 +49,12 @@ void hf_injection_init(hf_injection_t *o, const hf_injection_config_t *cfg, mc_t
     o->sign = -1;
     o->n = 0;
     o->on = false;
+    o->stopping = false;
+    o->uh1_V = z;
+    o->r_A = z;
+    o->r1_A = z;
+    o->r2_A = z;
+    o->u_h_amp_V = MC_ZERO;
     o->eps = MC_ZERO;
     o->amp = MC_ZERO;
     o->i_f_A = z;
@@ -60,6 +66,8 @@ void hf_injection_set_on(hf_injection_t *o, bool on)
     if (on && !o->on) {
         o->n = 0;
     }
+    /* switched on again before the stop pulse: no stop pulse, a first one */
+    o->stopping = !on && (o->on || o->stopping);
     o->on = on;
 }
 
@@ -96,9 +104,29 @@ void hf_injection_step(hf_injection_t *o, mc_ab_t i_A)
     const hf_injection_config_t *c = &o->cfg;
     /* Delta i_k */
     const mc_ab_t di = {mc_sub(i_A.alpha, o->i1_A.alpha), mc_sub(i_A.beta, o->i1_A.beta)};
-    /* (H5): the current without the injection's alternating part */
-    o->i_f_A.alpha = mc_div_i(mc_sub(mc_add(mc_mul_i(i_A.alpha, 3), mc_mul_i(o->i1_A.alpha, 2)), o->i2_A.alpha), 4);
-    o->i_f_A.beta = mc_div_i(mc_sub(mc_add(mc_mul_i(i_A.beta, 3), mc_mul_i(o->i1_A.beta, 2)), o->i2_A.beta), 4);
+    /* (H8): the triangle's model at this sample, from the injection over
+     * the sample that ends now ((1 - d) of the last command, d of the one
+     * before); exactly zero once neither acts */
+    const mc_t d = c->delay;
+    const mc_ab_t uh = {mc_add(o->u_h_V.alpha, mc_mul(d, mc_sub(o->uh1_V.alpha, o->u_h_V.alpha))),
+                        mc_add(o->u_h_V.beta, mc_mul(d, mc_sub(o->uh1_V.beta, o->u_h_V.beta)))};
+    o->r2_A = o->r1_A;
+    o->r1_A = o->r_A;
+    if (mc_eq(o->u_h_amp_V, MC_ZERO) && mc_eq(o->uh1_V.alpha, MC_ZERO) && mc_eq(o->uh1_V.beta, MC_ZERO)) {
+        o->r_A.alpha = MC_ZERO;
+        o->r_A.beta = MC_ZERO;
+    } else {
+        o->r_A.alpha = mc_mac(o->r_A.alpha, c->ts_over_Ld_A_per_V, uh.alpha);
+        o->r_A.beta = mc_mac(o->r_A.beta, c->ts_over_Ld_A_per_V, uh.beta);
+    }
+    o->uh1_V = o->u_h_V;
+    /* (H5) on the current less (H8): the current without the injection's
+     * part */
+    const mc_ab_t c0 = {mc_sub(i_A.alpha, o->r_A.alpha), mc_sub(i_A.beta, o->r_A.beta)};
+    const mc_ab_t c1 = {mc_sub(o->i1_A.alpha, o->r1_A.alpha), mc_sub(o->i1_A.beta, o->r1_A.beta)};
+    const mc_ab_t c2 = {mc_sub(o->i2_A.alpha, o->r2_A.alpha), mc_sub(o->i2_A.beta, o->r2_A.beta)};
+    o->i_f_A.alpha = mc_div_i(mc_sub(mc_add(mc_mul_i(c0.alpha, 3), mc_mul_i(c1.alpha, 2)), c2.alpha), 4);
+    o->i_f_A.beta = mc_div_i(mc_sub(mc_add(mc_mul_i(c0.beta, 3), mc_mul_i(c1.beta, 2)), c2.beta), 4);
     if (o->on && o->n >= HF_INJ_WARMUP_SAMPLES) {
         /* (H3): s_{k-1} (Delta i_k - Delta i_{k-1}) / 2, into the frame of
          * the injection it answers */
@@ -138,12 +166,25 @@ void hf_injection_step(hf_injection_t *o, mc_ab_t i_A)
         const mc_t vs = (o->sign > 0) ? v : mc_neg(v);
         o->u_h_V.alpha = mc_mul(vs, o->rot_inj.c);
         o->u_h_V.beta = mc_mul(vs, o->rot_inj.s);
+        o->u_h_amp_V = v;
         if (o->n < HF_INJ_WARMUP_SAMPLES) {
             o->n += 1;
         }
+    } else if (o->stopping) {
+        /* the stop pulse: half an amplitude against the last, along the
+         * last injection's axis (H8) */
+        o->sign = -o->sign;
+        const mc_t v = mc_div_i(c->v_h_V, 2);
+        const mc_t vs = (o->sign > 0) ? v : mc_neg(v);
+        o->u_h_V.alpha = mc_mul(vs, o->rot_inj.c);
+        o->u_h_V.beta = mc_mul(vs, o->rot_inj.s);
+        o->u_h_amp_V = v;
+        o->stopping = false;
+        o->eps = MC_ZERO;
     } else {
         o->u_h_V.alpha = MC_ZERO;
         o->u_h_V.beta = MC_ZERO;
+        o->u_h_amp_V = MC_ZERO;
         o->theta_inj_rad = o->theta_e_rad;
         o->rot_inj = mc_rot_from_angle(o->theta_e_rad);
         o->eps = MC_ZERO;

@@ -43,6 +43,19 @@
  * injection's triangle (exact for a current linear in time and for the
  * alternating part):
  *   i_f = (3 i_k + 2 i_{k-1} - i_{k-2}) / 4.                           (H5)
+ * (H5) is exact while the voltage alternates; where the injection starts
+ * or stops, the triangle starts from or ends at its centre, and (H5) of
+ * it alone is a glitch of up to 3/4 of its amplitude (0.13 A, 26 sigma of
+ * the sensor's noise to the EKF downstream, which took it for a speed
+ * step: docs/hf_injection.md, the handover). So (H5) runs on the current
+ * less the triangle's model,
+ *   r_k = r_{k-1} + (Ts / L_d) ((1 - d) u_h,k-1 + d u_h,k-2)           (H8)
+ * (the injection taken along the d axis, e = 0; u_h,k the injection
+ * commanded at step k), zero before the first pulse and after the stop
+ * pulse, and of zero (H5) while the voltage alternates. With the
+ * half-amplitude first and last pulses (+-V_h/2) the triangle is centred
+ * from the sample after the first pulse on, for any d, and back at zero
+ * two samples after the stop pulse.
  * A type-2 tracking loop (PLL) on e_hat = eps/2:
  *   omega_hat += k_i e_hat,   theta_hat += Ts (omega_hat + k_p e_hat)  (H6)
  * with k_p = 2 zeta w_n, k_i = w_n^2 Ts (zeta = 1); and the angle each
@@ -142,6 +155,9 @@ typedef struct {
     int32_t sign;        /* s of the last output: +1 or -1 */
     int32_t n;           /* samples since the injection started (saturates) */
     bool on;             /* injecting and demodulating; off: no voltage, the PLL follows hf_injection_track */
+    bool stopping;       /* switched off while on: the stop pulse (H8) is still to come */
+    mc_ab_t uh1_V;       /* u_h_V of the step before the last (the delay's share of a sample, (H8)) */
+    mc_ab_t r_A, r1_A, r2_A; /* (H8): the triangle's model at this sample and the two before */
     /* outputs of the last step */
     mc_t theta_e_rad;    /* electrical angle, wrapped to [-pi, pi) */
     mc_t omega_e_rad_s;  /* electrical speed */
@@ -151,6 +167,7 @@ typedef struct {
     mc_t amp;            /* (H1) relative: 1 aligned, L_d/L_q at pi/2 */
     mc_ab_t i_f_A;       /* (H5): the current without the injection */
     mc_ab_t u_h_V;       /* the injection voltage for the coming sample */
+    mc_t u_h_amp_V;      /* its amplitude: V_h, V_h/2 (the first and the stop pulse) or 0 */
 } hf_injection_t;
 
 /* Derives the configuration: L_d < L_q (a salient interior machine), Ts >
@@ -164,7 +181,10 @@ bool hf_injection_design(hf_injection_config_t *cfg, mc_t Ld_H, mc_t Lq_H, mc_t 
 void hf_injection_init(hf_injection_t *o, const hf_injection_config_t *cfg, mc_t theta_e_rad);
 
 /* On: the next step outputs half an amplitude (so the triangle of current
- * is centred from its first period), then +-V_h; off: no voltage. */
+ * is centred from its first period), then +-V_h. Off (while on): the next
+ * step outputs the stop pulse, half an amplitude against the last (the
+ * triangle back to its centre, (H8)), then no voltage; nothing is
+ * demodulated from the switch on. */
 void hf_injection_set_on(hf_injection_t *o, bool on);
 
 /* Off only: the PLL's angle and speed set to another source's (the
@@ -177,9 +197,10 @@ void hf_injection_track(hf_injection_t *o, mc_t theta_e_rad, mc_t omega_e_rad_s)
 void hf_injection_hold(hf_injection_t *o, mc_ab_t u_f_V);
 
 /* One sample: i_A, the measured alpha-beta current of this sample. Updates
- * i_f_A (H5), and when on eps, amp, the PLL and theta_raw (H3)-(H7) (off or
- * warming up: theta_raw = theta_e), and u_h_V, the
- * voltage to add to the command for the coming sample (zero when off). */
+ * i_f_A (H5, H8), and when on eps, amp, the PLL and theta_raw (H3)-(H7)
+ * (off or warming up: theta_raw = theta_e), and u_h_V, the voltage to add
+ * to the command for the coming sample (zero when off, but for the stop
+ * pulse), its amplitude u_h_amp_V. */
 void hf_injection_step(hf_injection_t *o, mc_ab_t i_A);
 
 #ifdef __cplusplus

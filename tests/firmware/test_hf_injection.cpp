@@ -185,6 +185,55 @@ TEST(HfInjection, FundamentalCurrentWithoutTheTriangle)
     EXPECT_GT(swing_hi - swing_lo, 0.1);
 }
 
+// Switched on and off (the handover's hysteresis, paper002_drive.h): the
+// fundamental (H5) on the current less the triangle's model (H8) stays
+// within a few mA of the 3 A the plant carries through every switch, and
+// the stop pulse leaves the winding with no triangle left (raw current
+// back at 3 A). Without (H8) the switches read as glitches of up to 3/4
+// of the triangle (0.13 A); without the stop pulse 0.17 A stays in the
+// winding. For the board's delays d = 0 and d = 1 (the voltage a sample
+// late: (H8) follows it).
+TEST(HfInjection, SwitchingOnAndOffKeepsTheFundamentalWhole)
+{
+    for (const double delay : {0.0, 1.0}) {
+        Plant p;
+        p.sig = 0.0;
+        p.theta = 0.7;
+        p.set_current(3.0 * std::cos(0.7), -3.0 * std::sin(0.7));
+        const hf_injection_config_t c = design(delay);
+        hf_injection_t o;
+        hf_injection_init(&o, &c, MC_C(0.7));
+        double worst = 0.0, raw_after_stop = 0.0, half_pulses = 0.0;
+        double u_prev_a = 0.0, u_prev_b = 0.0;
+        for (int k = 0; k < 500; ++k) {
+            if (k == 20 || k == 300) {
+                hf_injection_set_on(&o, true);
+            } else if (k == 220 || k == 401) {
+                hf_injection_set_on(&o, false);
+            }
+            const mc_ab_t i = p.measure();
+            hf_injection_step(&o, i);
+            if (k >= 2) { // (H5) needs two samples of history
+                worst = std::max(worst, std::hypot(mc_to_double(o.i_f_A.alpha) - 3.0, mc_to_double(o.i_f_A.beta)));
+            }
+            if ((k > 225 && k < 300) || k > 406) {
+                raw_after_stop = std::max(raw_after_stop, std::hypot(mc_to_double(i.alpha) - 3.0, mc_to_double(i.beta)));
+            }
+            if (k == 220 || k == 401) {
+                half_pulses = std::max(half_pulses, std::fabs(mc_to_double(o.u_h_amp_V) - 5.0));
+            }
+            // the voltage over the coming sample: (1 - d) of this command, d of the last
+            const double ua = mc_to_double(o.u_h_V.alpha), ub = mc_to_double(o.u_h_V.beta);
+            p.step(kR * 3.0 + (1.0 - delay) * ua + delay * u_prev_a, (1.0 - delay) * ub + delay * u_prev_b);
+            u_prev_a = ua;
+            u_prev_b = ub;
+        }
+        EXPECT_LT(worst, 0.01) << "delay " << delay;
+        EXPECT_LT(raw_after_stop, 0.01) << "delay " << delay;
+        EXPECT_EQ(half_pulses, 0.0) << "delay " << delay;
+    }
+}
+
 // Off: no voltage, and the loop follows another source's angle and speed.
 TEST(HfInjection, OffInjectsNothingAndTracks)
 {

@@ -135,6 +135,32 @@ TEST(FluxObserver, InitPutsTheEstimateOnTheGivenAngle)
     EXPECT_TRUE(o.gradient_on);
 }
 
+// flux_observer_seed: lambda_hat = L i + r Phi (cos, sin)(angle), so
+// |rho_hat| = r (the active flux's radius of a salient motor, paper002
+// drive's handover), the angle the given one; the target, the held
+// voltage and the gradient's switch are kept. Budgets as above.
+TEST(FluxObserver, SeedPutsTheEstimateOnTheGivenAngleAndRadius)
+{
+    const flux_observer_config_t c = flux_cfg(kR, kL, kPhi, kTs, kGamma);
+    flux_observer_t o;
+    flux_observer_init(&o, &c, rot(0.3), ab(0.0, 0.0));
+    flux_observer_set_target(&o, M(0.64));
+    flux_observer_set_gradient(&o, false);
+    flux_observer_hold(&o, ab(1.25, -0.5));
+    const double a0 = -2.1, ia = 1.5, ib = -2.0, r = 0.8;
+    flux_observer_seed(&o, rot(a0), ab(ia, ib), M(r));
+    // r as the build holds it (in fixed 0.8 is stored to 3.8e-6, 5e-3 V of w)
+    EXPECT_NEAR(D(o.w_V.alpha), (kL * ia + q(r) * kPhi * q(std::cos(a0))) / kTs, 1e-3);
+    EXPECT_NEAR(D(o.w_V.beta), (kL * ib + q(r) * kPhi * q(std::sin(a0))) / kTs, 1e-3);
+    EXPECT_NEAR(D(o.rho2), r * r, 6e-5);
+    EXPECT_NEAR(D(o.unit.c), std::cos(a0), 3e-5);
+    EXPECT_NEAR(D(o.unit.s), std::sin(a0), 3e-5);
+    EXPECT_NEAR(D(o.rho2_target), 0.64, 1e-5);
+    EXPECT_FALSE(o.gradient_on);
+    EXPECT_NEAR(D(o.v_prev_V.alpha), 1.25, 1e-5);
+    EXPECT_NEAR(D(o.v_prev_V.beta), -0.5, 1e-5);
+}
+
 // (12)-(14) one sample at a time against double, in flux units:
 //   lambda1 = lambda + Ts (v[k-1] - R (i[k-1] + i[k])/2 + gamma eta (Phi^2 - |eta|^2)),
 //   eta = Phi rho_hat (13)-(14) at the start of the sample (the block's state),

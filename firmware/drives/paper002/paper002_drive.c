@@ -52,9 +52,9 @@ static mc_rot_t p002_hfi_angle(paper002_drive_t *d, mc_ab_t *i_ab)
     /* the injection's tracked angle (H6) */
     const mc_t th_h = d->hfi.theta_e_rad;
     if (mc_eq(w, MC_ZERO)) {
-        /* the observer knows nothing here: it takes the injection's angle */
-        flux_observer_init(&d->flux, &c->flux, mc_rot_from_angle(th_h), *i_ab);
-        flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+        /* the observer knows nothing here: it takes the injection's
+         * angle, at the active flux's radius */
+        flux_observer_seed(&d->flux, mc_rot_from_angle(th_h), *i_ab, ratio);
         return mc_rot_from_angle(th_h);
     }
     const mc_t th_f = mc_atan2(d->flux.unit.s, d->flux.unit.c);
@@ -340,9 +340,9 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     mtpa_step(&c->mtpa, m, M_d, &ref);
     /* 5. current control on the EKF's currents and speed */
     mc_t u_max = mc_mul(in->v_bus_V, P002_INV_SQRT3);
-    if (hfi && d->hfi.on) {
-        /* the injection's share of the voltage kept free */
-        u_max = mc_max(MC_ZERO, mc_sub(u_max, c->hfi.v_h_V));
+    if (hfi) {
+        /* the injection's share of the voltage kept free (0 when off) */
+        u_max = mc_max(MC_ZERO, mc_sub(u_max, d->hfi.u_h_amp_V));
     }
     ibcc_out_t u_dq;
     ibcc_step(&d->ibcc, &c->ibcc, m, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_dq);
@@ -356,9 +356,9 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     const mc_rot_t rot_out = mc_rot_from_angle(th_el); /* also the compensation's way back */
     mc_ab_t u_ab;
     mc_rot_inv(rot_out, u_d, u_q, &u_ab.alpha, &u_ab.beta);
-    if (hfi && d->hfi.on) {
-        /* the injection on top of the command; the estimators see the
-         * command alone */
+    if (hfi) {
+        /* the injection on top of the command (0 when off, but for its
+         * stop pulse); the estimators see the command alone */
         const mc_ab_t u_out = {mc_add(u_ab.alpha, d->hfi.u_h_V.alpha), mc_add(u_ab.beta, d->hfi.u_h_V.beta)};
         phase_adapter_voltages(3u, u_out, out);
     } else {
