@@ -208,6 +208,8 @@ void p002_design_defaults(p002_design_input_t *in)
     in->angle_source = P002_ANGLE_ENCODER;
     in->theta0_rad = 0.0;
     in->hfi_find_angle = false;
+    in->iron_i_sat_A = 0.0; /* the linear iron of (2) */
+    in->iron_i_bias_A = 0.0;
     in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
     for (int i = 0; i < EKF_N; ++i) {
         in->ekf_q[i] = 0.0; /* the design's Q */
@@ -408,6 +410,14 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
                                          mc_from_double(phi_fs), mc_from_double(ldexp(1.0, -sh)),
                                          mc_from_double(ldexp(1.0 / phi_fs, sh)),
                                          mc_from_double(gamma * psi * psi * psi)};
+    /* the iron's saturation the active flux is taken with
+     * (model/iron_model.h): none unless given (the paper's linear model) */
+    if (!iron_model_init(&cfg->iron, mc_from_double(Ld), mc_from_double(Lq), mc_from_double(psi),
+                         mc_from_double(in->iron_i_sat_A), mc_from_double(in->iron_i_bias_A))) {
+        return p002_fail(err, err_len, "paper002.iron_model",
+                         "the iron's i_sat_A and i_sat_bias_A must be >= 0, the bias only with i_sat_A > 0",
+                         in->iron_i_sat_A);
+    }
     /* the start angle: told (an alignment), or found by the drive */
     cfg->flux_theta0_rad = mc_from_double((hfi && in->hfi_find_angle) ? 0.0 : in->theta0_rad);
     /* loss of lock of the sensorless variant: the shared derivation

@@ -45,6 +45,11 @@ typedef struct {
      * drive): it locks the injection, runs the magnet polarity test and
      * refuses to run when undecided (paper002_drive.h) */
     bool hfi_find_angle;
+    /* FLUX, HFI: the iron's saturation the active flux is taken with
+     * (model/iron_model.h: i_sat and the magnet's bias, as the plant's
+     * [motor] i_sat_A, i_sat_bias_A), what a commissioning's inductance
+     * map would give; 0, 0 (the default): linear, the paper's model */
+    double iron_i_sat_A, iron_i_bias_A;
     /* the board's computation delay in samples, [0, 1] (paper002_drive.h) */
     double compute_delay_samples;
     /* the EKF's noise covariances given by the user instead of the

@@ -104,6 +104,11 @@ void flux_observer_shift(flux_observer_t *o, mc_ab_t c);
 /* The R of (12) from the next sample on (a tracked R: estimators/resistance_tracker.h). */
 static inline void flux_observer_set_R(flux_observer_t *o, mc_t R_ohm) { o->cfg.R_ohm = R_ohm; }
 
+/* The L/Ts of (14) from this sample on (L_fs_ohm in w units: L/Ts), a
+ * saturating iron's secant inductance (model/iron_model.h); lambda_hat is
+ * kept, eta and rho follow at the next step. */
+static inline void flux_observer_set_L(flux_observer_t *o, mc_t L_fs_ohm) { o->cfg.L_fs_ohm = L_fs_ohm; }
+
 /* The voltage that will be held over the coming sample. */
 static inline void flux_observer_hold(flux_observer_t *o, mc_ab_t v_V) { o->v_prev_V = v_V; }
 

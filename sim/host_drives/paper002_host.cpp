@@ -22,7 +22,7 @@ std::vector<std::string> p002_keys()
 {
     return {
         "controller", "compensation", "t0_s", "t1_s", "omega_final_rad_s", "omega_start_rad_s",
-        "omega0_rad_s", "estimator", "ekf_q", "ekf_r", "hfi_find_angle"
+        "omega0_rad_s", "estimator", "ekf_q", "ekf_r", "hfi_find_angle", "iron_model"
     };
 }
 
@@ -56,6 +56,9 @@ void p002_parse(const View* v, Scenario* sc)
     if (const auto b = v->boolean("hfi_find_angle")) {
         sc->ipmsm.hfi_find_angle = *b;
     }
+    if (const auto b = v->boolean("iron_model")) {
+        sc->ipmsm.iron_model = *b;
+    }
     if (const auto c = v->string("controller")) {
         if (*c == "sosmc") {
             sc->ipmsm.controller = 0;
@@ -83,6 +86,9 @@ void p002_parse(const View* v, Scenario* sc)
     }
     if (sc->ipmsm.hfi_find_angle && sc->ipmsm.estimator != 2) {
         v->fail("hfi_find_angle", "needs estimator = \"hfi\" (the start angle is found by the HF injection)");
+    }
+    if (sc->ipmsm.iron_model && !(sc->motor.i_sat_A > 0.0)) {
+        v->fail("iron_model", "needs the motor's saturation, [motor] i_sat_A > 0 (the iron the drive is told)");
     }
     if (sc->ipmsm.estimator == 0 && !sc->encoder.present()) {
         throw ScenarioError(sc->path + ": encoder: missing required table: paper 002's drive reads an encoder (or set "
@@ -113,6 +119,11 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     in->angle_source = sc.ipmsm.estimator;
     in->theta0_rad = sc.theta0_rad;  // the sensorless variant's aligned start (paper002_drive.h)
     in->hfi_find_angle = sc.ipmsm.hfi_find_angle;  // or the start angle found (the injection, the polarity test)
+    if (sc.ipmsm.iron_model) {
+        // the iron as the plant's [motor] has it: the commissioning's map
+        in->iron_i_sat_A = sc.motor.i_sat_A;
+        in->iron_i_bias_A = sc.motor.i_sat_bias_A;
+    }
     std::copy(std::begin(sc.ipmsm.ekf_q), std::end(sc.ipmsm.ekf_q), in->ekf_q);
     std::copy(std::begin(sc.ipmsm.ekf_r), std::end(sc.ipmsm.ekf_r), in->ekf_r);
 }

@@ -145,6 +145,7 @@ struct Scenario {
         double omega0_rad_s = 0.0; // the plant's w(0) (the EKF starts at 0)
         double omega_start_rad_s = 0.0; // the reference before t0_s (its polynomial's w0)
         int estimator = 0;         // p002_angle_source_t: 0 the encoder, 1 paper 001's flux observer, 2 HF injection + flux observer
+        bool iron_model = false;      // estimator 1, 2: the active flux with the motor's saturation ([motor] i_sat_A)
         bool hfi_find_angle = false;  // estimator 2: the start angle unknown, found by the drive (lock, polarity test)
         double ekf_q[5] = {0, 0, 0, 0, 0};  // the EKF's Q diagonal per sample (all 0: the design's)
         double ekf_r[3] = {0, 0, 0};        // its R diagonal (all 0: the design's)

@@ -6,7 +6,10 @@ scenario's estimator = "hfi") and with it off (--estimator flux: paper
 the injection's cost: its current ripple and added voltage; then the start
 from rest and the handover to the flux observer
 (sim/scenarios/ipmsm_hfi_handover.toml) over seeds, against the flux
-variant told the start angle (--table handover); and the reversal through
+variant told the start angle (--table handover), the same on the
+hardware-like plant (sim/scenarios/ipmsm_hfi_handover_hw.toml, --table
+handover_hw, also with the drive's iron linear:
+tests/sim/failing_runs/ipmsm_hfi_handover_hw_linear_iron.toml); and the reversal through
 zero under load on the injection (sim/scenarios/ipmsm_hfi_reversal.toml,
 --table reversal) over seeds.
 
@@ -21,7 +24,7 @@ against the scenario's [expect] (outcome: pass, or the metrics it missed;
 the flux runs are judged on the [expect] keys they share: fault,
 theta_est_rmse_rad, speed_err_max_rad_s).
 
-    python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8] [--table zero|handover|reversal]
+    python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8] [--table zero|handover|handover_hw|reversal]
 
 Standard library only; about 10 s for 8 seeds.
 """
@@ -29,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from pathlib import Path
 
@@ -38,6 +42,8 @@ from lib import motorsim  # noqa: E402
 ROOT = Path(__file__).resolve().parents[2]
 SCENARIO = ROOT / "sim" / "scenarios" / "ipmsm_zero_speed.toml"
 HANDOVER = ROOT / "sim" / "scenarios" / "ipmsm_hfi_handover.toml"
+HANDOVER_HW = ROOT / "sim" / "scenarios" / "ipmsm_hfi_handover_hw.toml"
+HANDOVER_HW_LINEAR = ROOT / "tests" / "sim" / "failing_runs" / "ipmsm_hfi_handover_hw_linear_iron.toml"
 REVERSAL = ROOT / "sim" / "scenarios" / "ipmsm_hfi_reversal.toml"
 SKIP_S = 0.05  # the EKF's start (its first correction) left out, as the metric's
 # the [expect] keys both estimators have (the others exist for the injection only)
@@ -77,18 +83,26 @@ def judged(m: dict, bounds: dict, keys) -> str:
     return "pass" if not missed else "missed " + ", ".join(missed)
 
 
-def handover(ms, seeds: int) -> int:
+def handover(ms, seeds: int, hw: bool = False) -> int:
     """The start from rest and the handover: the injection over seeds, the
-    flux variant (told the start angle) once."""
-    bounds = expect_bounds(HANDOVER)
+    flux variant (told the start angle) once; on the hardware-like plant
+    (hw) also the injection with the drive's iron linear once."""
+    path = HANDOVER_HW if hw else HANDOVER
+    bounds = expect_bounds(path)
     keys = [("speed_err_max_rad_s", "%.3f"), ("speed_rmse_rad_s", "%.3f"), ("final_omega_rad_s", "%.2f"),
             ("theta_est_rmse_rad", "%.2e"), ("hfi_on_fraction", "%.4f"), ("fault", "%d")]
     print("| estimator | seed | outcome | " + " | ".join(f"`{k}`" for k, _ in keys) + " |")
     print("|---|---|---|" + "---|" * len(keys))
-    for est, seed in [("hfi", s) for s in range(1, seeds + 1)] + [("flux", 1)]:
-        r = motorsim.run(ms, HANDOVER, seed=seed, estimator=est, expect=False, ok=None)
+    runs = [("hfi", s, path) for s in range(1, seeds + 1)] + [("flux", 1, path)]
+    if hw:
+        runs.append(("hfi, iron linear", 1, HANDOVER_HW_LINEAR))
+    for est, seed, scenario in runs:
+        r = motorsim.run(ms, scenario, seed=seed, estimator=est.split(",")[0], expect=False, ok=None)
         m = r.metrics or {}
         out = judged(m, bounds, bounds.keys() if est == "hfi" else [k for k in bounds if k in m])
+        at = re.search(r"drive fault \d+ \([a-z-]+\) at t = ([0-9.]+) s", r.stderr or "")
+        if at:
+            out += f" (fault at {float(at.group(1)):.3f} s)"
         cells = ["—" if m.get(k) is None else fmt % m[k] for k, fmt in keys]
         print(f"| {est} | {seed} | {out} | " + " | ".join(cells) + " |")
     return 0
@@ -113,14 +127,14 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(motorsim.DEFAULT_BUILD))
     ap.add_argument("--seeds", type=int, default=8, help="seeds 1..N (default 8)")
-    ap.add_argument("--table", choices=("zero", "handover", "reversal"), default="zero")
+    ap.add_argument("--table", choices=("zero", "handover", "handover_hw", "reversal"), default="zero")
     a = ap.parse_args()
     if a.seeds < 1:
         print("hfi_table: --seeds: must be >= 1", file=sys.stderr)
         return 2
     ms = motorsim.find(build=a.build)
-    if a.table == "handover":
-        return handover(ms, a.seeds)
+    if a.table in ("handover", "handover_hw"):
+        return handover(ms, a.seeds, hw=a.table == "handover_hw")
     if a.table == "reversal":
         return reversal(ms, a.seeds)
     bounds = expect_bounds()

@@ -18,6 +18,41 @@ static bool p002_hfi_speeds_ok(const paper002_config_t *c)
            mc_ge(c->hfi_hold_gain_per_s, MC_ZERO);
 }
 
+/* Step 0 with cfg.iron saturating (model/iron_model.h): the motor model's
+ * L_d, L_q and psi, which the EKF, the torque demand, MTPA and the current
+ * control read, set to the iron's secant values at the EKF's (a priori)
+ * currents, and the flux observer's L of (14) to that L_q. Linear: the
+ * configured model, untouched. */
+static void p002_iron_step(paper002_drive_t *d)
+{
+    const paper002_config_t *c = &d->cfg;
+    if (!iron_model_saturates(&c->iron)) {
+        return;
+    }
+    motor_model_t *m = &d->cfg.model;
+    iron_model_secant(&c->iron, d->ekf.x[EKF_ID], d->ekf.x[EKF_IQ], &m->Ld_H, &m->Lq_H, &m->psi_Wb);
+    flux_observer_set_L(&d->flux, mc_mul(c->flux.L_fs_ohm, mc_div(m->Lq_H, c->iron.Lq0_H)));
+}
+
+/* angle_source = FLUX, HFI: the gradient term's target, the active flux's
+ * radius psi + (L_d - L_q) i_d at the EKF's i_d (with the iron's secant
+ * values of step 0, model/iron_model.h (A1)) relative to the observer's
+ * psi, squared; the ratio is returned (the seed's radius). */
+static mc_t p002_active_flux(paper002_drive_t *d)
+{
+    const paper002_config_t *c = &d->cfg;
+    const motor_model_t *m = &c->model;
+    mc_t ratio;
+    if (iron_model_saturates(&c->iron)) {
+        const mc_t radius_Wb = mc_mac(m->psi_Wb, mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]);
+        ratio = mc_div(radius_Wb, c->iron.psi_Wb);
+    } else {
+        ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
+    }
+    flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+    return ratio;
+}
+
 /* angle_source = HFI, step 1: the injection on or off by the EKF's speed
  * (hysteresis), one step of it (the fundamental current, H5, back in
  * *i_ab), the flux observer on the fundamental, and the blended electrical
@@ -39,10 +74,9 @@ static mc_rot_t p002_hfi_angle(paper002_drive_t *d, mc_ab_t *i_ab)
     }
     hf_injection_step(&d->hfi, *i_ab);
     *i_ab = d->hfi.i_f_A;
-    /* the flux observer on the fundamental, its target as the flux
-     * variant's */
-    const mc_t ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
-    flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+    /* the flux observer on the fundamental, on the active flux as the
+     * flux variant's */
+    const mc_t ratio = p002_active_flux(d);
     flux_observer_step(&d->flux, *i_ab);
     /* the blend's weight, 0 below lo, 1 above hi */
     const mc_t w = mc_clamp(mc_div(mc_sub(w_abs, c->hfi_blend_lo_rad_s),
@@ -80,6 +114,13 @@ static mc_t p002_hfi_hold(paper002_drive_t *d, mc_t w_d)
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
+    if (iron_model_saturates(&cfg->iron)) {
+        /* the unsaturated model, as at power-up (a re-init after a run
+         * gets the configuration with the last secant values) */
+        d->cfg.model.Ld_H = cfg->iron.Ld0_H;
+        d->cfg.model.Lq_H = cfg->iron.Lq0_H;
+        d->cfg.model.psi_Wb = cfg->iron.psi_Wb;
+    }
     guard_start_closed_loop(&d->sup);
     flight_recorder_init(&d->rec);
     d->tick = 0;
@@ -255,6 +296,8 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     if (d->start_phase != P002_START_RUN) {
         return p002_start_step(d, in, i_ab, out);
     }
+    /* 0. the saturating iron's inductances at the EKF's currents */
+    p002_iron_step(d);
     mc_rot_t r_meas;
     mc_t theta_meas;
     if (flux || hfi) {
@@ -263,11 +306,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
              * fundamental current from here on */
             r_meas = p002_hfi_angle(d, &i_ab);
         } else {
-            /* the active flux's radius psi + (L_d - L_q) i_d at the EKF's
-             * i_d, relative to psi, squared: the gradient term's target */
-            const mc_t ratio =
-                mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
-            flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
+            (void)p002_active_flux(d);
             flux_observer_step(&d->flux, i_ab);
             r_meas = d->flux.unit;
         }

@@ -3,6 +3,10 @@
  * with an encoder, as a composition of its blocks (estimators/ekf_ipmsm.h,
  * control/sosmc.h or control/htsmc.h, control/mtpa.h, control/ibcc.h,
  * trajectory/speed_poly.h). Per sample:
+ *   0. with cfg.iron saturating (issue 31, beyond the paper;
+ *      model/iron_model.h), the motor model's L_d, L_q (and psi with the
+ *      magnet's bias) set to the iron's secant values at the EKF's a
+ *      priori currents: every block below reads them; linear, untouched;
  *   1. the phase currents to alpha-beta, then to d-q with the encoder's
  *      electrical angle (the paper measures i_d, i_q and theta_r);
  *   2. the EKF's correction with them (40)-(44);
@@ -121,6 +125,7 @@
 #include "drives/drive.h"
 #include "hal/hal_types.h"
 #include "math/mc_num.h"
+#include "model/iron_model.h"
 #include "model/motor_model.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/flight_recorder.h"
@@ -164,6 +169,9 @@ typedef struct {
     p002_angle_source_t angle_source;
     flux_observer_config_t flux;   /* angle_source = FLUX: (12)-(14) with L = L_q */
     mc_t flux_theta0_rad;          /* angle_source = FLUX: the rotor's (mechanical) angle at start */
+    iron_model_config_t iron;      /* angle_source = FLUX, HFI: the iron's saturation the active flux
+                                    * is taken with (model/iron_model.h); linear: L_q and psi + (L_d -
+                                    * L_q) i_d, the paper's model */
     fault_monitor_config_t faults; /* the generic fault set */
     mc_t los_theta_rad;            /* loss of the estimate: |angle innovation| beyond this ... */
     int32_t los_ticks;             /* ... for this many consecutive samples */
