@@ -25,6 +25,7 @@ the flux runs are judged on the [expect] keys they share: fault,
 theta_est_rmse_rad, speed_err_max_rad_s).
 
     python3 tools/tables/hfi_table.py [--build build/host] [--seeds 8] [--table zero|handover|handover_hw|reversal]
+    python3 tools/tables/hfi_table.py --table cost --pil RESULTS.json...
 
 Standard library only; about 10 s for 8 seeds.
 """
@@ -83,6 +84,12 @@ def judged(m: dict, bounds: dict, keys) -> str:
     return "pass" if not missed else "missed " + ", ".join(missed)
 
 
+def fault_at(r) -> str:
+    """' (fault at T s)' from the run's stderr, or ''."""
+    at = re.search(r"drive fault \d+ \([a-z-]+\) at t = ([0-9.]+) s", r.stderr or "")
+    return f" (fault at {float(at.group(1)):.4f} s)" if at else ""
+
+
 def handover(ms, seeds: int, hw: bool = False) -> int:
     """The start from rest and the handover: the injection over seeds, the
     flux variant (told the start angle) once; on the hardware-like plant
@@ -100,26 +107,52 @@ def handover(ms, seeds: int, hw: bool = False) -> int:
         r = motorsim.run(ms, scenario, seed=seed, estimator=est.split(",")[0], expect=False, ok=None)
         m = r.metrics or {}
         out = judged(m, bounds, bounds.keys() if est == "hfi" else [k for k in bounds if k in m])
-        at = re.search(r"drive fault \d+ \([a-z-]+\) at t = ([0-9.]+) s", r.stderr or "")
-        if at:
-            out += f" (fault at {float(at.group(1)):.3f} s)"
+        out += fault_at(r)
         cells = ["—" if m.get(k) is None else fmt % m[k] for k, fmt in keys]
         print(f"| {est} | {seed} | {out} | " + " | ".join(cells) + " |")
     return 0
 
 
 def reversal(ms, seeds: int) -> int:
-    """The reversal through zero under load, on the injection, over seeds."""
+    """The reversal through zero under load, on the injection over seeds,
+    and with it off (the flux variant) once."""
     bounds = expect_bounds(REVERSAL)
     keys = [("theta_est_err_max_rad", "%.4f"), ("theta_est_rmse_rad", "%.4f"),
             ("speed_rmse_after_50ms_rad_s", "%.3f"), ("final_omega_rad_s", "%.2f"), ("fault", "%d")]
-    print("| seed | outcome | " + " | ".join(f"`{k}`" for k, _ in keys) + " |")
-    print("|---|---|" + "---|" * len(keys))
-    for seed in range(1, seeds + 1):
-        r = motorsim.run(ms, REVERSAL, seed=seed, expect=False, ok=None)
+    print("| estimator | seed | outcome | " + " | ".join(f"`{k}`" for k, _ in keys) + " |")
+    print("|---|---|---|" + "---|" * len(keys))
+    for est, seed in [("hfi", s) for s in range(1, seeds + 1)] + [("flux", 1)]:
+        r = motorsim.run(ms, REVERSAL, seed=seed, estimator=est, expect=False, ok=None)
         m = r.metrics or {}
+        out = judged(m, bounds, bounds.keys() if est == "hfi" else [k for k in bounds if k in m])
+        out += fault_at(r)
         cells = ["—" if m.get(k) is None else fmt % m[k] for k, fmt in keys]
-        print(f"| {seed} | {judged(m, bounds, bounds.keys())} | " + " | ".join(cells) + " |")
+        print(f"| {est} | {seed} | {out} | " + " | ".join(cells) + " |")
+    return 0
+
+
+# The VESC 6's STM32F405 core clock and the control rate: a step's share
+# of the period at one instruction a cycle (the M4F's best case; flash wait
+# states and the FPU's divisions and square roots cost more).
+CORE_HZ = 168e6
+CONTROL_HZ = 1e4
+
+
+def pil_cost(files: list[str]) -> int:
+    """The step's cost on the Cortex-M4F (tools/bench/pil.py --drive
+    paper002 --results FILE): one row per results file."""
+    import json
+    print("| scenario | periods | instructions mean | min | max | p99 | mean share of the 10 kHz period at 168 MHz |")
+    print("|---|---|---|---|---|---|---|")
+    for f in files:
+        d = json.loads(Path(f).read_text(encoding="utf-8"))
+        k = "paper002_m4f_float_"
+        if d.get("failures") or k + "instr_mean" not in d:
+            print(f"hfi_table: {f}: no bit-exact paper002 float results", file=sys.stderr)
+            return 1
+        mean = d[k + "instr_mean"]
+        print(f"| `{Path(d['paper002_scenario']).name}` | {d[k + 'periods']} | {mean:.1f} | {d[k + 'instr_min']} "
+              f"| {d[k + 'instr_max']} | {d[k + 'instr_p99']} | {100.0 * mean * CONTROL_HZ / CORE_HZ:.1f} % |")
     return 0
 
 
@@ -127,8 +160,15 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(motorsim.DEFAULT_BUILD))
     ap.add_argument("--seeds", type=int, default=8, help="seeds 1..N (default 8)")
-    ap.add_argument("--table", choices=("zero", "handover", "handover_hw", "reversal"), default="zero")
+    ap.add_argument("--table", choices=("zero", "handover", "handover_hw", "reversal", "cost"), default="zero")
+    ap.add_argument("--pil", nargs="+", default=[], metavar="RESULTS.json",
+                    help="--table cost: tools/bench/pil.py --drive paper002 results files")
     a = ap.parse_args()
+    if a.table == "cost":
+        if not a.pil:
+            print("hfi_table: --table cost needs --pil RESULTS.json ...", file=sys.stderr)
+            return 2
+        return pil_cost(a.pil)
     if a.seeds < 1:
         print("hfi_table: --seeds: must be >= 1", file=sys.stderr)
         return 2
