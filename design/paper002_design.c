@@ -154,6 +154,14 @@
  * A they reach 35 A, beyond the 30 A trip), 18 + 8 L_d/R samples a half
  * (magnet_polarity.c). */
 #define P002_HFI_LOCK_S 0.1
+/* The lock's check before the test: the mean of (H1)'s relative amplitude
+ * over the LOCK's last quarter (25 ms, after the 50 ms the PLL took to
+ * lock in the unit tests) at least its value at |e| = pi/4, (1 + L_d/L_q)/2
+ * (cos^2 e + (L_d/L_q) sin^2 e: 1 on the d axis, L_d/L_q across it). Within
+ * pi/4 the test's pulses along the estimate still meet the magnet's axis
+ * at cos e >= 1/sqrt(2): the decision keeps its sign. Below, the PLL is
+ * near the unstable quadrature or still moving, and the drive refuses. */
+#define P002_HFI_LOCK_WINDOW_FRACTION 0.25
 #define P002_POLARITY_PULSE_V 20.0
 #define P002_POLARITY_PEAK_A 5.0
 /* The margin's noise floor: a noiseless simulated sensor still gets 6
@@ -393,6 +401,8 @@ bool p002_design(const p002_design_input_t *in, paper002_config_t *cfg, char *er
         cfg->hfi_find_angle = in->hfi_find_angle;
         if (in->hfi_find_angle) {
             cfg->hfi_lock_ticks = (int32_t)ceil(P002_HFI_LOCK_S / in->ts_s);
+            cfg->hfi_lock_window = (int32_t)ceil(P002_HFI_LOCK_WINDOW_FRACTION * cfg->hfi_lock_ticks);
+            cfg->hfi_lock_amp_min = mc_from_double(0.5 * (1.0 + Ld / Lq));
             if (!magnet_polarity_design(&cfg->magpol, mc_from_double(P002_POLARITY_PULSE_V),
                                         mc_from_double(P002_POLARITY_PEAK_A), mc_from_double(Ld), mc_from_double(R),
                                         mc_from_double(in->ts_s), mc_from_double(fmax(in->sigma_i_A, P002_POLARITY_SIGMA_FLOOR_A)))) {

@@ -736,3 +736,57 @@ TEST(Paper002Drive, FindAngleStartIsDesignedAndBadConfigurationRefused)
     ASSERT_TRUE(paper002_drive_init(&d, &c));
     EXPECT_EQ(d.start_phase, P002_START_RUN);
 }
+
+// The lock's check before the polarity test (paper002_drive.h, LOCK): on
+// the salient R-L plant above (L_q = 3 L_d, no magnet bias, 5 mA of
+// noise) with the rotor 1.5 rad (electrical) off the drive's guess, near
+// the loop's unstable quadrature (pi/2), the full 0.1 s lock reaches the d
+// axis (mean (H1) amplitude 1.00) and the drive goes on to the test; 3 ms
+// of lock leave the PLL near where it started (the amplitude cos^2 e +
+// sin^2 e / 3: 0.37 over the last 8 samples) and the drive refuses: fault
+// 12 latched at the lock's last sample, 0 V out, no test run.
+// Broken once: the comparison inverted (both cases fail).
+TEST(Paper002Drive, FindAngleRefusesAnUnlockedStart)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    p002_design_input_t in;
+    p002_design_defaults(&in);
+    in.angle_source = P002_ANGLE_HFI;
+    in.hfi_find_angle = true;
+    paper002_config_t c{};
+    char err[200];
+    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    EXPECT_EQ(c.hfi_lock_window, 250);
+    EXPECT_NEAR(mc_to_double(c.hfi_lock_amp_min), (1.0 + kLd / kLq) / 2.0, 1e-6);
+    for (const int ticks : {1000, 30}) {
+        paper002_config_t cc = c;
+        cc.hfi_lock_ticks = ticks;
+        cc.hfi_lock_window = (ticks + 3) / 4;
+        static paper002_drive_t d;
+        ASSERT_TRUE(paper002_drive_init(&d, &cc));
+        Truth tr;
+        tr.th = 1.5 / kP; /* the drive guesses 0 */
+        std::mt19937_64 rng(5);
+        double e = 0.0;
+        int trip = -1;
+        for (int k = 0; k < ticks + 5 && trip < 0; ++k) {
+            if (!loop_step(&d, &tr, &rng, 0.0, &e)) trip = k;
+        }
+        const double amp = mc_to_double(d.hfi_lock_amp);
+        std::printf("lock of %d samples: mean (H1) amplitude %.3f, %s\n", ticks, amp,
+                    trip >= 0 ? "refused" : "on to the test");
+        if (ticks == 1000) {
+            EXPECT_EQ(trip, -1);
+            EXPECT_GT(amp, 0.9);
+            EXPECT_EQ(d.start_phase, P002_START_LOCK) << "in the rest before the test";
+            EXPECT_EQ(d.sup.state, SUP_STATE_CLOSED_LOOP);
+        } else {
+            EXPECT_EQ(trip, ticks - 1);
+            EXPECT_LT(amp, mc_to_double(cc.hfi_lock_amp_min));
+            EXPECT_EQ(d.sup.fault, DRIVE_FAULT_LOSS_OF_LOCK);
+            EXPECT_EQ(d.magpol.state, MAGPOL_IDLE) << "no test run";
+        }
+    }
+}

@@ -19,13 +19,19 @@ metric hfi_start_polarity 0, motorsim's exit status 3, and the rotor not
 moved by more than --back before the fault (after it the scenario's load
 turns the unpowered rotor).
 
-usage: check_hfi_start16.py MOTORSIM SCENARIO.toml [--expect-refusal] [--seed N]
+With --injection-off (motorsim --estimator flux: paper 001's flux observer
+alone, the variant before the injection, told each start angle, which the
+injection's drive is not) every start must end in a drive fault (exit 3):
+the flux observer has no information at standstill.
+
+usage: check_hfi_start16.py MOTORSIM SCENARIO.toml [--expect-refusal | --injection-off] [--seed N]
 """
 import argparse
 import csv
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -48,12 +54,16 @@ def main():
     ap.add_argument("--final", type=float, default=10.0, help="rad/s: the reference's end")
     ap.add_argument("--final-tol", type=float, default=2.0)
     ap.add_argument("--expect-refusal", action="store_true")
+    ap.add_argument("--injection-off", action="store_true",
+                    help="the flux variant told the angle: every start must end in a drive fault")
     ap.add_argument("--seed", type=int, default=None, help="motorsim --seed (default: the scenario's)")
     a = ap.parse_args()
+    if a.expect_refusal and a.injection_off:
+        sys.exit("check_hfi_start16.py: --expect-refusal and --injection-off exclude each other")
     if a.angles < 1 or a.n_p < 1:
         sys.exit("check_hfi_start16.py: --angles and --n-p must be >= 1")
     bad = []
-    print(f"{'theta0 [rad]':>12} {'elec [deg]':>10} {'rc':>3} {'fault':>5} {'pol':>4} {'err_e max':>10} "
+    print(f"{'theta0 [rad]':>12} {'elec [deg]':>10} {'rc':>3} {'fault':>5} {'at [s]':>7} {'pol':>4} {'err_e max':>10} "
           f"{'back':>8} {'final':>8}")
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(a.angles):
@@ -64,8 +74,10 @@ def main():
                    "--metrics-out", js, "--no-plot", "--quiet"]
             if a.seed is not None:
                 cmd += ["--seed", str(a.seed)]
-            if a.expect_refusal:
+            if a.expect_refusal or a.injection_off:
                 cmd.append("--no-expect")
+            if a.injection_off:
+                cmd += ["--estimator", "flux"]
             p = subprocess.run(cmd, capture_output=True, text=True)
             if not os.path.exists(js):
                 bad.append(f"k={k}: no metrics (rc {p.returncode}): {p.stderr.strip()[-300:]}")
@@ -89,10 +101,15 @@ def main():
             pol = m.get("hfi_start_polarity")
             fault = m.get("fault")
             final = m.get("final_omega_rad_s", float("nan"))
-            print(f"{th0:12.5f} {math.degrees(a.n_p * th0):10.1f} {p.returncode:3d} {fault!s:>5} {pol!s:>4} "
-                  f"{err_max:10.4f} {back:8.4f} {final:8.2f}")
+            at = re.search(r"drive fault \d+ \([a-z-]+\) at t = ([0-9.]+) s", p.stderr)
+            t_f = at.group(1) if at else "-"
+            print(f"{th0:12.5f} {math.degrees(a.n_p * th0):10.1f} {p.returncode:3d} {fault!s:>5} {t_f:>7} "
+                  f"{pol!s:>4} {err_max:10.4f} {back:8.4f} {final:8.2f}")
             why = []
-            if a.expect_refusal:
+            if a.injection_off:
+                if p.returncode != 3:
+                    why.append(f"exit {p.returncode}, not 3: the flux variant held the start without the injection")
+            elif a.expect_refusal:
                 if p.returncode != 3:
                     why.append(f"exit {p.returncode}, not 3 (a drive fault)")
                 if fault != 12:

@@ -160,8 +160,11 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->start_phase = find ? P002_START_LOCK : P002_START_RUN;
     d->start_k = 0;
     d->polarity = 0;
+    d->hfi_lock_amp = MC_ZERO;
     magnet_polarity_init(&d->magpol, &cfg->magpol);
-    const bool ok_find = !find || (cfg->hfi_lock_ticks >= 1 && cfg->magpol.n_pulse >= 1 && cfg->magpol.n_rest >= 1 &&
+    const bool ok_find = !find || (cfg->hfi_lock_ticks >= 1 && cfg->hfi_lock_window >= 1 &&
+                                   cfg->hfi_lock_window <= cfg->hfi_lock_ticks && mc_gt(cfg->hfi_lock_amp_min, MC_ZERO) &&
+                                   cfg->magpol.n_pulse >= 1 && cfg->magpol.n_rest >= 1 &&
                                    mc_gt(cfg->magpol.v_p_V, MC_ZERO) && mc_gt(cfg->magpol.margin_A, MC_ZERO));
     if (!ok || !ok_find) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
@@ -232,8 +235,17 @@ static bool p002_start_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t
             hf_injection_step(&d->hfi, i_ab);
             u = d->hfi.u_h_V;
             hf_injection_hold(&d->hfi, (mc_ab_t){MC_ZERO, MC_ZERO});
+            if (d->start_k >= c->hfi_lock_ticks - c->hfi_lock_window) {
+                d->hfi_lock_amp = mc_add(d->hfi_lock_amp, d->hfi.amp);
+            }
             if (d->start_k + 1 == c->hfi_lock_ticks) {
                 hf_injection_set_on(&d->hfi, false);
+                /* locked: the estimate within pi/4 of the d axis, else
+                 * the test's decision could take the wrong sign */
+                d->hfi_lock_amp = mc_div_i(d->hfi_lock_amp, c->hfi_lock_window);
+                if (mc_lt(d->hfi_lock_amp, c->hfi_lock_amp_min)) {
+                    return p002_trip(d, DRIVE_FAULT_LOSS_OF_LOCK, out);
+                }
             }
         }
         /* then the test's own rest at 0 V: the injection leaves up to its

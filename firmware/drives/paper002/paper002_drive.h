@@ -91,8 +91,13 @@
  * it before it closes the speed loop (issue 31):
  *   1. LOCK: the injection alone (no current command) for hfi_lock_ticks;
  *      its PLL settles on the d axis, at theta or theta + pi (H2 is even in
- *      the polarity); then magpol.n_rest samples at 0 V (the injection's
- *      ripple current decays: it would bias the test's first pulse);
+ *      the polarity); the mean of its (H1) amplitude over the last
+ *      hfi_lock_window samples below hfi_lock_amp_min (the estimate more
+ *      than pi/4 off the d axis: near the unstable quadrature or still
+ *      moving) and the drive refuses to run, DRIVE_FAULT_LOSS_OF_LOCK
+ *      latched (criterion "hfi-unlocked"); then magpol.n_rest samples at 0
+ *      V (the injection's ripple current decays: it would bias the test's
+ *      first pulse);
  *   2. POLARITY: the injection off, the magnet polarity test
  *      (estimators/magnet_polarity.h) along the PLL's angle: +1 keep it,
  *      -1 flip it by pi, 0 (undecided: a plant whose saturation does not
@@ -190,6 +195,9 @@ typedef struct {
     mc_t hfi_hold_gain_per_s;      /* angle_source = HFI: the angle hold's gain k (0: none) */
     bool hfi_find_angle;           /* angle_source = HFI: the start angle unknown: lock, polarity test, run */
     int32_t hfi_lock_ticks;        /* hfi_find_angle: samples of injection alone before the test (>= 1) */
+    int32_t hfi_lock_window;       /* hfi_find_angle: the last samples of the lock whose (H1) amplitude is
+                                    * averaged (1 .. hfi_lock_ticks) ... */
+    mc_t hfi_lock_amp_min;         /* ... and the least mean that counts as locked (below: refused) */
     magnet_polarity_config_t magpol; /* hfi_find_angle: the polarity test */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled (a DAC card ~0, an MCU's PWM 1) */
@@ -218,6 +226,8 @@ typedef struct {
     int32_t start_k;               /* samples within the LOCK phase */
     magnet_polarity_t magpol;      /* hfi_find_angle: the test */
     int32_t polarity;              /* the test's result once done: +1 kept, -1 flipped, 0 undecided/not run */
+    mc_t hfi_lock_amp;             /* hfi_find_angle: the lock's mean (H1) amplitude over its window (the
+                                    * running sum until the lock ends) */
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
     bool disabled;                 /* CmdEnable 0: 0 V until enabled */

@@ -181,6 +181,9 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
             m.emplace_back("hfi_start_polarity", static_cast<std::int64_t>(drive_.polarity));
             // its difference of the two peaks (A; 0 until it is done)
             m.emplace_back("hfi_start_polarity_diff_A", to_double(drive_.magpol.diff_A));
+            // the lock's mean (H1) amplitude over its last quarter (1 on the
+            // d axis, L_d/L_q across it; below (1 + L_d/L_q)/2 refused)
+            m.emplace_back("hfi_start_lock_amp", to_double(drive_.hfi_lock_amp));
         }
     }
     m.emplace_back("voltage_hf_rms_V", std::sqrt(hf_d * hf_d + hf_q * hf_q));

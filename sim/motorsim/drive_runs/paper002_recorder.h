@@ -38,6 +38,10 @@
 //                                 start's polarity test, +1 kept, -1 flipped
 //                                 by pi, 0 undecided (the drive refused)
 //   hfi_start_polarity_diff_A     the test's i_pos - i_neg (A)
+//   hfi_start_lock_amp            the lock's mean (H1) amplitude over its
+//                                 last quarter: 1 locked on the d axis,
+//                                 L_d/L_q across it (below (1 + L_d/L_q)/2
+//                                 the drive refused: fault 12)
 //   max_abs_current_A, voltage_saturated_fraction, fault, ...
 #ifndef MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H
 #define MCSIM_MOTORSIM_DRIVE_RUNS_PAPER002_RECORDER_H

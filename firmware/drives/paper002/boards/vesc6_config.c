@@ -4,13 +4,13 @@
 #include "boards/board.h"
 #include "drives/paper002/paper002_drive.h"
 
-_Static_assert(sizeof(paper002_config_t) == 544, "paper002_config_t layout differs from the host's");
+_Static_assert(sizeof(paper002_config_t) == 552, "paper002_config_t layout differs from the host's");
 _Static_assert(MC_FIXED == 0, "made for the other numeric type");
 
 const char board_drive_cfg_source[] = "firmware/drives/paper002/boards/vesc6.toml (paper002, estimator encoder, float32)";
-const uint32_t board_drive_cfg_bytes = 544u;
+const uint32_t board_drive_cfg_bytes = 552u;
 const uint32_t board_encoder_counts_per_turn = 8192u;
-const uint32_t board_drive_cfg_words[136] = {
+const uint32_t board_drive_cfg_words[138] = {
   0x00000004u,0x00002710u,0x38d1b717u,0x3e99999au,0x3b449ba6u,0x3b449ba6u,0x3c1374bcu,0x3d23d70au,
   0x3a83126fu,0x3d088889u,0x3c449ba6u,0x3e23d70au,0x3a03126fu,0x447a0000u,0x3dcccccdu,0x3bcccccdu,
   0x3b4ccccdu,0x3e400000u,0x3dc00000u,0x00000000u,0x38d1b717u,0x38d1b717u,0x2b8cbcccu,0x3a83126fu,
@@ -28,4 +28,5 @@ const uint32_t board_drive_cfg_words[136] = {
   0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
   0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
   0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,0x00000000u,
+  0x00000000u,0x00000000u,
 };
