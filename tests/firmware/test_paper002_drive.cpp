@@ -694,6 +694,17 @@ TEST(Paper002Drive, LossOfLockByTheAngleInnovation)
     }
 }
 
+// The reference set's design with the injection and the start from an
+// unknown angle (theta0_rad told, and unused by it).
+static bool find_angle_design(p002_design_input_t* in, paper002_config_t* c, char* err, size_t n, double theta0_rad)
+{
+    p002_design_defaults(in);
+    in->angle_source = P002_ANGLE_HFI;
+    in->hfi_find_angle = true;
+    in->theta0_rad = theta0_rad;
+    return p002_design(in, c, err, n);
+}
+
 // The start from an unknown angle (paper002_drive.h, hfi_find_angle): the
 // design fills the lock time and the polarity test (0.1 s: 1000 samples;
 // 20 V pulses), the drive starts in LOCK with the injection on; a
@@ -705,13 +716,9 @@ TEST(Paper002Drive, FindAngleStartIsDesignedAndBadConfigurationRefused)
     GTEST_SKIP() << "float only";
 #endif
     p002_design_input_t in;
-    p002_design_defaults(&in);
-    in.angle_source = P002_ANGLE_HFI;
-    in.hfi_find_angle = true;
-    in.theta0_rad = 0.7;
     paper002_config_t c{};
     char err[200];
-    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    ASSERT_TRUE(find_angle_design(&in, &c, err, sizeof err, 0.7)) << err;
     EXPECT_TRUE(c.hfi_find_angle);
     EXPECT_EQ(c.hfi_lock_ticks, 1000);
     EXPECT_NEAR(mc_to_double(c.magpol.v_p_V), 20.0, 1e-6);
@@ -752,12 +759,9 @@ TEST(Paper002Drive, FindAngleRefusesAnUnlockedStart)
     GTEST_SKIP() << "float only";
 #endif
     p002_design_input_t in;
-    p002_design_defaults(&in);
-    in.angle_source = P002_ANGLE_HFI;
-    in.hfi_find_angle = true;
     paper002_config_t c{};
     char err[200];
-    ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
+    ASSERT_TRUE(find_angle_design(&in, &c, err, sizeof err, 0.0)) << err;
     EXPECT_EQ(c.hfi_lock_window, 250);
     EXPECT_NEAR(mc_to_double(c.hfi_lock_amp_min), (1.0 + kLd / kLq) / 2.0, 1e-6);
     for (const int ticks : {1000, 30}) {
