@@ -53,6 +53,7 @@
 #include "hal/hal.h"
 #include "hal_sw_plant.h"
 #include "scenario/rig.h"
+#include "scenario/rig_hal.h"
 #include "model/amplifier.h"
 #include "model/current_sensor.h"
 #include "model/pm_plant.h"
@@ -448,12 +449,8 @@ int run(const Options& opt)
     }
     mcsim::Rig rig(sc);
     mcsim::PmPlant& plant = rig.plant;
-    mcsim::CurrentSensor& sensor = rig.sensor;
-    const mcsim::Amplifier& amp = rig.amp;
-    hal_sw_plant_attach(&plant, &sensor, amp, sc.ts_s);
-    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
-    // [inverter]: the MCU board's PWM inverter instead of the amplifier model
-    hal_sw_plant_set_inverter(rig.inverter_or_null());
+    // plant, sensor, amplifier or [inverter], delay (scenario/rig_hal.h)
+    mcsim::attach_rig(rig, sc);
     // --backend board-emulated: the DAC/ADC board between drive and plant,
     // its sensors calibrated with the outputs at zero before the drive
     // starts (a sensor out of range: nothing runs, nothing is written)

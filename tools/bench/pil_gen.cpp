@@ -41,6 +41,7 @@
 #include "model/encoder.h"
 #include "model/fault_injection.h"
 #include "scenario/rig.h"
+#include "scenario/rig_hal.h"
 #include "scenario/scenario.h"
 
 extern "C" {
@@ -195,12 +196,7 @@ int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const cha
 
     // the bench as motorsim builds it (rig, delay, encoder, injected faults)
     mcsim::Rig rig(sc);
-    hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
-    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);  // validated at load
-    // [inverter]: the MCU board's PWM inverter instead of the amplifier
-    // model, as motorsim (without it a hardware-like scenario's drive
-    // compensates a dead time the plant does not have)
-    hal_sw_plant_set_inverter(rig.inverter_or_null());
+    mcsim::attach_rig(rig, sc);  // plant, sensor, amplifier or [inverter], delay: as motorsim
     std::unique_ptr<mcsim::Encoder> encoder;
     if (sc.encoder.present()) {
         encoder = std::make_unique<mcsim::Encoder>(sc.encoder, sc.seed);

@@ -7,6 +7,7 @@
 #include "host_drives/paper001_host.h"
 #include "scenario/design_input.h"
 #include "scenario/rig.h"
+#include "scenario/rig_hal.h"
 
 extern "C" {
 #include "adapter/phase_adapter.h"
@@ -68,9 +69,7 @@ CommissionResult commission_pmsm(const Scenario& sc)
     Scenario unloaded = sc;  // commissioning runs without the run's load
     unloaded.load.clear();
     Rig rig(unloaded);
-    hal_sw_plant_attach(&rig.plant, &rig.sensor, rig.amp, sc.ts_s);
-    hal_sw_plant_set_inverter(rig.inverter_or_null());  // the same board as the run's
-    (void)hal_sw_plant_set_compute_delay(sc.compute_delay_samples);
+    attach_rig(rig, unloaded);  // the same bench as the run's, its board included
     if (!hal_start(&commission_callback, &ctx)) {
         hal_sw_plant_detach();
         throw std::runtime_error(std::string("hal_start: ") + hal_last_error());
