@@ -18,11 +18,20 @@ static bool p002_hfi_speeds_ok(const paper002_config_t *c)
            mc_ge(c->hfi_hold_gain_per_s, MC_ZERO);
 }
 
-/* Step 0 with cfg.iron saturating (model/iron_model.h): the motor model's
- * L_d, L_q and psi, which the EKF, the torque demand, MTPA and the current
- * control read, set to the iron's secant values at the EKF's (a priori)
- * currents, and the flux observer's L of (14) to that L_q. Linear: the
- * configured model, untouched. */
+/* Step 0 with cfg.iron saturating (model/iron_model.h), at the EKF's (a
+ * priori) currents: the motor model's L_d, L_q, which the EKF, MTPA and
+ * the current control read, set to L_i + w (L_s - L_i): the inductances
+ * the currents' rates see, (I1), on the injection (w = 0, the handover's
+ * last weight), the secant ones (S2) at speed (w = 1; the encoder and
+ * flux variants always), where the back-EMF terms w L i want the flux's;
+ * its psi to psi_s + (L_ds - L_d) i_d, so that psi + L_d i_d is the
+ * secant flux psi_d; the flux observer's L of (14) and the active flux's
+ * L_q the secant L_qs. A model whose L is above the iron's incremental
+ * one is unstable with the EKF at low speed: a current rising faster
+ * than the model's reads as less back-EMF, a lower speed, more torque
+ * demanded (a 200-250 Hz limit cycle on the magnet's biased iron, and
+ * the incremental values at speed lost synchronism:
+ * docs/hf_injection.md). Linear: the configured model, untouched. */
 static void p002_iron_step(paper002_drive_t *d)
 {
     const paper002_config_t *c = &d->cfg;
@@ -30,8 +39,16 @@ static void p002_iron_step(paper002_drive_t *d)
         return;
     }
     motor_model_t *m = &d->cfg.model;
-    iron_model_secant(&c->iron, d->ekf.x[EKF_ID], d->ekf.x[EKF_IQ], &m->Ld_H, &m->Lq_H, &m->psi_Wb);
-    flux_observer_set_L(&d->flux, mc_mul(c->flux.L_fs_ohm, mc_div(m->Lq_H, c->iron.Lq0_H)));
+    const mc_t i_d = d->ekf.x[EKF_ID];
+    const mc_t i_q = d->ekf.x[EKF_IQ];
+    mc_t L_ds, psi_s, L_di, L_qi;
+    iron_model_secant(&c->iron, i_d, i_q, &L_ds, &d->iron_Lqs_H, &psi_s);
+    iron_model_incremental(&c->iron, i_d, i_q, &L_di, &L_qi);
+    const mc_t w = (c->angle_source == P002_ANGLE_HFI) ? d->hfi_weight : MC_ONE;
+    m->Ld_H = mc_mac(L_di, w, mc_sub(L_ds, L_di));
+    m->Lq_H = mc_mac(L_qi, w, mc_sub(d->iron_Lqs_H, L_qi));
+    m->psi_Wb = mc_mac(psi_s, mc_sub(L_ds, m->Ld_H), i_d);
+    flux_observer_set_L(&d->flux, mc_mul(c->flux.L_fs_ohm, mc_div(d->iron_Lqs_H, c->iron.Lq0_H)));
 }
 
 /* angle_source = FLUX, HFI: the gradient term's target, the active flux's
@@ -44,7 +61,8 @@ static mc_t p002_active_flux(paper002_drive_t *d)
     const motor_model_t *m = &c->model;
     mc_t ratio;
     if (iron_model_saturates(&c->iron)) {
-        const mc_t radius_Wb = mc_mac(m->psi_Wb, mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]);
+        /* psi_s + (L_ds - L_qs) i_d (A1): the model's psi + L_d i_d is psi_s + L_ds i_d (step 0) */
+        const mc_t radius_Wb = mc_mac(m->psi_Wb, mc_sub(m->Ld_H, d->iron_Lqs_H), d->ekf.x[EKF_ID]);
         ratio = mc_div(radius_Wb, c->iron.psi_Wb);
     } else {
         ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
@@ -121,6 +139,7 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
         d->cfg.model.Lq_H = cfg->iron.Lq0_H;
         d->cfg.model.psi_Wb = cfg->iron.psi_Wb;
     }
+    d->iron_Lqs_H = d->cfg.model.Lq_H;
     guard_start_closed_loop(&d->sup);
     flight_recorder_init(&d->rec);
     d->tick = 0;

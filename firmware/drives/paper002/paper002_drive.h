@@ -4,9 +4,13 @@
  * control/sosmc.h or control/htsmc.h, control/mtpa.h, control/ibcc.h,
  * trajectory/speed_poly.h). Per sample:
  *   0. with cfg.iron saturating (issue 31, beyond the paper;
- *      model/iron_model.h), the motor model's L_d, L_q (and psi with the
- *      magnet's bias) set to the iron's secant values at the EKF's a
- *      priori currents: every block below reads them; linear, untouched;
+ *      model/iron_model.h), at the EKF's a priori currents, the motor
+ *      model's L_d, L_q set to the iron's incremental inductances (I1) on
+ *      the injection and to its secant ones (S2) at speed, blended by the
+ *      handover's weight w (the encoder and flux variants: secant), its
+ *      psi so that psi + L_d i_d is the secant flux; the flux observer's
+ *      L_q the secant one: every block below reads them; linear,
+ *      untouched;
  *   1. the phase currents to alpha-beta, then to d-q with the encoder's
  *      electrical angle (the paper measures i_d, i_q and theta_r);
  *   2. the EKF's correction with them (40)-(44);
@@ -220,6 +224,7 @@ typedef struct {
     fault_persist_t los, stall;
     lock_monitor_t lock;           /* angle_source = FLUX (HFI: with the injection off) */
     hf_injection_t hfi;            /* angle_source = HFI */
+    mc_t iron_Lqs_H;               /* cfg.iron saturating: the secant L_qs of step 0 (the active flux's) */
     mc_t hfi_weight;               /* angle_source = HFI: the blend's w, 0 injection .. 1 flux observer */
     mc_t hfi_hold_rad;             /* angle_source = HFI: the held (mechanical) angle */
     p002_start_phase_t start_phase; /* hfi_find_angle: LOCK, POLARITY, then RUN (else RUN from init) */
