@@ -51,34 +51,47 @@ void secant(const iron_model_config_t& c, double i_d, double i_q, double* Lds, d
     *psi_s = mc_to_double(p);
 }
 
+// The plant's iron of the hardware-like scenarios, with the given bias.
+Saturation plant_iron(double i_bias)
+{
+    SaturationParams sp;
+    sp.i_sat_A = kIsat;
+    sp.i_bias_A = i_bias;
+    return Saturation(sp, kLd, kLq, kPhi);
+}
+
+// f(i_d, i_q) over the drive's range, |i_d|, |i_q| <= 20 A in 2.5 A steps.
+template <class F>
+void over_the_currents(F f)
+{
+    for (double i_d = -20.0; i_d <= 20.0; i_d += 2.5) {
+        for (double i_q = -20.0; i_q <= 20.0; i_q += 2.5) {
+            f(i_d, i_q);
+        }
+    }
+}
+
 TEST(IronModel, SecantValuesGiveThePlantsFlux)
 {
     for (const double bias : {0.0, kBias}) {
-        SaturationParams sp;
-        sp.i_sat_A = kIsat;
-        sp.i_bias_A = bias;
-        const Saturation sat(sp, kLd, kLq, kPhi);
+        const Saturation sat = plant_iron(bias);
         const iron_model_config_t c = make(kIsat, bias);
         double worst = 0.0;
-        for (double i_d = -20.0; i_d <= 20.0; i_d += 2.5) {
-            for (double i_q = -20.0; i_q <= 20.0; i_q += 2.5) {
-                double psi_d, psi_q, Lds, Lqs, psi_s;
-                sat.flux(i_d, i_q, &psi_d, &psi_q);
-                secant(c, i_d, i_q, &Lds, &Lqs, &psi_s);
-                worst = std::fmax(worst, std::fabs(psi_s + Lds * i_d - psi_d));
-                worst = std::fmax(worst, std::fabs(Lqs * i_q - psi_q));
-                EXPECT_NEAR(Lqs / kLq, sat.L_q_H(i_d, i_q) / kLq, 1e-6) << i_d << " " << i_q;
-            }
-        }
+        over_the_currents([&](double i_d, double i_q) {
+            double psi_d, psi_q, Lds, Lqs, psi_s;
+            sat.flux(i_d, i_q, &psi_d, &psi_q);
+            secant(c, i_d, i_q, &Lds, &Lqs, &psi_s);
+            worst = std::fmax(worst, std::fabs(psi_s + Lds * i_d - psi_d));
+            worst = std::fmax(worst, std::fabs(Lqs * i_q - psi_q));
+            EXPECT_NEAR(Lqs / kLq, sat.L_q_H(i_d, i_q) / kLq, 1e-6) << i_d << " " << i_q;
+        });
         EXPECT_LT(worst, kFluxTol) << "bias " << bias;
     }
 }
 
 TEST(IronModel, ActiveFluxLiesOnTheRotorsDAxis)
 {
-    SaturationParams sp;
-    sp.i_sat_A = kIsat;
-    const Saturation sat(sp, kLd, kLq, kPhi);
+    const Saturation sat = plant_iron(0.0);
     const iron_model_config_t c = make(kIsat, 0.0);
     double worst = 0.0;
     for (const double theta : {0.0, 1.0, 2.5, -2.0}) {
@@ -114,28 +127,23 @@ TEST(IronModel, ActiveFluxLiesOnTheRotorsDAxis)
 TEST(IronModel, IncrementalValuesAreThoseThePlantsCurrentRatesSee)
 {
     for (const double bias : {0.0, kBias}) {
-        SaturationParams sp;
-        sp.i_sat_A = kIsat;
-        sp.i_bias_A = bias;
-        const Saturation sat(sp, kLd, kLq, kPhi);
+        const Saturation sat = plant_iron(bias);
         const iron_model_config_t c = make(kIsat, bias);
         double worst = 0.0;
-        for (double i_d = -20.0; i_d <= 20.0; i_d += 2.5) {
-            for (double i_q = -20.0; i_q <= 20.0; i_q += 2.5) {
-                mc_t a, b;
-                iron_model_incremental(&c, mc_from_double(i_d), mc_from_double(i_q), &a, &b);
-                // 1 V on one axis: the rate on that axis is 1 / L
-                double dd, dq, qd, qq;
-                sat.solve(i_d, i_q, 1.0, 0.0, &dd, &dq);
-                sat.solve(i_d, i_q, 0.0, 1.0, &qd, &qq);
-                worst = std::fmax(worst, std::fabs(mc_to_double(a) - 1.0 / dd) / kLd);
-                worst = std::fmax(worst, std::fabs(mc_to_double(b) - 1.0 / qq) / kLq);
-                double Lds, Lqs, psi_s;
-                secant(c, i_d, i_q, &Lds, &Lqs, &psi_s);
-                EXPECT_LE(mc_to_double(a), Lds * (1.0 + 1e-6)) << i_d << " " << i_q;
-                EXPECT_LE(mc_to_double(b), Lqs * (1.0 + 1e-6)) << i_d << " " << i_q;
-            }
-        }
+        over_the_currents([&](double i_d, double i_q) {
+            mc_t a, b;
+            iron_model_incremental(&c, mc_from_double(i_d), mc_from_double(i_q), &a, &b);
+            // 1 V on one axis: the rate on that axis is 1 / L
+            double dd, dq, qd, qq;
+            sat.solve(i_d, i_q, 1.0, 0.0, &dd, &dq);
+            sat.solve(i_d, i_q, 0.0, 1.0, &qd, &qq);
+            worst = std::fmax(worst, std::fabs(mc_to_double(a) - 1.0 / dd) / kLd);
+            worst = std::fmax(worst, std::fabs(mc_to_double(b) - 1.0 / qq) / kLq);
+            double Lds, Lqs, psi_s;
+            secant(c, i_d, i_q, &Lds, &Lqs, &psi_s);
+            EXPECT_LE(mc_to_double(a), Lds * (1.0 + 1e-6)) << i_d << " " << i_q;
+            EXPECT_LE(mc_to_double(b), Lqs * (1.0 + 1e-6)) << i_d << " " << i_q;
+        });
         EXPECT_LT(worst, 1e-6) << "bias " << bias;
     }
     // the biased iron at zero current: L_d0 / (1 + (i_b/i_sat)^2)^(3/2)
