@@ -31,23 +31,18 @@ mc_t iron_model_factor(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A)
     return mc_rsqrt(mc_add(MC_ONE, u));
 }
 
-void iron_model_secant(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A, mc_t *Lds_H, mc_t *Lqs_H, mc_t *psi_s_Wb)
+void iron_model_at(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A, iron_model_point_t *pt)
 {
     const mc_t k = iron_model_factor(cfg, i_d_A, i_q_A);
-    *Lds_H = mc_mul(k, cfg->Ld0_H);
-    *Lqs_H = mc_mul(k, cfg->Lq0_H);
+    pt->Lds_H = mc_mul(k, cfg->Ld0_H);
+    pt->Lqs_H = mc_mul(k, cfg->Lq0_H);
     /* psi_d = Phi + L_d0 (k (i_d + i_b) - k_0 i_b) = psi_s + k L_d0 i_d (S2) */
-    *psi_s_Wb = mc_mac(cfg->psi_Wb, mc_mul(cfg->Ld0_H, mc_sub(k, cfg->k0)), cfg->i_bias_A);
-}
-
-void iron_model_incremental(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A, mc_t *Ldi_H, mc_t *Lqi_H)
-{
-    const mc_t k = iron_model_factor(cfg, i_d_A, i_q_A);
+    pt->psi_s_Wb = mc_mac(cfg->psi_Wb, mc_mul(cfg->Ld0_H, mc_sub(k, cfg->k0)), cfg->i_bias_A);
     /* (I1): (S3)'s diagonal, (1/k) (1/L_d0 + (i_d + i_b)^2 / (L_d0 i_sat^2)) and
      * (1/k) (1/L_q0 + i_q^2 / (L_d0 i_sat^2)), inverted */
     const mc_t i_db = mc_add(i_d_A, cfg->i_bias_A);
     const mc_t x_d = mc_mul(mc_mul(i_db, i_db), cfg->inv_isat2_per_A2);
     const mc_t x_q = mc_mul(mc_mul(cfg->lq_over_ld, mc_mul(i_q_A, i_q_A)), cfg->inv_isat2_per_A2);
-    *Ldi_H = mc_div(mc_mul(k, cfg->Ld0_H), mc_add(MC_ONE, x_d));
-    *Lqi_H = mc_div(mc_mul(k, cfg->Lq0_H), mc_add(MC_ONE, x_q));
+    pt->Ldi_H = mc_div(pt->Lds_H, mc_add(MC_ONE, x_d));
+    pt->Lqi_H = mc_div(pt->Lqs_H, mc_add(MC_ONE, x_q));
 }

@@ -64,23 +64,28 @@ static inline bool iron_model_saturates(const iron_model_config_t *cfg)
 /* The factor k of (S2) at the rotor-frame currents (i_d, i_q), in (0, 1]. */
 mc_t iron_model_factor(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A);
 
-/* The linear model's parameters that reproduce (S2) at (i_d, i_q):
- * psi_d = psi_s + L_ds i_d, psi_q = L_qs i_q with L_ds = k L_d0, L_qs =
- * k L_q0 and psi_s = Phi + L_d0 (k - k_0) i_b (Phi without a bias) [H, H,
- * Wb]. The active flux's radius (A1) is psi_s + (L_ds - L_qs) i_d. */
-void iron_model_secant(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A, mc_t *Lds_H, mc_t *Lqs_H, mc_t *psi_s_Wb);
+/* The iron at the rotor-frame currents (i_d, i_q), from one factor k:
+ *  - the linear model's parameters that reproduce (S2): psi_d = psi_s +
+ *    L_ds i_d, psi_q = L_qs i_q with L_ds = k L_d0, L_qs = k L_q0 and
+ *    psi_s = Phi + L_d0 (k - k_0) i_b (Phi without a bias) [H, H, Wb];
+ *    the active flux's radius (A1) is psi_s + (L_ds - L_qs) i_d;
+ *  - the inductances the currents' dynamics see on each axis alone (the
+ *    plant integrates di/dt = L_inc^-1 r, sim/model/saturation.h (S3)):
+ *    the inverses of L_inc^-1's diagonal,
+ *      L_di = k L_d0 / (1 + ((i_d + i_b) / i_sat)^2),
+ *      L_qi = k L_q0 / (1 + (L_q0/L_d0) (i_q / i_sat)^2)               (I1)
+ *    (the off-diagonal, cross-saturation's, is left out: the drive's
+ *    model is diagonal) [H, H]. Below the secant values wherever the iron
+ *    saturates: on paper 002's IPMSM with the magnet's bias (i_b = 13.3 A,
+ *    i_sat = 26.7 A) L_di = 0.72 L_d0 at zero current, where the secant
+ *    k L_d0 = 0.89 L_d0.
+ * Linear: L_d0, L_q0 both ways, Phi. */
+typedef struct {
+    mc_t Lds_H, Lqs_H, psi_s_Wb; /* secant (S2) */
+    mc_t Ldi_H, Lqi_H;           /* incremental (I1) */
+} iron_model_point_t;
 
-/* The inductances the currents' dynamics see on each axis alone (the
- * plant integrates di/dt = L_inc^-1 r, sim/model/saturation.h (S3)): the
- * inverses of L_inc^-1's diagonal,
- *   L_di = k L_d0 / (1 + ((i_d + i_b) / i_sat)^2),
- *   L_qi = k L_q0 / (1 + (L_q0/L_d0) (i_q / i_sat)^2)                  (I1)
- * (the off-diagonal, cross-saturation's, is left out: the drive's model is
- * diagonal) [H, H]. Below the secant values wherever the iron saturates:
- * on paper 002's IPMSM with the magnet's bias (i_b = 13.3 A, i_sat =
- * 26.7 A) L_di = 0.72 L_d0 at zero current, where the secant k L_d0 =
- * 0.89 L_d0. Linear: L_d0, L_q0. */
-void iron_model_incremental(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A, mc_t *Ldi_H, mc_t *Lqi_H);
+void iron_model_at(const iron_model_config_t *cfg, mc_t i_d_A, mc_t i_q_A, iron_model_point_t *pt);
 
 #ifdef __cplusplus
 }

@@ -42,13 +42,26 @@ iron_model_config_t make(double i_sat, double i_bias)
     return c;
 }
 
+iron_model_point_t at(const iron_model_config_t& c, double i_d, double i_q)
+{
+    iron_model_point_t pt;
+    iron_model_at(&c, mc_from_double(i_d), mc_from_double(i_q), &pt);
+    return pt;
+}
+
 void secant(const iron_model_config_t& c, double i_d, double i_q, double* Lds, double* Lqs, double* psi_s)
 {
-    mc_t a, b, p;
-    iron_model_secant(&c, mc_from_double(i_d), mc_from_double(i_q), &a, &b, &p);
-    *Lds = mc_to_double(a);
-    *Lqs = mc_to_double(b);
-    *psi_s = mc_to_double(p);
+    const iron_model_point_t pt = at(c, i_d, i_q);
+    *Lds = mc_to_double(pt.Lds_H);
+    *Lqs = mc_to_double(pt.Lqs_H);
+    *psi_s = mc_to_double(pt.psi_s_Wb);
+}
+
+void incremental(const iron_model_config_t& c, double i_d, double i_q, double* Ldi, double* Lqi)
+{
+    const iron_model_point_t pt = at(c, i_d, i_q);
+    *Ldi = mc_to_double(pt.Ldi_H);
+    *Lqi = mc_to_double(pt.Lqi_H);
 }
 
 // The plant's iron of the hardware-like scenarios, with the given bias.
@@ -131,29 +144,29 @@ TEST(IronModel, IncrementalValuesAreThoseThePlantsCurrentRatesSee)
         const iron_model_config_t c = make(kIsat, bias);
         double worst = 0.0;
         over_the_currents([&](double i_d, double i_q) {
-            mc_t a, b;
-            iron_model_incremental(&c, mc_from_double(i_d), mc_from_double(i_q), &a, &b);
+            double a, b;
+            incremental(c, i_d, i_q, &a, &b);
             // 1 V on one axis: the rate on that axis is 1 / L
             double dd, dq, qd, qq;
             sat.solve(i_d, i_q, 1.0, 0.0, &dd, &dq);
             sat.solve(i_d, i_q, 0.0, 1.0, &qd, &qq);
-            worst = std::fmax(worst, std::fabs(mc_to_double(a) - 1.0 / dd) / kLd);
-            worst = std::fmax(worst, std::fabs(mc_to_double(b) - 1.0 / qq) / kLq);
+            worst = std::fmax(worst, std::fabs(a - 1.0 / dd) / kLd);
+            worst = std::fmax(worst, std::fabs(b - 1.0 / qq) / kLq);
             double Lds, Lqs, psi_s;
             secant(c, i_d, i_q, &Lds, &Lqs, &psi_s);
-            EXPECT_LE(mc_to_double(a), Lds * (1.0 + 1e-6)) << i_d << " " << i_q;
-            EXPECT_LE(mc_to_double(b), Lqs * (1.0 + 1e-6)) << i_d << " " << i_q;
+            EXPECT_LE(a, Lds * (1.0 + 1e-6)) << i_d << " " << i_q;
+            EXPECT_LE(b, Lqs * (1.0 + 1e-6)) << i_d << " " << i_q;
         });
         EXPECT_LT(worst, 1e-6) << "bias " << bias;
     }
     // the biased iron at zero current: L_d0 / (1 + (i_b/i_sat)^2)^(3/2)
     const iron_model_config_t c = make(kIsat, kBias);
-    mc_t a, b;
-    iron_model_incremental(&c, MC_ZERO, MC_ZERO, &a, &b);
+    double a, b;
+    incremental(c, 0.0, 0.0, &a, &b);
     const double x2 = (kBias / kIsat) * (kBias / kIsat);
-    EXPECT_NEAR(mc_to_double(a) / kLd, std::pow(1.0 + x2, -1.5), 1e-6);
-    EXPECT_NEAR(mc_to_double(a) / kLd, 0.716, 0.001);
-    EXPECT_NEAR(mc_to_double(b) / kLq, 1.0 / std::sqrt(1.0 + x2), 1e-6);
+    EXPECT_NEAR(a / kLd, std::pow(1.0 + x2, -1.5), 1e-6);
+    EXPECT_NEAR(a / kLd, 0.716, 0.001);
+    EXPECT_NEAR(b / kLq, 1.0 / std::sqrt(1.0 + x2), 1e-6);
 }
 
 TEST(IronModel, WithoutSaturationItIsTheLinearModel)
@@ -165,10 +178,10 @@ TEST(IronModel, WithoutSaturationItIsTheLinearModel)
     EXPECT_EQ(Lds, mc_to_double(mc_from_double(kLd)));
     EXPECT_EQ(Lqs, mc_to_double(mc_from_double(kLq)));
     EXPECT_EQ(psi_s, mc_to_double(mc_from_double(kPhi)));
-    mc_t a, b;
-    iron_model_incremental(&c, mc_from_double(-7.0), mc_from_double(12.0), &a, &b);
-    EXPECT_EQ(mc_to_double(a), Lds);
-    EXPECT_EQ(mc_to_double(b), Lqs);
+    double a, b;
+    incremental(c, -7.0, 12.0, &a, &b);
+    EXPECT_EQ(a, Lds);
+    EXPECT_EQ(b, Lqs);
     const iron_model_config_t s = make(kIsat, 0.0);
     EXPECT_TRUE(iron_model_saturates(&s));
 }

@@ -41,13 +41,13 @@ static void p002_iron_step(paper002_drive_t *d)
     motor_model_t *m = &d->cfg.model;
     const mc_t i_d = d->ekf.x[EKF_ID];
     const mc_t i_q = d->ekf.x[EKF_IQ];
-    mc_t L_ds, psi_s, L_di, L_qi;
-    iron_model_secant(&c->iron, i_d, i_q, &L_ds, &d->iron_Lqs_H, &psi_s);
-    iron_model_incremental(&c->iron, i_d, i_q, &L_di, &L_qi);
+    iron_model_point_t pt;
+    iron_model_at(&c->iron, i_d, i_q, &pt);
     const mc_t w = (c->angle_source == P002_ANGLE_HFI) ? d->hfi_weight : MC_ONE;
-    m->Ld_H = mc_mac(L_di, w, mc_sub(L_ds, L_di));
-    m->Lq_H = mc_mac(L_qi, w, mc_sub(d->iron_Lqs_H, L_qi));
-    m->psi_Wb = mc_mac(psi_s, mc_sub(L_ds, m->Ld_H), i_d);
+    m->Ld_H = mc_mac(pt.Ldi_H, w, mc_sub(pt.Lds_H, pt.Ldi_H));
+    m->Lq_H = mc_mac(pt.Lqi_H, w, mc_sub(pt.Lqs_H, pt.Lqi_H));
+    m->psi_Wb = mc_mac(pt.psi_s_Wb, mc_sub(pt.Lds_H, m->Ld_H), i_d);
+    d->iron_Lqs_H = pt.Lqs_H;
     flux_observer_set_L(&d->flux, mc_mul(c->flux.L_fs_ohm, mc_div(d->iron_Lqs_H, c->iron.Lq0_H)));
 }
 
