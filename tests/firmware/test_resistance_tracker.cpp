@@ -48,7 +48,9 @@ bool init(resistance_tracker_t* t, const resistance_tracker_config_t& c) { retur
 // the tracker (the observer locked). The voltage held over [k-1, k] is the
 // motor's mean over that sample: R i + omega_e Phi (q axis) + omega_e L J i
 // (the rotation of L i), evaluated at the sample's middle.
-void run(resistance_tracker_t* t, double w_mech, double i_q, double t_s, double* theta_e)
+// R: the motor's resistance (an apparent one below 0: a voltage below R i,
+// as a dead-time compensation that gives too much).
+void run(resistance_tracker_t* t, double w_mech, double i_q, double t_s, double* theta_e, double R = kR)
 {
     const double we = kNp * w_mech;
     const int n = static_cast<int>(std::lround(t_s / kTs));
@@ -57,7 +59,7 @@ void run(resistance_tracker_t* t, double w_mech, double i_q, double t_s, double*
         const double th1 = th0 + we * kTs;
         const double thm = 0.5 * (th0 + th1);
         // i = i_q (-sin, cos)(theta); v at the middle of the sample
-        const double vq = kR * i_q + we * kPhi;
+        const double vq = R * i_q + we * kPhi;
         const double vd = -we * kL * i_q;
         mc_ab_t v{M(vd * std::cos(thm) - vq * std::sin(thm)), M(vd * std::sin(thm) + vq * std::cos(thm))};
         mc_ab_t i{M(-i_q * std::sin(th1)), M(i_q * std::cos(th1))};
@@ -143,6 +145,38 @@ TEST(ResistanceTracker, HeldWithoutAdaptAndBounded)
     ASSERT_TRUE(init(&t2, config(0.1 * kR, kPhi)));
     run(&t2, 0.0, 2.0, 20.0 * kTau, &th);
     EXPECT_NEAR(D(t2.R_ohm), 0.2 * kR, 1e-4);
+}
+
+// R_hat's lower bounds (the header: |R_hat - R0| <= dR_max, and R_hat >=
+// 0), at standstill under load where R is observable: a winding at a
+// quarter of R0 with dR_max = R0/2 takes R_hat down to R0 - dR_max and no
+// further; with dR_max = 2 R0, an apparent resistance of -R0/2 takes it
+// down to 0 and no further. Each bound is reached after about tau_R ln 3
+// (the unbounded R_hat would pass it at 1/3 of its way); 10 tau_R run.
+// Broken once each: the R_hat >= 0 part of the lower bound dropped, its
+// R0 - dR_max part dropped, the lower clamp dropped.
+TEST(ResistanceTracker, ResistanceStopsAtItsLowerBounds)
+{
+    {
+        resistance_tracker_config_t c = config(4.0 * kR, kPhi);
+        c.dR_max_ohm = M(2.0 * kR);
+        resistance_tracker_t t;
+        ASSERT_TRUE(init(&t, c));
+        double th = 0.3;
+        run(&t, 0.0, 2.0, 10.0 * kTau, &th);
+        EXPECT_NEAR(D(t.R_ohm), 2.0 * kR, 2e-5) << "R0 - dR_max, not the winding's " << kR;
+        run(&t, 0.0, -2.0, 2.0 * kTau, &th);
+        EXPECT_NEAR(D(t.R_ohm), 2.0 * kR, 2e-5) << "held there, the current either way";
+    }
+    {
+        resistance_tracker_config_t c = config(kR, kPhi);
+        c.dR_max_ohm = M(2.0 * kR);
+        resistance_tracker_t t;
+        ASSERT_TRUE(init(&t, c));
+        double th = -2.5;
+        run(&t, 0.0, 2.0, 10.0 * kTau, &th, -0.5 * kR);
+        EXPECT_NEAR(D(t.R_ohm), 0.0, 2e-5) << "R_hat >= 0, not the apparent " << -0.5 * kR;
+    }
 }
 
 TEST(ResistanceTracker, RefusesBadConfig)

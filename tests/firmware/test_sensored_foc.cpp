@@ -279,3 +279,130 @@ TEST(SensoredFocDrive, RefusesWhatItCannotDo)
     EXPECT_FALSE(sensored_foc_drive_step(&d, &s, &out)) << "latched";
     EXPECT_EQ(d.rec.fault, DRIVE_FAULT_BAD_INPUT);
 }
+
+namespace {
+// The drive of sfoc_input()'s design, initialised; sfoc_sample() is one
+// sample of a rotor and currents that follow their references exactly: the
+// encoder reads the last sample's theta_ref (wrapped), the phases carry the
+// last sample's (i_d*, i_q*) at the encoder's electrical angle, with 1 mA
+// of dither (a sensor that is not stuck).
+void sfoc_ready(sensored_foc_config_t* c, sensored_foc_drive_t* d)
+{
+    sfoc_design_input_t in = sfoc_input();
+    char err[200];
+    ASSERT_TRUE(sfoc_design(&in, c, err, sizeof err)) << err;
+    ASSERT_TRUE(sensored_foc_drive_init(d, c));
+}
+
+drive_status_t sfoc_status(const sensored_foc_drive_t* d)
+{
+    drive_status_t st;
+    sensored_foc_drive_ops.status(d, &st);
+    return st;
+}
+
+bool sfoc_sample(sensored_foc_drive_t* d)
+{
+    const uint32_t k = d->tick;
+    hal_sample_t s{};
+    s.tick = k;
+    s.n_phases = 3;
+    s.v_bus_V = M(48);
+    s.has_angle = true;
+    const drive_status_t st = sfoc_status(d);
+    const double th = std::remainder(D(st.theta_ref_rad), 2 * kPi), th_e = 3 * th;
+    s.angle_rad = M(th);
+    const double id = D(st.i1_ref_A), iq = D(st.i2_ref_A);
+    const double ia = std::cos(th_e) * id - std::sin(th_e) * iq + 1e-3 * std::sin(0.1 * k);
+    const double ib = std::sin(th_e) * id + std::cos(th_e) * iq + 1e-3 * std::cos(0.1 * k);
+    s.i_A[0] = M(ia);
+    s.i_A[1] = M(-0.5 * ia + 0.8660254037844386 * ib);
+    s.i_A[2] = mc_neg(mc_add(s.i_A[0], s.i_A[1]));
+    hal_command_t out{};
+    return sensored_foc_drive_step(d, &s, &out);
+}
+}  // namespace
+
+// CmdSpeed's bound is on |w|: beyond it either way refused (nothing
+// changed: the reference stays at rest), within it either way taken.
+// Broken once: |w| replaced by w in the check (backwards accepted).
+TEST(SensoredFocDrive, SpeedCommandBoundEitherWay)
+{
+    static sensored_foc_config_t c;
+    static sensored_foc_drive_t d;
+    sfoc_ready(&c, &d);
+    ASSERT_TRUE(sfoc_sample(&d));
+    const double w_max = D(c.speed_cmd_max_rad_s);
+    ASSERT_GT(w_max, 10.0);
+    EXPECT_FALSE(sensored_foc_set_speed(&d, M(-1.01 * w_max), M(10))) << "backwards beyond the bound";
+    EXPECT_FALSE(sensored_foc_set_speed(&d, M(1.01 * w_max), M(10))) << "forwards beyond the bound";
+    for (int k = 0; k < 10; ++k) ASSERT_TRUE(sfoc_sample(&d));
+    EXPECT_EQ(D(sfoc_status(&d).omega_ref_rad_s), 0.0) << "refused: nothing changed";
+    EXPECT_TRUE(sensored_foc_set_speed(&d, M(-0.99 * w_max), M(10))) << "backwards within the bound";
+    for (int k = 0; k < 10; ++k) ASSERT_TRUE(sfoc_sample(&d));
+    EXPECT_LT(D(sfoc_status(&d).omega_ref_rad_s), 0.0) << "ramping backwards";
+    EXPECT_TRUE(sensored_foc_set_speed(&d, M(0.99 * w_max), M(10))) << "forwards within the bound";
+}
+
+// CmdMove's acceleration bound (the header: refused when the peak
+// acceleration exceeds accel_cmd_max_rad_s2), the peak taken here from
+// eq. (70) itself, p(D) = 35 D^4 - 84 D^5 + 70 D^6 - 20 D^7: p''(D) =
+// 420 D^2 - 1680 D^3 + 2100 D^4 - 840 D^5, whose largest |.| on [0, 1]
+// (7.5132) times |d| / T^2 is the move's peak. A move over 0.2 s whose
+// peak is 0.2 % above the bound is refused, 0.2 % below taken, in both
+// directions (its peak speed, (35/16) |d| / T, well within its own bound).
+// Broken once each: 1/T for 1/T^2, the speed's 2.1875 for 7.5132, |d| for
+// d, 7.44 for 7.5132 (above the bound accepted).
+TEST(SensoredFocDrive, MoveAccelerationBoundEitherWay)
+{
+    double peak_ddp = 0.0;
+    for (int i = 0; i <= 1000000; ++i) {
+        const double x = i * 1e-6;
+        const double ddp = 420 * x * x - 1680 * x * x * x + 2100 * x * x * x * x - 840 * x * x * x * x * x;
+        peak_ddp = std::max(peak_ddp, std::fabs(ddp));
+    }
+    ASSERT_NEAR(peak_ddp, 7.5132, 1e-4);
+    static sensored_foc_config_t c;
+    static sensored_foc_drive_t d;
+    for (const double dir : {1.0, -1.0}) {
+        for (const double share : {1.002, 0.998}) {  // a drive of its own each: one answer never hides the other
+            sfoc_ready(&c, &d);
+            ASSERT_TRUE(sfoc_sample(&d));
+            const double T = 0.2, a_max = D(c.accel_cmd_max_rad_s2);
+            const double dist = a_max * T * T / peak_ddp;  // the distance whose peak is a_max
+            ASSERT_LT(2.1875 * dist / T, 0.5 * D(c.speed_cmd_max_rad_s)) << "the speed bound is not the one hit";
+            const double from = D(sfoc_status(&d).theta_est_rad);
+            EXPECT_EQ(sensored_foc_move(&d, M(from + dir * share * dist), M(T)), share < 1.0)
+                << "peak " << share << " a_max (a_max " << a_max << " rad/s^2), direction " << dir;
+        }
+    }
+}
+
+// CmdMove is refused while the speed reference is not at rest (ramping up,
+// at speed, ramping down after the stop) and taken once it rests again.
+// Broken once: the check dropped (the move taken while ramping up).
+TEST(SensoredFocDrive, MoveWaitsForTheSpeedReferenceAtRest)
+{
+    static sensored_foc_config_t c;
+    static sensored_foc_drive_t d;
+    sfoc_ready(&c, &d);
+    ASSERT_TRUE(sfoc_sample(&d));
+    ASSERT_TRUE(sensored_foc_set_speed(&d, M(5.0), M(50.0)));  // 0.1 s of ramp: 1000 samples
+    auto move_by = [&](double by) {
+        return sensored_foc_move(&d, M(D(sfoc_status(&d).theta_est_rad) + by), M(1.0));
+    };
+    for (int k = 0; k < 300; ++k) ASSERT_TRUE(sfoc_sample(&d)) << k << " fault " << int(d.sup.fault);
+    ASSERT_GT(D(sfoc_status(&d).omega_ref_rad_s), 0.0);
+    EXPECT_FALSE(move_by(0.1)) << "ramping up";
+    for (int k = 0; k < 1000; ++k) ASSERT_TRUE(sfoc_sample(&d)) << k << " fault " << int(d.sup.fault);
+    EXPECT_NEAR(D(sfoc_status(&d).omega_ref_rad_s), 5.0, 1e-3);
+    EXPECT_FALSE(move_by(0.1)) << "at speed";
+    ASSERT_TRUE(sensored_foc_stop(&d));
+    for (int k = 0; k < 990; ++k) ASSERT_TRUE(sfoc_sample(&d)) << k << " fault " << int(d.sup.fault);
+    ASSERT_GT(D(sfoc_status(&d).omega_ref_rad_s), 0.0);
+    EXPECT_FALSE(move_by(0.1)) << "ramping down, " << D(sfoc_status(&d).omega_ref_rad_s) << " rad/s";
+    for (int k = 0; k < 20; ++k) ASSERT_TRUE(sfoc_sample(&d)) << k << " fault " << int(d.sup.fault);
+    ASSERT_EQ(D(sfoc_status(&d).omega_ref_rad_s), 0.0);
+    EXPECT_TRUE(move_by(0.1)) << "at rest";
+    EXPECT_EQ(d.rec.events, 0u) << "no fault on the way";
+}

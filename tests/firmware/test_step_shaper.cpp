@@ -34,6 +34,7 @@ struct Drive {
     int t = 0, n = 0;  // samples into the move, its length
     double peak_speed = 0.0;
     double peak_share = 0.0;  // the largest of peak speed / w_max, peak acceleration / a_max over the moves
+    double longest_rad = 0.0, longest_s = 0.0;  // the longest move's distance and duration
     int refused_limits = 0;
     bool busy() const { return t < n; }
     double ref() const
@@ -52,6 +53,8 @@ struct Drive {
             return false;
         }
         peak_speed = std::fmax(peak_speed, 2.1875 * d / duration);
+        longest_rad = std::fmax(longest_rad, d);
+        longest_s = std::fmax(longest_s, duration);
         peak_share = std::fmax(peak_share, std::fmax(2.1875 * d / duration / kWmax, 7.5132 * d / (duration * duration) / kAmax));
         from = rest;
         to = theta_to;
@@ -189,4 +192,46 @@ TEST(StepShaper, WaitsForTheDrivesMoveAndMeasuresFromItsRest)
     EXPECT_EQ(d.refused_limits, 0);
     EXPECT_NEAR(d.ref(), 10 * phi_held(), 1e-4) << "back from 5 rad to the step target";
     EXPECT_EQ(s.moves, 1u);
+}
+
+// A burst backwards of one and a half of the longest move (its 30 s,
+// STEP_SHAPER_MOVE_MAX_S, at w_max: about 139,690 steps here; in fixed point
+// 16384, mc_t's range), 0.1 s long: the first sample's steps are a move at
+// once, the rest waits and is taken by the longest move and then one more,
+// none longer than the longest (30 s and two samples), none refused, the
+// reference at the count at the end; the steps beyond the limit counted as
+// forwards (the burst less the rate's 0.4655 a sample and the bucket's 2).
+// Broken once: the clamp's negative side dropped (one move of 45 s); and
+// |delta| as delta in the bucket (no excess backwards).
+TEST(StepShaper, ReverseBurstLongerThanOneMoveIsSplit)
+{
+    step_shaper_t s;
+    step_shaper_config_t c = config();
+    ASSERT_TRUE(step_shaper_init(&s, &c, 0));
+    const int32_t longest = s.max_move_steps;
+#if MC_FIXED
+    EXPECT_EQ(longest, 16384);
+#else
+    EXPECT_NEAR(longest, 30.0 * kWmax / (2.1875 * kPhi), 1.0);
+#endif
+    const int32_t burst = longest + longest / 2;
+    Drive d;
+    int32_t count = 0;
+    for (int k = 0; k < kFs / 10; ++k) {
+        count = -static_cast<int32_t>(static_cast<int64_t>(burst) * (k + 1) / (kFs / 10));
+        sample(s, d, count);
+    }
+    ASSERT_EQ(count, -burst);
+    const double rate = kWmax / (2.1875 * kPhi * kFs);
+    EXPECT_NEAR(static_cast<double>(s.excess_steps), burst - rate * (kFs / 10) - 2, 1.5)
+        << "the steps beyond the limit, counted backwards too";
+    for (int k = 0; k < 100 * kFs && (d.busy() || step_shaper_backlog(&s) != 0); ++k) sample(s, d, count);
+    EXPECT_FALSE(d.busy());
+    EXPECT_EQ(step_shaper_backlog(&s), 0);
+    EXPECT_EQ(s.moves, 3u) << "the first sample's steps, the longest move, the rest";
+    EXPECT_EQ(d.refused_limits, 0);
+    EXPECT_NEAR(d.longest_rad, longest * phi_held(), 1e-6 * longest * phi_held()) << "the longest move, no longer";
+    EXPECT_LE(d.longest_s, 30.0 + 2.0 / kFs + 2.1875 * kPhi / kWmax)
+        << "no move beyond STEP_SHAPER_MOVE_MAX_S (and two samples, and a step of the rounding)";
+    EXPECT_NEAR(d.ref(), -burst * phi_held(), 1e-6 * burst * phi_held() + 1e-4) << "the reference at the count";
 }
