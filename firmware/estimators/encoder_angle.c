@@ -14,23 +14,13 @@ static void enc_seed(void *self, mc_t theta_e_rad)
     (void)theta_e_rad; /* measured: nothing to seed */
 }
 
-static void enc_update(void *self, const estimator_in_t *in, estimator_out_t *out)
+static mc_rot_t enc_update(void *self, const estimator_in_t *in, mc_ab_t *i_ab_A, estimator_out_t *out)
 {
     const encoder_angle_t *o = (const encoder_angle_t *)self;
+    (void)i_ab_A; /* the currents as measured */
     out->theta_rad = in->sample->angle_rad;
-    out->rot_e = mc_rot_from_angle(mc_elec_angle(in->sample->angle_rad, o->n_p));
-    out->i_ab_A = in->i_ab_A;
-    out->lock_checkable = false;
-    out->rho2 = MC_ONE;
-    out->rho2_target = MC_ONE;
-    out->u_reserve_V = MC_ZERO;
-}
-
-static void enc_hold(void *self, mc_ab_t u_mean_ab_V, mc_ab_t u_cmd_ab_V)
-{
-    (void)self;
-    (void)u_mean_ab_V;
-    (void)u_cmd_ab_V;
+    out->lock_checkable = false; /* measured: rho2 and u_reserve_V are left alone (estimator.h) */
+    return mc_rot_from_angle(mc_elec_angle(in->sample->angle_rad, o->n_p));
 }
 
 const estimator_ops_t encoder_angle_ops = {
@@ -48,5 +38,5 @@ const estimator_ops_t encoder_angle_ops = {
     .model_weight = 0,
     .reference = 0,
     .injection = 0,
-    .hold = enc_hold,
+    .hold = 0, /* measured: no time update */
 };

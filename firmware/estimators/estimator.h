@@ -5,8 +5,8 @@
  * state (drives/drive.h), an estimator is a table of operations over its
  * own state struct: init from its configuration, one sample in (the phase
  * currents and the HAL sample) and the electrical angle the drive runs on
- * out with the currents its loops should see and the figures its
- * supervisor checks, then the voltage applied over the coming sample in
+ * out with the currents its loops should see, the mechanical angle and the
+ * figures its supervisor checks, then the voltage applied over the coming sample in
  * (its time update), and a seed for hand-overs and restarts at a known
  * angle. What an estimator does beyond that (a start of its own that
  * commands the voltage, an injection on top of the command, a correction
@@ -37,7 +37,6 @@ extern "C" {
 
 /* One sample in. */
 typedef struct {
-    mc_ab_t i_ab_A;              /* this sample's phase currents, alpha-beta */
     const hal_sample_t *sample;  /* the whole sample: an encoder's angle (has_angle, angle_rad) */
     mc_t omega_hint_rad_s;       /* the drive's a priori mechanical speed: what an estimator schedules on */
     mc_t flux_ratio;             /* model_based: the flux radius the drive's motor model gives this
@@ -48,16 +47,15 @@ typedef struct {
 
 /* One sample out. */
 typedef struct {
-    mc_rot_t rot_e;              /* the electrical angle the drive runs on this sample, cos and sin */
     mc_t theta_rad;              /* the mechanical angle, wrapped into [-pi, pi): what a mechanical
                                   * observer downstream is given as its measurement */
-    mc_ab_t i_ab_A;              /* the currents the drive's loops see (an injection's ripple removed) */
     bool lock_checkable;         /* a model-based observer's angle is in use this sample: its residual
                                   * (rho2 against rho2_target) is a loss-of-lock criterion */
-    mc_t rho2, rho2_target;      /* that observer's consistency figure |rho|^2 and its target (1, 1
-                                  * where none) */
-    mc_t u_reserve_V;            /* the amplitude the estimator's own injection takes of the voltage this
-                                  * sample (0 where none): the controller's limit is reduced by it */
+    mc_t rho2, rho2_target;      /* lock_checkable only: that observer's consistency figure |rho|^2
+                                  * and its target */
+    mc_t u_reserve_V;            /* an estimator with an injection only: the amplitude it takes of the
+                                  * voltage this sample (0 when off); the controller's limit is reduced
+                                  * by it */
 } estimator_out_t;
 
 /* A start of the estimator's own (the angle unknown at power-up). */
@@ -89,16 +87,18 @@ typedef struct estimator_ops {
     estimator_start_t (*start)(void *self, mc_ab_t i_ab_A, mc_ab_t *u_ab_V, mc_t *theta_e_rad);
     /* a restart at the electrical angle theta_e_rad: at rest, its turn among the pole pairs unknown */
     void (*seed)(void *self, mc_t theta_e_rad);
-    /* the measurement update of one sample */
-    void (*update)(void *self, const estimator_in_t *in, estimator_out_t *out);
+    /* the measurement update of one sample: *i_ab_A this sample's phase currents (alpha-beta) in,
+     * the currents the drive's loops see out (an injection's ripple removed); returns the
+     * electrical angle the drive runs on this sample, cos and sin */
+    mc_rot_t (*update)(void *self, const estimator_in_t *in, mc_ab_t *i_ab_A, estimator_out_t *out);
     /* the weight of the model-based observer in the angle, 0 (injection) .. 1 (NULL: always 1) */
     mc_t (*model_weight)(const void *self);
     /* the speed reference corrected (an angle hold; NULL: none), theta_hat_rad the drive's angle */
     mc_t (*reference)(void *self, mc_t omega_ref_rad_s, mc_t theta_hat_rad);
     /* the voltage to add to the command this sample (NULL: none) */
     mc_ab_t (*injection)(const void *self);
-    /* the time update: u_mean_ab_V the voltage the motor sees over the coming sample (the
-     * computation delay's mean), u_cmd_ab_V this sample's command, both without any injection */
+    /* the time update (NULL: none): u_mean_ab_V the voltage the motor sees over the coming sample
+     * (the computation delay's mean), u_cmd_ab_V this sample's command, both without any injection */
     void (*hold)(void *self, mc_ab_t u_mean_ab_V, mc_ab_t u_cmd_ab_V);
 } estimator_ops_t;
 

@@ -54,18 +54,16 @@ static bool fa_init(void *self, const void *cfg)
 
 static void fa_seed(void *self, mc_t theta_e_rad) { flux_angle_seed((flux_angle_t *)self, theta_e_rad); }
 
-static void fa_update(void *self, const estimator_in_t *in, estimator_out_t *out)
+static mc_rot_t fa_update(void *self, const estimator_in_t *in, mc_ab_t *i_ab_A, estimator_out_t *out)
 {
     flux_angle_t *o = (flux_angle_t *)self;
     flux_angle_model(o, in);
-    flux_observer_step(&o->flux, in->i_ab_A);
-    out->rot_e = o->flux.unit;
+    flux_observer_step(&o->flux, *i_ab_A);
     out->theta_rad = flux_angle_mechanical(o, o->flux.unit);
-    out->i_ab_A = in->i_ab_A;
     out->lock_checkable = true;
     out->rho2 = o->flux.rho2;
     out->rho2_target = o->flux.rho2_target;
-    out->u_reserve_V = MC_ZERO;
+    return o->flux.unit;
 }
 
 static void fa_hold(void *self, mc_ab_t u_mean_ab_V, mc_ab_t u_cmd_ab_V)

@@ -113,7 +113,7 @@ static void hfi_seed(void *self, mc_t theta_e_rad)
     o->phase = HFI_ANGLE_RUN;
 }
 
-static void hfi_update(void *self, const estimator_in_t *in, estimator_out_t *out)
+static mc_rot_t hfi_update(void *self, const estimator_in_t *in, mc_ab_t *i_ab_A, estimator_out_t *out)
 {
     hfi_angle_t *o = (hfi_angle_t *)self;
     const rotor_angle_config_t *c = &o->cfg;
@@ -129,8 +129,9 @@ static void hfi_update(void *self, const estimator_in_t *in, estimator_out_t *ou
         /* off: the loop follows the observer, to start from it when on */
         hf_injection_track(&o->hfi, mc_atan2(flux->unit.s, flux->unit.c), mc_mul_i(in->omega_hint_rad_s, c->n_p));
     }
-    hf_injection_step(&o->hfi, in->i_ab_A);
+    hf_injection_step(&o->hfi, *i_ab_A);
     const mc_ab_t i_f = o->hfi.i_f_A; /* (H5): the fundamental from here on */
+    *i_ab_A = i_f;
     flux_observer_step(flux, i_f);
     /* the blend's weight, 0 below lo, 1 above hi */
     const mc_t w = mc_clamp(mc_div(mc_sub(w_abs, c->blend_lo_rad_s), mc_sub(c->blend_hi_rad_s, c->blend_lo_rad_s)),
@@ -147,13 +148,12 @@ static void hfi_update(void *self, const estimator_in_t *in, estimator_out_t *ou
         const mc_t th_f = mc_atan2(flux->unit.s, flux->unit.c);
         r = mc_rot_from_angle(mc_wrap_pi(mc_mac(th_h, w, mc_wrap_pi(mc_sub(th_f, th_h)))));
     }
-    out->rot_e = r;
     out->theta_rad = flux_angle_mechanical(&o->fa, r);
-    out->i_ab_A = i_f;
     out->lock_checkable = !o->hfi.on; /* the observer's check with the injection off only */
     out->rho2 = flux->rho2;
     out->rho2_target = flux->rho2_target;
     out->u_reserve_V = o->hfi.u_h_amp_V; /* 0 when off */
+    return r;
 }
 
 static mc_t hfi_weight(const void *self) { return ((const hfi_angle_t *)self)->weight; }

@@ -481,10 +481,9 @@ TEST(Paper002Drive, FaultsGoThroughTheGuard)
 // drive holds its estimator at (the drive runs any estimator of the
 // interface, estimators/estimator.h).
 static mc_ab_t g_held_mean;
-static void probe_hold(void* self, mc_ab_t u_mean_ab_V, mc_ab_t u_cmd_ab_V)
+static void probe_hold(void*, mc_ab_t u_mean_ab_V, mc_ab_t)
 {
     g_held_mean = u_mean_ab_V;
-    encoder_angle_ops.hold(self, u_mean_ab_V, u_cmd_ab_V);
 }
 static const estimator_ops_t kHoldProbe = [] {
     estimator_ops_t o = encoder_angle_ops;
@@ -826,8 +825,8 @@ TEST(Paper002Drive, FindAngleRefusesAnUnlockedStart)
 // p theta_meas wrapped, theta_offset being a multiple of 2 pi/p) lies on
 // the short arc between them, where its formula puts it; the long way
 // round is a jump of about pi in one sample. Through the drive: the blend
-// is static in paper002_drive.c; the two angles and w are read from its
-// state after the step (hfi.theta_e_rad, flux.unit, hfi_weight), which
+// runs in estimators/hfi_angle.c; the two angles and w are read from its
+// state after the step (the estimator's hfi.theta_e_rad, fa.flux.unit, weight), which
 // nothing changes after the blend within the step.
 // Broken once: the wrap of theta_flux - theta_hfi dropped (3.1 rad off).
 TEST(Paper002Drive, HfiBlendAcrossPlusMinusPiTakesTheShortArc)
@@ -854,13 +853,13 @@ TEST(Paper002Drive, HfiBlendAcrossPlusMinusPiTakesTheShortArc)
     int straddles = 0, blended = 0;
     for (int k = 0; k < 20000; ++k) {
         ASSERT_TRUE(loop_step(&d, &tr, &rng, 0.0, &e)) << k << " fault " << int(d.sup.fault);
-        const double w = mc_to_double(d.hfi_weight);
+        const double w = mc_to_double(d.est_state.hfi.weight);
         if (!(w > 0.0 && w < 1.0)) continue;
         blended += 1;
         w_min = std::min(w_min, w);
         w_max = std::max(w_max, w);
-        const double th_h = mc_to_double(d.hfi.theta_e_rad);
-        const double th_f = std::atan2(mc_to_double(d.flux.unit.s), mc_to_double(d.flux.unit.c));
+        const double th_h = mc_to_double(d.est_state.hfi.hfi.theta_e_rad);
+        const double th_f = std::atan2(mc_to_double(d.est_state.hfi.fa.flux.unit.s), mc_to_double(d.est_state.hfi.fa.flux.unit.c));
         const double th = std::remainder(kP * mc_to_double(d.last.theta_meas_rad), 2 * kPi);
         const double gap = std::remainder(th_f - th_h, 2 * kPi);  // the short arc from th_h to th_f
         worst_formula = std::max(worst_formula, std::fabs(std::remainder(th - (th_h + w * gap), 2 * kPi)));

@@ -45,20 +45,18 @@ static void p002_angle_config(const paper002_config_t *c, rotor_angle_config_t *
  * at speed (w = 1; an estimator without an injection always), where the
  * back-EMF terms w L i want the flux's; its psi to psi_s + (L_ds - L_d)
  * i_d, so that psi + L_d i_d is the secant flux psi_d; the flux observer's
- * L of (14) and the active flux's L_q the secant L_qs (*L_ratio = L_qs /
- * L_q0 for the estimator). A model whose L is above the iron's
+ * L of (14) and the active flux's L_q the secant L_qs. A model whose L is above the iron's
  * incremental one is unstable with the EKF at low speed: a current rising
  * faster than the model's reads as less back-EMF, a lower speed, more
  * torque demanded (a 200-250 Hz limit cycle on the magnet's biased iron,
  * and the incremental values at speed lost synchronism:
- * docs/hf_injection.md). Linear: the configured model, untouched, and
- * *L_ratio = 0. */
-static void p002_iron_step(paper002_drive_t *d, mc_t *L_ratio)
+ * docs/hf_injection.md). Returns L_qs / L_q0 for a model-based estimator;
+ * linear: the configured model, untouched, and 0. */
+static mc_t p002_iron_step(paper002_drive_t *d)
 {
     const paper002_config_t *c = &d->cfg;
-    *L_ratio = MC_ZERO;
     if (!iron_model_saturates(&c->iron)) {
-        return;
+        return MC_ZERO;
     }
     motor_model_t *m = &d->cfg.model;
     const mc_t i_d = d->ekf.x[EKF_ID];
@@ -70,9 +68,7 @@ static void p002_iron_step(paper002_drive_t *d, mc_t *L_ratio)
     m->Lq_H = mc_mac(pt.Lqi_H, w, mc_sub(pt.Lqs_H, pt.Lqi_H));
     m->psi_Wb = mc_mac(pt.psi_s_Wb, mc_sub(pt.Lds_H, m->Ld_H), i_d);
     d->iron_Lqs_H = pt.Lqs_H;
-    if (d->est->model_based) {
-        *L_ratio = mc_div(d->iron_Lqs_H, c->iron.Lq0_H);
-    }
+    return d->est->model_based ? mc_div(d->iron_Lqs_H, c->iron.Lq0_H) : MC_ZERO;
 }
 
 /* A model-based estimator's flux radius: the active flux's, psi + (L_d -
@@ -224,14 +220,15 @@ static bool p002_estimate_step(paper002_drive_t *d, const hal_sample_t *in, mc_a
                                mc_t *w_d, mc_t *dw_d, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
-    estimator_in_t ei = {i_ab, in, d->ekf.x[EKF_OMEGA], MC_ONE, MC_ZERO};
-    p002_iron_step(d, &ei.L_ratio);
-    if (d->est->model_based) {
-        ei.flux_ratio = p002_active_flux(d);
-    }
-    d->est->update(&d->est_state, &ei, eo);
+    const estimator_ops_t *e = d->est;
+    estimator_in_t ei;
+    ei.sample = in;
+    ei.omega_hint_rad_s = d->ekf.x[EKF_OMEGA];
+    ei.L_ratio = p002_iron_step(d);
+    ei.flux_ratio = e->model_based ? p002_active_flux(d) : MC_ONE;
+    const mc_rot_t rot_e = e->update(&d->est_state, &ei, &i_ab, eo);
     mc_t i_d, i_q;
-    mc_rot_fwd(eo->rot_e, eo->i_ab_A.alpha, eo->i_ab_A.beta, &i_d, &i_q);
+    mc_rot_fwd(rot_e, i_ab.alpha, i_ab.beta, &i_d, &i_q);
     const mc_t s_theta_rad2 = eo->lock_checkable ? mc_add(d->ekf.P[EKF_THETA][EKF_THETA], d->ekf.cfg.r[EKF_THETA]) : MC_ZERO;
     const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, eo->theta_rad);
     speed_poly_eval(&d->reference, d->tick, w_d, dw_d);
@@ -300,12 +297,17 @@ static void p002_output(paper002_drive_t *d, const hal_sample_t *in, mc_t u_d, m
         u_ab.beta = mc_add(u_ab.beta, clamped.beta);
         mc_rot_fwd(rot_out, u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
     }
+    const estimator_ops_t *e = d->est;
     if (mc_eq(c->compute_delay, MC_ZERO)) {
-        d->est->hold(&d->est_state, u_ab, u_ab);
+        if (e->hold) {
+            e->hold(&d->est_state, u_ab, u_ab);
+        }
         ekf_ipmsm_predict(&d->ekf, m, u_d_est, u_q_est);
     } else {
         const mc_ab_t u_mean = delay_applied_mean(c->compute_delay, u_ab, d->u_ab_prev_V);
-        d->est->hold(&d->est_state, u_mean, u_ab);
+        if (e->hold) {
+            e->hold(&d->est_state, u_mean, u_ab);
+        }
         const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), m->n_p);
         mc_t u_d_mean, u_q_mean;
         mc_rot_fwd(mc_rot_from_angle(th_mid), u_mean.alpha, u_mean.beta, &u_d_mean, &u_q_mean);
