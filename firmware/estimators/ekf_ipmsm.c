@@ -35,8 +35,14 @@ static inline mc_t ekf_dw(const motor_model_t *m, const mc_t *x)
     return mc_div(mc_sub(mc_sub(torque, mc_mul(m->fv_Nm_s, x[EKF_OMEGA])), x[EKF_M0]), m->J_kgm2);
 }
 
+#if defined(__GNUC__)
+#define EKF_IN_LINE inline __attribute__((always_inline))
+#else
+#define EKF_IN_LINE inline
+#endif
+
 /* f(x) + B u of (37) */
-static void ekf_f(const motor_model_t *m, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
+static EKF_IN_LINE void ekf_f(const motor_model_t *m, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
 {
     const mc_t w_el = mc_mul_i(x[EKF_OMEGA], m->n_p);
     /* L_d di_d/dt = u_d - R i_d + L_q p w i_q ; L_q di_q/dt = u_q - R i_q - L_d p w i_d - psi p w  (2) */
