@@ -56,7 +56,7 @@
  * the interval's: second order) and the observed back-EMF e = L d-hat
  * (28a)-(28b); the frame's own turn over d Ts, the A_fg term of (23), as a
  * rotation by 2d half samples of the reference's rotation. */
-static P000_OUT_OF_LINE void drive_delay_currents(paper000_drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
+static P000_OUT_OF_LINE void p000_delay_currents(paper000_drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
 {
     const paper000_delay_config_t *c = &d->cfg.delay;
     const mc_rot_t turn_x = delay_rot_fraction(rot_half, c->x, c->x2);
@@ -76,7 +76,7 @@ static P000_OUT_OF_LINE void drive_delay_currents(paper000_drive_t *d, mc_rot_t 
  * the caller gave it, the voltage really applied over this sample for the
  * observer (25), v[k-1] for d Ts then v[k], as paper000_drive_set_applied_voltage()
  * would. Returns the phase (alpha-beta) command. */
-static P000_OUT_OF_LINE mc_ab_t drive_delay_output(paper000_drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
+static P000_OUT_OF_LINE mc_ab_t p000_delay_output(paper000_drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
 {
     const paper000_delay_config_t *c = &d->cfg.delay;
     const mc_rot_t out = mc_rot_compose(c->from_next ? d->rot_next : rot_mid, delay_rot_fraction(rot_half, c->x, c->x2));
@@ -91,7 +91,7 @@ static P000_OUT_OF_LINE mc_ab_t drive_delay_output(paper000_drive_t *d, mc_rot_t
     return v_ab;
 }
 
-static void drive_zero_output(paper000_drive_t *d, hal_command_t *out)
+static void p000_zero_output(paper000_drive_t *d, hal_command_t *out)
 {
     guard_zero(out, (uint8_t)P000_N_PHASES);
     d->last.v_a_V = MC_ZERO;
@@ -103,7 +103,7 @@ static void drive_zero_output(paper000_drive_t *d, hal_command_t *out)
  * is this drive's re-lock while its budget lasts and not in the
  * alignment. Returns true when the drive is now in FAULT (the caller
  * outputs 0 V), false when it goes on (RELOCK, REPORT). */
-static bool drive_react(paper000_drive_t *d, drive_fault_t f)
+static bool p000_react(paper000_drive_t *d, drive_fault_t f)
 {
     const paper000_protection_config_t *p = &d->cfg.prot;
     const bool can_relock = d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN;
@@ -121,7 +121,7 @@ static bool drive_react(paper000_drive_t *d, drive_fault_t f)
 }
 
 /* A fault that no reaction but the safe state can answer. */
-static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
+static bool p000_react_final(paper000_drive_t *d, drive_fault_t f)
 {
     guard_latch(&d->sup, &d->rec, f, d->tick);
     return true;
@@ -130,7 +130,7 @@ static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
 /* The end of every sample that outputs a voltage: to the phases, the
  * command's checks, the flight recorder. Returns false if the command's
  * checks put the drive in FAULT (out is then 0 V). */
-static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
+static bool p000_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
 {
     phase_adapter_voltages((uint8_t)P000_N_PHASES, v_ab, out);
     if (d->dtc.cfg.enabled) {
@@ -153,15 +153,15 @@ static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_
         f = DRIVE_FAULT_NON_FINITE;
     }
     d->tick += 1;
-    if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
-        drive_zero_output(d, out);
+    if (f != DRIVE_FAULT_NONE && p000_react(d, f)) {
+        p000_zero_output(d, out);
         return false;
     }
     return true;
 }
 
 /* Loss of synchronism (paper000_protection_config_t), in closed loop. */
-static bool drive_lost_sync(paper000_drive_t *d, bool observable)
+static bool p000_lost_sync(paper000_drive_t *d, bool observable)
 {
     const paper000_protection_config_t *p = &d->cfg.prot;
     if (!observable) {
@@ -203,7 +203,7 @@ static bool drive_lost_sync(paper000_drive_t *d, bool observable)
  * their configuration, so those are what change. */
 _Static_assert(K_ID_DECIMATION == P000_LOS_DECIMATION, "the K measurement runs on the loss-of-sync checks' samples");
 
-static void drive_apply_K(paper000_drive_t *d, mc_t K_V_s)
+static void p000_apply_K(paper000_drive_t *d, mc_t K_V_s)
 {
     const mc_t r = mc_div(d->model.K_V_s, K_V_s);
     const mc_t inv_r = mc_div(K_V_s, d->model.K_V_s);
@@ -223,7 +223,7 @@ static void drive_apply_K(paper000_drive_t *d, mc_t K_V_s)
 
 /* The trajectory's sample for drive sample n: the alignment's samples all
  * map to 0 (the reference holds at its start). */
-static uint32_t drive_traj_tick(const paper000_drive_t *d, uint32_t n)
+static uint32_t p000_traj_tick(const paper000_drive_t *d, uint32_t n)
 {
     return n > d->align_ticks ? n - d->align_ticks : 0u;
 }
@@ -301,13 +301,13 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     d->last.i_f_A = MC_ZERO;
     d->last.i_g_A = MC_ZERO;
     hal_command_t unused;
-    drive_zero_output(d, &unused);
+    p000_zero_output(d, &unused);
     if (paper000_config_problem(cfg) != NULL || !traj_ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
     trajectory_eval(&d->traj, 0, &d->ref);
-    trajectory_eval(&d->traj, drive_traj_tick(d, 1), &d->ref_next);
+    trajectory_eval(&d->traj, p000_traj_tick(d, 1), &d->ref_next);
     d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, cfg->model.n_p));
     d->rot_next = d->rot_k;
     d->rot_resync = d->rot_k; /* formed at sample P000_FRAME_RESYNC - 1 before its use */
@@ -320,22 +320,22 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.tick = d->tick;
     /* 0. supervisor */
     if (d->sup.state == SUP_STATE_FAULT) {
-        drive_zero_output(d, out);
+        p000_zero_output(d, out);
         return false;
     }
     if (d->disabled) {
-        drive_zero_output(d, out);
+        p000_zero_output(d, out);
         return true;
     }
     if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
-        drive_zero_output(d, out);
+        p000_zero_output(d, out);
         return false;
     }
     {
         const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)P000_N_PHASES);
-        if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
-            drive_zero_output(d, out);
+        if (f != DRIVE_FAULT_NONE && p000_react(d, f)) {
+            p000_zero_output(d, out);
             return false;
         }
     }
@@ -347,7 +347,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
     if (d->tick > 0) {
         /* advance the reference: this sample's is the one computed last time */
         d->ref = d->ref_next;
-        trajectory_eval(&d->traj, drive_traj_tick(d, d->tick + 1), &d->ref_next);
+        trajectory_eval(&d->traj, p000_traj_tick(d, d->tick + 1), &d->ref_next);
         /* the frame turns by the rotation applied last sample; every
          * P000_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
@@ -386,7 +386,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
             mc_ab_t v_ab;
             mc_rot_inv(rot_k, v_f, v_g, &v_ab.alpha, &v_ab.beta);
             (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
-            return drive_output(d, in, v_ab, i_f, i_g, out);
+            return p000_output(d, in, v_ab, i_f, i_g, out);
         }
         /* aligned, current decayed: the start begins from rest as without
          * an alignment, with the estimator in its initial state */
@@ -399,7 +399,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
 
     /* 3. supervisor event: closed loop when the reference is fast, the
      * back-EMF observable and no loss of synchronism is being recovered
-     * from (a loss detected in closed loop is a fault: drive_lost_sync).
+     * from (a loss detected in closed loop is a fault: p000_lost_sync).
      * The loop closes only on an estimate that has been observable for
      * close_dwell_ticks samples in a row, so that a back-EMF hovering at
      * the threshold cannot toggle the mode (and pile up the switch
@@ -425,9 +425,9 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
                                         mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)),
                                               p->los_obs_err_A),
                                         p->los_ticks);
-        const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast && drive_lost_sync(d, observable);
-        if ((lost || obs_bad) && drive_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
-            drive_zero_output(d, out);
+        const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast && p000_lost_sync(d, observable);
+        if ((lost || obs_bad) && p000_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
+            p000_zero_output(d, out);
             return false;
         }
         if (lost || obs_bad) {
@@ -442,7 +442,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
              * is recovered from */
             if (d->sup.state == SUP_STATE_CLOSED_LOOP && d->recovering == 0 &&
                 k_id_step(&d->k_id, d->est.pos.e2_V2, d->ref.omega_rad_s) && d->k_id.state == K_ID_DONE) {
-                drive_apply_K(d, d->k_id.K_V_s);
+                p000_apply_K(d, d->k_id.K_V_s);
             }
         }
     }
@@ -462,8 +462,8 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
      * would be pulled onto another tooth, silently: a loss of synchronism */
     if (!fast && d->sup.state == SUP_STATE_CLOSED_LOOP &&
         mc_gt(mc_abs(mc_sub(d->est.pos.theta_est_rad, d->ref.theta_rad)), c->prot.los_track_rad)) {
-        (void)drive_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
-        drive_zero_output(d, out);
+        (void)p000_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
+        p000_zero_output(d, out);
         return false;
     }
     /* a recovery ends when the loop has stayed closed for
@@ -472,8 +472,8 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
      * loss stands, and the drive goes to the safe state */
     if (d->recovering > 0) {
         if (!fast) {
-            (void)drive_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
-            drive_zero_output(d, out);
+            (void)p000_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
+            p000_zero_output(d, out);
             return false;
         }
         d->recovering -= (d->relock_hold == 0 && d->sup.state == SUP_STATE_CLOSED_LOOP) ? 1 : 0;
@@ -499,7 +499,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
         if (mc_ne(c->delay.d, MC_ZERO)) {
             /* the law acts on the currents predicted to where its command
              * starts to act (they replace the measured ones of (44)) */
-            drive_delay_currents(d, rot_half, i_f, i_g);
+            p000_delay_currents(d, rot_half, i_f, i_g);
         }
         if (c->law == P000_LAW_LOAD_ANGLE) {
             /* the law's currents in the reference's frame: the measured
@@ -546,7 +546,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
          * anti-windup and for the telemetry */
         (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
     } else {
-        v_ab = drive_delay_output(d, rot_mid, rot_half, v_f, v_g);
+        v_ab = p000_delay_output(d, rot_mid, rot_half, v_f, v_g);
         v_f = d->sup.v_prev_V[0]; /* the command as limited */
         v_g = d->sup.v_prev_V[1];
     }
@@ -570,7 +570,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
         (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
     }
 
-    return drive_output(d, in, v_ab, i_f, i_g, out);
+    return p000_output(d, in, v_ab, i_f, i_g, out);
 }
 
 bool paper000_drive_clear_fault(paper000_drive_t *d)
@@ -596,7 +596,7 @@ bool paper000_drive_set_enabled(paper000_drive_t *d, bool on)
 
 /* Samples of a duration of s seconds at fs_hz, rounded, in integer
  * arithmetic on the whole and fractional seconds (s fs overflows Q14.17). */
-static uint32_t drive_ticks_of(mc_t s, int32_t fs_hz)
+static uint32_t p000_ticks_of(mc_t s, int32_t fs_hz)
 {
     const int32_t whole = mc_round_i(s);
     const int32_t frac = mc_round_i(mc_mul_i(mc_sub(s, mc_from_i(whole)), fs_hz));
@@ -605,7 +605,7 @@ static uint32_t drive_ticks_of(mc_t s, int32_t fs_hz)
 }
 
 /* The end of the last configured move, in trajectory samples. */
-static uint32_t drive_traj_end(const paper000_drive_t *d)
+static uint32_t p000_traj_end(const paper000_drive_t *d)
 {
     const trajectory_config_t *tc = &d->traj.cfg;
     if (tc->n_segments <= 0) {
@@ -621,8 +621,8 @@ bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s
     const bool running = d->sup.state == SUP_STATE_OPEN_LOOP || d->sup.state == SUP_STATE_CLOSED_LOOP;
     /* the reference of the next step was evaluated at traj(tick + 1) by the
      * last step (ref_next): the move starts after it, from the rest value */
-    const uint32_t now = drive_traj_tick(d, d->tick + 1u);
-    if (d->disabled || !running || now < drive_traj_end(d) || !mc_gt(duration_s, MC_ZERO) ||
+    const uint32_t now = p000_traj_tick(d, d->tick + 1u);
+    if (d->disabled || !running || now < p000_traj_end(d) || !mc_gt(duration_s, MC_ZERO) ||
         !mc_gt(c->move_speed_max_rad_s, MC_ZERO)) {
         return false;
     }
@@ -650,7 +650,7 @@ bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s
     trajectory_segment_t *s = &tc.seg[0];
     *s = (trajectory_segment_t){0};
     s->start_tick = now + 1u;
-    s->duration_ticks = drive_ticks_of(duration_s, tc.fs_hz);
+    s->duration_ticks = p000_ticks_of(duration_s, tc.fs_hz);
     s->theta_to_rad = theta_to_rad;
     trajectory_t t;
     if (!trajectory_init(&t, &tc)) {
@@ -666,7 +666,7 @@ bool paper000_drive_stop(paper000_drive_t *d)
         return false;
     }
     /* keep the moves that have started by the next step's reference */
-    const uint32_t now = drive_traj_tick(d, d->tick + 1u);
+    const uint32_t now = p000_traj_tick(d, d->tick + 1u);
     trajectory_config_t tc = d->traj.cfg;
     int32_t n = 0;
     while (n < tc.n_segments && tc.seg[n].start_tick <= now) {
