@@ -192,8 +192,8 @@ MUTANTS = [
     m("drive_phase_count_unchecked", "drives/paper000/paper000_drive.c", "a sample of any phase count is accepted",
       ("if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {", "if (!phase_adapter_accepts(in, in->n_phases)) {")),
     m("drive_fault_not_latched", "drives/paper000/paper000_drive.c", "the fault state is left after one sample",
-      ("if (d->sup.state == SUP_STATE_FAULT) {\n        drive_zero_output(d, out);",
-       "if (d->sup.state == SUP_STATE_FAULT && d->last.tick == 0u) {\n        drive_zero_output(d, out);")),
+      ("if (d->sup.state == SUP_STATE_FAULT) {\n        p000_zero_output(d, out);",
+       "if (d->sup.state == SUP_STATE_FAULT && d->last.tick == 0u) {\n        p000_zero_output(d, out);")),
     # ---- gain design
     m("design_discrete_constant_alpha", "design/paper000_design.c",
       "discrete design: the back-EMF observer's alpha does not follow the reference speed",

@@ -2,19 +2,29 @@
  * paper000_drive.c - the paper-000 drive as a recipe (see paper000_drive.h).
  *
  * Order inside one sample k (currents sampled at t_k, voltages held over
- * [t_k, t_k + Ts)):
- *   0. supervisor: latched fault, phase count, over-current trip; while
- *      aligning (startup/align.h) the alignment's voltage and nothing else;
- *   1. reference theta_r[k], theta_r[k+1] (eq. 70) and the (f-g) frame (6)-(8);
- *      the adapter's alpha-beta currents turned into it;
+ * [t_k, t_k + Ts)), paper000_drive_step top to bottom, a function per
+ * stage and per state:
+ *   0. prologue (p000_prologue): latched fault, disabled, phase count,
+ *      the fault monitor's criteria (over-current trip, ...);
+ *   1. measurement: reference theta_r[k], theta_r[k+1] (eq. 70) and the
+ *      (f-g) frame (6)-(8) (p000_advance_reference); the adapter's
+ *      alpha-beta currents turned into it; while aligning (ALIGN,
+ *      p000_align, startup/align.h) the alignment's voltage and nothing else;
  *   2. estimator correction (25) and observability;
- *   3. supervisor event: closed loop when |omega_r| >= omega_lim and the
- *      back-EMF is observable (paper 000 section 4.2), open loop otherwise;
- *   4. estimates (29)-(32), (71), (33)-(37) and the law: open loop (68) or
- *      fg_tracking (46)-(54); bumpless transfer at a switch;
+ *   3. supervisor event (p000_supervise): the watch over synchronism and,
+ *      in CLOSED_LOOP, K's measurement (p000_check_sync, p000_identify_K);
+ *      the re-lock's hold and confirmation (p000_relock); closed loop when
+ *      |omega_r| >= omega_lim and the back-EMF is observable (paper 000
+ *      section 4.2), open loop otherwise (p000_switch);
+ *   4. estimates (29)-(32), (71), (33)-(37) and the state's law:
+ *      CLOSED_LOOP fg_tracking (46)-(54) or the load-angle law
+ *      (p000_closed_loop), OPEN_LOOP and IDENTIFY open loop (68)
+ *      (p000_open_loop); bumpless transfer at a switch;
  *   5. voltage back to the phases at the mid-sample angle, limited;
- *   6. estimator prediction to k+1 with the voltage actually applied, and
- *      the standstill R/L measurement while identifying.
+ *   6. epilogue: estimator prediction to k+1 with the voltage actually
+ *      applied (p000_predict), the standstill R/L measurement while
+ *      identifying (IDENTIFY, p000_identify_rl); the output, its checks
+ *      and the flight recorder (p000_output).
  * With a computation delay d (paper000_delay_config_t) the voltage acts over
  * [t_k + d Ts, t_k+1 + d Ts): the law of 4 acts on the currents predicted to
  * t_k + d Ts, 5 turns the output at the middle of that interval, 6 uses the
@@ -37,14 +47,24 @@
 #define P000_FRAME_RESYNC 32u
 
 /* Computation delay (paper000_delay_config_t): functions called only for
- * d != 0, and kept out of line, so that the step without a delay stays as
- * it was (its instruction budget on a Cortex-M3 is nearly spent, and
- * inlined they cost it 17 instructions a sample in registers, measured
- * with tools/bench/pil.py). */
+ * d != 0, and kept out of line (P000_OUT_OF_LINE), so that the step
+ * without a delay stays as it was (its instruction budget on a Cortex-M3
+ * is nearly spent, and inlined they cost it 17 instructions a sample in
+ * registers, measured with tools/bench/pil.py).
+ * The step's stages and states (p000_prologue to p000_identify_rl) and
+ * its output (p000_output) are functions for the reader and one function
+ * for the compiler (P000_IN_LINE). Left to itself, GCC 12 kept the
+ * supervisor's decision and the alignment out of line and split the step
+ * across its operation: 64 instructions a sample more on the Cortex-M3
+ * (1,570.6 instead of 1,506.3 on average); inlined, p000_output in each of
+ * its two places (no call at the end of the sample), 1,498.4 (M4F float
+ * 800.5 instead of 819.5). */
 #if defined(__GNUC__)
 #define P000_OUT_OF_LINE __attribute__((noinline))
+#define P000_IN_LINE inline __attribute__((always_inline))
 #else
 #define P000_OUT_OF_LINE
+#define P000_IN_LINE inline
 #endif
 
 /* The measured (f-g) currents i_f, i_g of this sample predicted to
@@ -56,7 +76,7 @@
  * the interval's: second order) and the observed back-EMF e = L d-hat
  * (28a)-(28b); the frame's own turn over d Ts, the A_fg term of (23), as a
  * rotation by 2d half samples of the reference's rotation. */
-static P000_OUT_OF_LINE void drive_delay_currents(paper000_drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
+static P000_OUT_OF_LINE void p000_delay_currents(paper000_drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g)
 {
     const paper000_delay_config_t *c = &d->cfg.delay;
     const mc_rot_t turn_x = delay_rot_fraction(rot_half, c->x, c->x2);
@@ -76,7 +96,7 @@ static P000_OUT_OF_LINE void drive_delay_currents(paper000_drive_t *d, mc_rot_t 
  * the caller gave it, the voltage really applied over this sample for the
  * observer (25), v[k-1] for d Ts then v[k], as paper000_drive_set_applied_voltage()
  * would. Returns the phase (alpha-beta) command. */
-static P000_OUT_OF_LINE mc_ab_t drive_delay_output(paper000_drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
+static P000_OUT_OF_LINE mc_ab_t p000_delay_output(paper000_drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g)
 {
     const paper000_delay_config_t *c = &d->cfg.delay;
     const mc_rot_t out = mc_rot_compose(c->from_next ? d->rot_next : rot_mid, delay_rot_fraction(rot_half, c->x, c->x2));
@@ -91,7 +111,7 @@ static P000_OUT_OF_LINE mc_ab_t drive_delay_output(paper000_drive_t *d, mc_rot_t
     return v_ab;
 }
 
-static void drive_zero_output(paper000_drive_t *d, hal_command_t *out)
+static void p000_zero_output(paper000_drive_t *d, hal_command_t *out)
 {
     guard_zero(out, (uint8_t)P000_N_PHASES);
     d->last.v_a_V = MC_ZERO;
@@ -103,13 +123,13 @@ static void drive_zero_output(paper000_drive_t *d, hal_command_t *out)
  * is this drive's re-lock while its budget lasts and not in the
  * alignment. Returns true when the drive is now in FAULT (the caller
  * outputs 0 V), false when it goes on (RELOCK, REPORT). */
-static bool drive_react(paper000_drive_t *d, drive_fault_t f)
+static bool p000_react(paper000_drive_t *d, drive_fault_t f)
 {
     const paper000_protection_config_t *p = &d->cfg.prot;
     const bool can_relock = d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN;
     const guard_action_t a = guard_react(&d->sup, &d->rec, p->reaction, f, d->tick, can_relock);
     if (a == GUARD_RELOCK) {
-        /* open loop from this sample on (the switch below is bumpless),
+        /* open loop from this sample on (p000_switch, bumpless),
          * closed again after the hold if the estimate is trusted then */
         d->relocks += 1;
         d->relock_hold = p->relock_hold_ticks;
@@ -121,7 +141,7 @@ static bool drive_react(paper000_drive_t *d, drive_fault_t f)
 }
 
 /* A fault that no reaction but the safe state can answer. */
-static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
+static bool p000_react_final(paper000_drive_t *d, drive_fault_t f)
 {
     guard_latch(&d->sup, &d->rec, f, d->tick);
     return true;
@@ -130,7 +150,8 @@ static bool drive_react_final(paper000_drive_t *d, drive_fault_t f)
 /* The end of every sample that outputs a voltage: to the phases, the
  * command's checks, the flight recorder. Returns false if the command's
  * checks put the drive in FAULT (out is then 0 V). */
-static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g, hal_command_t *out)
+static P000_IN_LINE bool p000_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g,
+                                     hal_command_t *out)
 {
     phase_adapter_voltages((uint8_t)P000_N_PHASES, v_ab, out);
     if (d->dtc.cfg.enabled) {
@@ -153,22 +174,22 @@ static bool drive_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_
         f = DRIVE_FAULT_NON_FINITE;
     }
     d->tick += 1;
-    if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
-        drive_zero_output(d, out);
+    if (f != DRIVE_FAULT_NONE && p000_react(d, f)) {
+        p000_zero_output(d, out);
         return false;
     }
     return true;
 }
 
 /* Loss of synchronism (paper000_protection_config_t), in closed loop. */
-static bool drive_lost_sync(paper000_drive_t *d, bool observable)
+static bool p000_lost_sync(paper000_drive_t *d, bool observable)
 {
     const paper000_protection_config_t *p = &d->cfg.prot;
     if (!observable) {
         /* the back-EMF vanished while the reference is fast: the twisting
          * law has lost its estimate. The load-angle law holds the rotor
          * without one: it goes on in its open-loop form (the loop opens,
-         * want_closed in paper000_drive_step) and closes again once observable */
+         * want_closed in p000_supervise) and closes again once observable */
         return d->cfg.law != P000_LAW_LOAD_ANGLE;
     }
     if ((d->tick & (P000_LOS_DECIMATION - 1u)) != 0u) {
@@ -203,7 +224,7 @@ static bool drive_lost_sync(paper000_drive_t *d, bool observable)
  * their configuration, so those are what change. */
 _Static_assert(K_ID_DECIMATION == P000_LOS_DECIMATION, "the K measurement runs on the loss-of-sync checks' samples");
 
-static void drive_apply_K(paper000_drive_t *d, mc_t K_V_s)
+static void p000_apply_K(paper000_drive_t *d, mc_t K_V_s)
 {
     const mc_t r = mc_div(d->model.K_V_s, K_V_s);
     const mc_t inv_r = mc_div(K_V_s, d->model.K_V_s);
@@ -223,7 +244,7 @@ static void drive_apply_K(paper000_drive_t *d, mc_t K_V_s)
 
 /* The trajectory's sample for drive sample n: the alignment's samples all
  * map to 0 (the reference holds at its start). */
-static uint32_t drive_traj_tick(const paper000_drive_t *d, uint32_t n)
+static uint32_t p000_traj_tick(const paper000_drive_t *d, uint32_t n)
 {
     return n > d->align_ticks ? n - d->align_ticks : 0u;
 }
@@ -301,53 +322,59 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     d->last.i_f_A = MC_ZERO;
     d->last.i_g_A = MC_ZERO;
     hal_command_t unused;
-    drive_zero_output(d, &unused);
+    p000_zero_output(d, &unused);
     if (paper000_config_problem(cfg) != NULL || !traj_ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }
     trajectory_eval(&d->traj, 0, &d->ref);
-    trajectory_eval(&d->traj, drive_traj_tick(d, 1), &d->ref_next);
+    trajectory_eval(&d->traj, p000_traj_tick(d, 1), &d->ref_next);
     d->rot_k = mc_rot_from_angle(mc_elec_angle(d->ref.theta_rad, cfg->model.n_p));
     d->rot_next = d->rot_k;
     d->rot_resync = d->rot_k; /* formed at sample P000_FRAME_RESYNC - 1 before its use */
     return true;
 }
 
-bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_command_t *out)
+/* What the prologue lets through: the sample (GO_ON), or 0 V and the
+ * step's return, true while disabled (IDLE), false in FAULT (HALT). */
+typedef enum { P000_GO_ON = 0, P000_IDLE = 1, P000_HALT = 2 } p000_verdict_t;
+
+/* 0. The prologue, before anything is computed: a latched fault, a
+ * disabled drive, a sample of another phase count, the fault monitor's
+ * criteria on the sample (over-current, ...). Fills *out with 0 V unless
+ * the sample goes on. */
+static P000_IN_LINE p000_verdict_t p000_prologue(paper000_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
-    const paper000_config_t *c = &d->cfg;
-    d->last.tick = d->tick;
-    /* 0. supervisor */
     if (d->sup.state == SUP_STATE_FAULT) {
-        drive_zero_output(d, out);
-        return false;
+        p000_zero_output(d, out);
+        return P000_HALT;
     }
     if (d->disabled) {
-        drive_zero_output(d, out);
-        return true;
+        p000_zero_output(d, out);
+        return P000_IDLE;
     }
     if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
-        drive_zero_output(d, out);
-        return false;
+        p000_zero_output(d, out);
+        return P000_HALT;
     }
-    {
-        const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)P000_N_PHASES);
-        if (f != DRIVE_FAULT_NONE && drive_react(d, f)) {
-            drive_zero_output(d, out);
-            return false;
-        }
+    const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)P000_N_PHASES);
+    if (f != DRIVE_FAULT_NONE && p000_react(d, f)) {
+        p000_zero_output(d, out);
+        return P000_HALT;
     }
-    mc_t i_zero_A;
-    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
-    (void)i_zero_A; /* two separate windings: no zero sequence */
+    return P000_GO_ON;
+}
 
-    /* 1. frame of this sample and its rotation over the sample */
+/* 1. The reference of this sample, eq. (70), and the frame's rotation
+ * U(n_p theta_r[k]), eq. (8), that fg_estimator_front turns the currents
+ * with; sample 0 keeps what paper000_drive_init formed. */
+static P000_IN_LINE void p000_advance_reference(paper000_drive_t *d)
+{
     if (d->tick > 0) {
         /* advance the reference: this sample's is the one computed last time */
         d->ref = d->ref_next;
-        trajectory_eval(&d->traj, drive_traj_tick(d, d->tick + 1), &d->ref_next);
+        trajectory_eval(&d->traj, p000_traj_tick(d, d->tick + 1), &d->ref_next);
         /* the frame turns by the rotation applied last sample; every
          * P000_FRAME_RESYNC samples it is recomputed from theta_r, so the
          * rounding of the products cannot accumulate */
@@ -370,40 +397,140 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
             }
         }
     }
-    /* the estimator's front (estimators/fg_estimator.h): the frame (6)-(8)
-     * and the currents in it */
-    fg_frame_t fr;
-    mc_t i_f, i_g;
-    fg_estimator_front(&fr, d->rot_k, d->ref.theta_rad, d->ref_next.theta_rad, d->model.n_p, i_ab, &i_f, &i_g);
-    const mc_rot_t rot_k = fr.k, rot_half = fr.half, rot_mid = fr.mid;
-    d->rot_next = mc_rot_compose(rot_mid, rot_half);
+}
 
-    if (d->sup.state == SUP_STATE_ALIGN) {
-        mc_t v_f, v_g;
-        const mc_t v_hold = open_loop_voltage(&c->open_loop, &d->model, MC_ZERO); /* (68) at rest */
-        if (!align_step(&d->align, v_hold, &v_f, &v_g)) {
-            /* the reference holds, so the frame does not turn: rot_mid = rot_k */
-            mc_ab_t v_ab;
-            mc_rot_inv(rot_k, v_f, v_g, &v_ab.alpha, &v_ab.beta);
-            (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
-            return drive_output(d, in, v_ab, i_f, i_g, out);
-        }
-        /* aligned, current decayed: the start begins from rest as without
-         * an alignment, with the estimator in its initial state */
-        (void)supervisor_dispatch(&d->sup, SUP_EV_ALIGNED);
-        fg_estimator_init(&d->est, &c->est);
+/* ALIGN (startup/align.h): the alignment's voltage and nothing else.
+ * Returns true while it aligns, *v_ab then the sample's phase voltage,
+ * limited; at its end, false: the estimator starts again from its initial
+ * state and the sample goes on in the start state (IDENTIFY or
+ * OPEN_LOOP). */
+static P000_IN_LINE bool p000_align(paper000_drive_t *d, mc_rot_t rot_k, mc_ab_t *v_ab)
+{
+    const paper000_config_t *c = &d->cfg;
+    mc_t v_f, v_g;
+    const mc_t v_hold = open_loop_voltage(&c->open_loop, &d->model, MC_ZERO); /* (68) at rest */
+    if (!align_step(&d->align, v_hold, &v_f, &v_g)) {
+        /* the reference holds, so the frame does not turn: rot_mid = rot_k */
+        mc_rot_inv(rot_k, v_f, v_g, &v_ab->alpha, &v_ab->beta);
+        (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, v_ab, &v_f, &v_g);
+        return true;
     }
+    /* aligned, current decayed: the start begins from rest as without
+     * an alignment, with the estimator in its initial state */
+    (void)supervisor_dispatch(&d->sup, SUP_EV_ALIGNED);
+    fg_estimator_init(&d->est, &c->est);
+    return false;
+}
 
-    /* 2. estimator correction */
-    fg_estimator_correct(&d->est, i_f, i_g);
+/* K identification (startup/k_identification.h), in CLOSED_LOOP on the
+ * loss-of-sync checks' samples (its K_ID_DECIMATION is
+ * P000_LOS_DECIMATION), not while a loss is recovered from: from the
+ * back-EMF's magnitude (28) at the reference speed; once measured, K
+ * replaces the model's everywhere (p000_apply_K). Its state is looked at
+ * first: once K is measured, rejected or kept, k_id_step does nothing, and
+ * the checks' samples no longer call it. */
+static P000_IN_LINE void p000_identify_K(paper000_drive_t *d)
+{
+    if (d->k_id.state == K_ID_RUNNING && k_id_step(&d->k_id, d->est.pos.e2_V2, d->ref.omega_rad_s) &&
+        d->k_id.state == K_ID_DONE) {
+        p000_apply_K(d, d->k_id.K_V_s);
+    }
+}
 
-    /* 3. supervisor event: closed loop when the reference is fast, the
-     * back-EMF observable and no loss of synchronism is being recovered
-     * from (a loss detected in closed loop is a fault: drive_lost_sync).
-     * The loop closes only on an estimate that has been observable for
-     * close_dwell_ticks samples in a row, so that a back-EMF hovering at
-     * the threshold cannot toggle the mode (and pile up the switch
-     * offsets) sample after sample; it opens at once */
+/* The watch over synchronism: the current observer's error (every state
+ * but the alignment) and, in closed loop while the reference is fast, the
+ * loss-of-synchronism criteria (p000_lost_sync); a loss is a
+ * LOSS_OF_SYNC fault, reacted to as configured (p000_react: RELOCK starts
+ * a re-lock). On the checks' samples, the estimate and reference kept for
+ * the jump criterion, and K's measurement in closed loop. Returns false
+ * when the drive is now in FAULT. */
+static P000_IN_LINE bool p000_check_sync(paper000_drive_t *d, bool fast, bool observable)
+{
+    const paper000_protection_config_t *p = &d->cfg.prot;
+    const bool check = (d->tick & (P000_LOS_DECIMATION - 1u)) == 0u;
+    const bool obs_bad =
+        check && fault_persist_step(&d->obs_persist,
+                                    mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)),
+                                          p->los_obs_err_A),
+                                    p->los_ticks);
+    const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast && p000_lost_sync(d, observable);
+    if ((lost || obs_bad) && p000_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
+        return false;
+    }
+    if (lost || obs_bad) {
+        d->los_persist.run = 0;
+        d->obs_persist.run = 0;
+    }
+    if (check) {
+        d->theta_est_prev_rad = d->est.pos.theta_est_rad;
+        d->theta_ref_prev_rad = d->ref.theta_rad;
+        if (d->sup.state == SUP_STATE_CLOSED_LOOP && d->recovering == 0) {
+            p000_identify_K(d);
+        }
+    }
+    return true;
+}
+
+/* The re-lock (p000_react's RELOCK after a loss of synchronism): open
+ * loop for relock_hold_ticks, then closed again if the estimate is
+ * trusted; confirmed by relock_confirm_ticks of closed loop. Returns false
+ * when the loss stands (the drive is now in FAULT). */
+static P000_IN_LINE bool p000_relock(paper000_drive_t *d, bool fast, bool observable)
+{
+    if (d->relock_hold > 0) {
+        /* while recovering, (29) and (71) went on counting the rotor's
+         * turns as long as the back-EMF stayed observable: the branch is
+         * then kept at the re-lock (the rotor need not be on the
+         * reference, and slipped pitches are made good), else it is
+         * chosen again next to the reference */
+        d->relock_hold -= 1;
+        d->branch_kept = d->branch_kept && fast && observable;
+    }
+    /* a recovery ends when the loop has stayed closed for
+     * relock_confirm_ticks after the hold; if the reference slows below
+     * omega_lim first, the rotor's position can no longer be checked: the
+     * loss stands, and the drive goes to the safe state */
+    if (d->recovering > 0) {
+        if (!fast) {
+            (void)p000_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
+            return false;
+        }
+        d->recovering -= (d->relock_hold == 0 && d->sup.state == SUP_STATE_CLOSED_LOOP) ? 1 : 0;
+    }
+    return true;
+}
+
+/* The switch between OPEN_LOOP (or IDENTIFY) and CLOSED_LOOP that the
+ * decision asks for; at a close, the branch of the jump count (71) is
+ * chosen next to the reference unless a re-lock kept it. Returns true when
+ * the state changed (the law's bumpless transfer then starts). */
+static P000_IN_LINE bool p000_switch(paper000_drive_t *d, bool want_closed)
+{
+    bool switched = false;
+    if (want_closed != (d->sup.state == SUP_STATE_CLOSED_LOOP)) {
+        switched = supervisor_dispatch(&d->sup, want_closed ? SUP_EV_ESTIMATE_TRUSTED : SUP_EV_ESTIMATE_LOST);
+        if (switched && want_closed) {
+            if (!d->branch_kept) {
+                fg_estimator_lock_branch(&d->est, d->ref.theta_rad);
+            }
+            d->branch_kept = false;
+        }
+    }
+    return switched;
+}
+
+/* 3. The supervisor's event: closed loop when the reference is fast, the
+ * back-EMF observable and no loss of synchronism is being recovered
+ * from (a loss detected in closed loop is a fault: p000_lost_sync).
+ * The loop closes only on an estimate that has been observable for
+ * close_dwell_ticks samples in a row, so that a back-EMF hovering at
+ * the threshold cannot toggle the mode (and pile up the switch
+ * offsets) sample after sample; it opens at once. Returns false when a
+ * fault put the drive in FAULT (the step outputs 0 V); else *switched
+ * says whether the state changed between open and closed loop. */
+static P000_IN_LINE bool p000_supervise(paper000_drive_t *d, bool *switched)
+{
+    const paper000_config_t *c = &d->cfg;
     const bool fast = !mc_lt(mc_abs(d->ref.omega_rad_s), d->omega_lim_rad_s);
     const bool observable = fg_estimator_observable(&d->est);
     if (!observable) {
@@ -417,43 +544,8 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
     if (fast && observable && (dwell_ok || d->relock_hold > 0)) {
         fg_estimator_track(&d->est, d->ref.theta_rad, d->ref.omega_rad_s);
     }
-    {
-        const paper000_protection_config_t *p = &c->prot;
-        const bool check = (d->tick & (P000_LOS_DECIMATION - 1u)) == 0u;
-        const bool obs_bad =
-            check && fault_persist_step(&d->obs_persist,
-                                        mc_gt(mc_max(mc_abs(d->est.emf.err_f_A), mc_abs(d->est.emf.err_g_A)),
-                                              p->los_obs_err_A),
-                                        p->los_ticks);
-        const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast && drive_lost_sync(d, observable);
-        if ((lost || obs_bad) && drive_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
-            drive_zero_output(d, out);
-            return false;
-        }
-        if (lost || obs_bad) {
-            d->los_persist.run = 0;
-            d->obs_persist.run = 0;
-        }
-        if (check) {
-            d->theta_est_prev_rad = d->est.pos.theta_est_rad;
-            d->theta_ref_prev_rad = d->ref.theta_rad;
-            /* K in closed loop, on the same decimated samples (its
-             * K_ID_DECIMATION is P000_LOS_DECIMATION), not while a loss
-             * is recovered from */
-            if (d->sup.state == SUP_STATE_CLOSED_LOOP && d->recovering == 0 &&
-                k_id_step(&d->k_id, d->est.pos.e2_V2, d->ref.omega_rad_s) && d->k_id.state == K_ID_DONE) {
-                drive_apply_K(d, d->k_id.K_V_s);
-            }
-        }
-    }
-    if (d->relock_hold > 0) {
-        /* while recovering, (29) and (71) went on counting the rotor's
-         * turns as long as the back-EMF stayed observable: the branch is
-         * then kept at the re-lock (the rotor need not be on the
-         * reference, and slipped pitches are made good), else it is
-         * chosen again next to the reference */
-        d->relock_hold -= 1;
-        d->branch_kept = d->branch_kept && fast && observable;
+    if (!p000_check_sync(d, fast, observable) || !p000_relock(d, fast, observable)) {
+        return false;
     }
     const bool want_closed = fast && observable && d->relock_hold == 0 && dwell_ok;
     /* the hand-over to open loop as the reference slows: the open loop
@@ -462,72 +554,143 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
      * would be pulled onto another tooth, silently: a loss of synchronism */
     if (!fast && d->sup.state == SUP_STATE_CLOSED_LOOP &&
         mc_gt(mc_abs(mc_sub(d->est.pos.theta_est_rad, d->ref.theta_rad)), c->prot.los_track_rad)) {
-        (void)drive_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
-        drive_zero_output(d, out);
+        (void)p000_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
         return false;
     }
-    /* a recovery ends when the loop has stayed closed for
-     * relock_confirm_ticks after the hold; if the reference slows below
-     * omega_lim first, the rotor's position can no longer be checked: the
-     * loss stands, and the drive goes to the safe state */
-    if (d->recovering > 0) {
-        if (!fast) {
-            (void)drive_react_final(d, DRIVE_FAULT_LOSS_OF_SYNC);
-            drive_zero_output(d, out);
-            return false;
-        }
-        d->recovering -= (d->relock_hold == 0 && d->sup.state == SUP_STATE_CLOSED_LOOP) ? 1 : 0;
-    }
-    bool switched = false;
-    if (want_closed != (d->sup.state == SUP_STATE_CLOSED_LOOP)) {
-        switched = supervisor_dispatch(&d->sup, want_closed ? SUP_EV_ESTIMATE_TRUSTED : SUP_EV_ESTIMATE_LOST);
-        if (switched && want_closed) {
-            if (!d->branch_kept) {
-                fg_estimator_lock_branch(&d->est, d->ref.theta_rad);
-            }
-            d->branch_kept = false;
-        }
-    }
-    const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    *switched = p000_switch(d, want_closed);
+    return true;
+}
 
-    /* 4. estimates and the law */
-    fg_estimator_mechanics(&d->est, &d->model, closed, d->ref.omega_rad_s, i_f, i_g);
-    mc_t v_f, v_g;
-    if (closed) {
-        mc_estimate_t est;
-        fg_estimator_get(&d->est, true, d->ref.theta_rad, d->ref.omega_rad_s, d->ref.accel_rad_s2, &est);
+/* CLOSED_LOOP: the estimates (29)-(32), (71), (33)-(37) and the law on
+ * them, fg_tracking (46)-(54) (started at the switch, bumpless) or the
+ * load-angle law. */
+static P000_IN_LINE void p000_closed_loop(paper000_drive_t *d, mc_rot_t rot_half, mc_t i_f, mc_t i_g, bool switched,
+                                          mc_t *v_f, mc_t *v_g)
+{
+    const paper000_config_t *c = &d->cfg;
+    mc_estimate_t est;
+    fg_estimator_get(&d->est, true, d->ref.theta_rad, d->ref.omega_rad_s, d->ref.accel_rad_s2, &est);
+    if (mc_ne(c->delay.d, MC_ZERO)) {
+        /* the law acts on the currents predicted to where its command
+         * starts to act (they replace the measured ones of (44)) */
+        p000_delay_currents(d, rot_half, i_f, i_g);
+    }
+    if (c->law == P000_LAW_LOAD_ANGLE) {
+        /* the law's currents in the reference's frame: the measured
+         * ones, or their prediction turned back from the estimated frame */
+        mc_t i_f_law = i_f, i_g_law = i_g;
         if (mc_ne(c->delay.d, MC_ZERO)) {
-            /* the law acts on the currents predicted to where its command
-             * starts to act (they replace the measured ones of (44)) */
-            drive_delay_currents(d, rot_half, i_f, i_g);
+            mc_rot_inv(d->est.u_est, d->est.i_d_A, d->est.i_q_A, &i_f_law, &i_g_law);
         }
-        if (c->law == P000_LAW_LOAD_ANGLE) {
-            /* the law's currents in the reference's frame: the measured
-             * ones, or their prediction turned back from the estimated frame */
-            mc_t i_f_law = i_f, i_g_law = i_g;
-            if (mc_ne(c->delay.d, MC_ZERO)) {
-                mc_rot_inv(d->est.u_est, d->est.i_d_A, d->est.i_q_A, &i_f_law, &i_g_law);
-            }
-            load_angle_step(&d->la, &d->model, &d->ref, i_f_law, i_g_law, true, est.omega_rad_s, est.load_Nm,
-                            d->sup.sat_prev, &v_f, &v_g);
-        } else {
-            if (switched) {
-                fg_tracking_start(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, est.load_Nm,
-                                  d->est.i_d_A, d->est.i_q_A);
-            }
-            fg_tracking_step(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, &est, d->est.u_est,
-                             d->est.i_d_A, d->est.i_q_A, d->sup.sat_prev, &v_f, &v_g);
+        load_angle_step(&d->la, &d->model, &d->ref, i_f_law, i_g_law, true, est.omega_rad_s, est.load_Nm,
+                        d->sup.sat_prev, v_f, v_g);
+    } else {
+        if (switched) {
+            fg_tracking_start(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, est.load_Nm,
+                              d->est.i_d_A, d->est.i_q_A);
         }
-    } else if (c->law == P000_LAW_LOAD_ANGLE && d->sup.state == SUP_STATE_OPEN_LOOP) {
+        fg_tracking_step(&d->ctrl, &d->model, c->limits.i_max_A, &d->ref, &d->ref_next, &est, d->est.u_est,
+                         d->est.i_d_A, d->est.i_q_A, d->sup.sat_prev, v_f, v_g);
+    }
+}
+
+/* OPEN_LOOP and IDENTIFY (the reference below omega_lim, or the estimate
+ * not trusted): the open-loop drive (68); with the load-angle law, its
+ * form without an estimate in OPEN_LOOP (after the R, L measurement). */
+static P000_IN_LINE void p000_open_loop(paper000_drive_t *d, mc_t i_f, mc_t i_g, mc_t *v_f, mc_t *v_g)
+{
+    const paper000_config_t *c = &d->cfg;
+    if (c->law == P000_LAW_LOAD_ANGLE && d->sup.state == SUP_STATE_OPEN_LOOP) {
         if (d->la_from_other) {
             /* from (68): the amplitude starts at the current's */
             load_angle_start(&d->la, mc_hypot(i_f, i_g));
         }
         /* no estimate: the last observed load held, no damping */
-        load_angle_step(&d->la, &d->model, &d->ref, i_f, i_g, false, MC_ZERO, MC_ZERO, d->sup.sat_prev, &v_f, &v_g);
+        load_angle_step(&d->la, &d->model, &d->ref, i_f, i_g, false, MC_ZERO, MC_ZERO, d->sup.sat_prev, v_f, v_g);
     } else {
-        v_f = open_loop_voltage(&c->open_loop, &d->model, d->ref.omega_rad_s); /* eq. (68) */
-        v_g = MC_ZERO;
+        *v_f = open_loop_voltage(&c->open_loop, &d->model, d->ref.omega_rad_s); /* eq. (68) */
+        *v_g = MC_ZERO;
+    }
+}
+
+/* 6. The observer's prediction (25) to k+1 with the voltage applied over
+ * the sample, in the mid-sample frame: the command, or what
+ * paper000_drive_set_applied_voltage() or the delay's mean gave. Returns
+ * that voltage's f component. */
+static P000_IN_LINE mc_t p000_predict(paper000_drive_t *d, mc_rot_t rot_mid, mc_rot_t rot_half, mc_t v_f, mc_t v_g,
+                                      mc_t i_f, mc_t i_g)
+{
+    mc_t v_f_obs = v_f, v_g_obs = v_g;
+    if (d->v_ext_set) {
+        mc_rot_fwd(rot_mid, d->v_ext_V.alpha, d->v_ext_V.beta, &v_f_obs, &v_g_obs);
+        d->v_ext_set = false;
+    }
+    fg_estimator_predict(&d->est, &d->model, v_f_obs, v_g_obs, i_f, i_g, rot_half);
+    return v_f_obs;
+}
+
+/* IDENTIFY: the standstill R, L measurement (startup/rl_identification.h)
+ * on the open-loop start's current (68) and the voltage applied (at rest
+ * the frames coincide); at its end the drive goes to OPEN_LOOP. */
+static P000_IN_LINE void p000_identify_rl(paper000_drive_t *d, mc_t i_f, mc_t v_f)
+{
+    if (rl_id_step(&d->rl_id, i_f, v_f, d->ref.omega_rad_s)) {
+        if (d->rl_id.state == RL_ID_DONE) {
+            /* the measured R and L replace the model's everywhere at once:
+             * observer (23), references (39), decoupling (48), (54), (68) */
+            motor_model_set_rl(&d->model, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);
+        }
+        (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
+    }
+}
+
+/* One sample, top to bottom (the file's head gives the order and the
+ * delay's paths). */
+bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_command_t *out)
+{
+    const paper000_config_t *c = &d->cfg;
+    d->last.tick = d->tick;
+    /* 0. prologue: the supervisor's checks of the drive and the sample */
+    const p000_verdict_t verdict = p000_prologue(d, in, out);
+    if (verdict != P000_GO_ON) {
+        return verdict == P000_IDLE;
+    }
+
+    /* 1. measurement: the currents, the reference and the frame (6)-(8)
+     * of this sample, its rotation over the sample, the currents in it
+     * (the estimator's front, estimators/fg_estimator.h) */
+    mc_t i_zero_A;
+    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
+    (void)i_zero_A; /* two separate windings: no zero sequence */
+    p000_advance_reference(d);
+    fg_frame_t fr;
+    mc_t i_f, i_g;
+    fg_estimator_front(&fr, d->rot_k, d->ref.theta_rad, d->ref_next.theta_rad, d->model.n_p, i_ab, &i_f, &i_g);
+    const mc_rot_t rot_k = fr.k, rot_half = fr.half, rot_mid = fr.mid;
+    d->rot_next = mc_rot_compose(rot_mid, rot_half);
+    mc_ab_t v_ab;
+    if (d->sup.state == SUP_STATE_ALIGN && p000_align(d, rot_k, &v_ab)) {
+        return p000_output(d, in, v_ab, i_f, i_g, out);
+    }
+
+    /* 2. estimator correction (25) */
+    fg_estimator_correct(&d->est, i_f, i_g);
+
+    /* 3. supervisor: faults, the re-lock, open or closed loop */
+    bool switched = false;
+    if (!p000_supervise(d, &switched)) {
+        p000_zero_output(d, out);
+        return false;
+    }
+
+    /* 4. the state's estimates and law; bumpless transfer at a switch */
+    const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    fg_estimator_mechanics(&d->est, &d->model, closed, d->ref.omega_rad_s, i_f, i_g);
+    mc_t v_f, v_g;
+    if (closed) {
+        p000_closed_loop(d, rot_half, i_f, i_g, switched, &v_f, &v_g);
+    } else {
+        p000_open_loop(d, i_f, i_g, &v_f, &v_g);
     }
     /* the load-angle law runs in OPEN_LOOP and CLOSED_LOOP; any other state
      * (the R, L measurement, the alignment) drives another law */
@@ -539,38 +702,24 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
      * the hold is then the commanded one; with a delay, the middle of the
      * interval where it acts), limited per phase to +-V_max with the
      * direction kept */
-    mc_ab_t v_ab;
     if (mc_eq(c->delay.d, MC_ZERO)) {
         mc_rot_inv(rot_mid, v_f, v_g, &v_ab.alpha, &v_ab.beta);
         /* the supervisor keeps the saturation (sat_prev) for the next step's
          * anti-windup and for the telemetry */
         (void)supervisor_limit(&d->sup, (uint8_t)P000_N_PHASES, c->limits.v_max_V, &v_ab, &v_f, &v_g);
     } else {
-        v_ab = drive_delay_output(d, rot_mid, rot_half, v_f, v_g);
+        v_ab = p000_delay_output(d, rot_mid, rot_half, v_f, v_g);
         v_f = d->sup.v_prev_V[0]; /* the command as limited */
         v_g = d->sup.v_prev_V[1];
     }
 
-    /* 6. observer prediction with the applied voltage (mid-sample frame) */
-    mc_t v_f_obs = v_f, v_g_obs = v_g;
-    if (d->v_ext_set) {
-        mc_rot_fwd(rot_mid, d->v_ext_V.alpha, d->v_ext_V.beta, &v_f_obs, &v_g_obs);
-        d->v_ext_set = false;
+    /* 6. epilogue: the observer's prediction with the applied voltage; in
+     * IDENTIFY, the R, L measurement integrates it too */
+    const mc_t v_f_obs = p000_predict(d, rot_mid, rot_half, v_f, v_g, i_f, i_g);
+    if (d->sup.state == SUP_STATE_IDENTIFY) {
+        p000_identify_rl(d, i_f, mc_ne(c->delay.d, MC_ZERO) ? v_f_obs : v_f);
     }
-    fg_estimator_predict(&d->est, &d->model, v_f_obs, v_g_obs, i_f, i_g, rot_half);
-    /* the R, L measurement integrates the applied voltage too (at rest the
-     * frames coincide) */
-    if (d->sup.state == SUP_STATE_IDENTIFY &&
-        rl_id_step(&d->rl_id, i_f, mc_ne(c->delay.d, MC_ZERO) ? v_f_obs : v_f, d->ref.omega_rad_s)) {
-        if (d->rl_id.state == RL_ID_DONE) {
-            /* the measured R and L replace the model's everywhere at once:
-             * observer (23), references (39), decoupling (48), (54), (68) */
-            motor_model_set_rl(&d->model, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);
-        }
-        (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
-    }
-
-    return drive_output(d, in, v_ab, i_f, i_g, out);
+    return p000_output(d, in, v_ab, i_f, i_g, out);
 }
 
 bool paper000_drive_clear_fault(paper000_drive_t *d)
@@ -596,7 +745,7 @@ bool paper000_drive_set_enabled(paper000_drive_t *d, bool on)
 
 /* Samples of a duration of s seconds at fs_hz, rounded, in integer
  * arithmetic on the whole and fractional seconds (s fs overflows Q14.17). */
-static uint32_t drive_ticks_of(mc_t s, int32_t fs_hz)
+static uint32_t p000_ticks_of(mc_t s, int32_t fs_hz)
 {
     const int32_t whole = mc_round_i(s);
     const int32_t frac = mc_round_i(mc_mul_i(mc_sub(s, mc_from_i(whole)), fs_hz));
@@ -605,7 +754,7 @@ static uint32_t drive_ticks_of(mc_t s, int32_t fs_hz)
 }
 
 /* The end of the last configured move, in trajectory samples. */
-static uint32_t drive_traj_end(const paper000_drive_t *d)
+static uint32_t p000_traj_end(const paper000_drive_t *d)
 {
     const trajectory_config_t *tc = &d->traj.cfg;
     if (tc->n_segments <= 0) {
@@ -621,8 +770,8 @@ bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s
     const bool running = d->sup.state == SUP_STATE_OPEN_LOOP || d->sup.state == SUP_STATE_CLOSED_LOOP;
     /* the reference of the next step was evaluated at traj(tick + 1) by the
      * last step (ref_next): the move starts after it, from the rest value */
-    const uint32_t now = drive_traj_tick(d, d->tick + 1u);
-    if (d->disabled || !running || now < drive_traj_end(d) || !mc_gt(duration_s, MC_ZERO) ||
+    const uint32_t now = p000_traj_tick(d, d->tick + 1u);
+    if (d->disabled || !running || now < p000_traj_end(d) || !mc_gt(duration_s, MC_ZERO) ||
         !mc_gt(c->move_speed_max_rad_s, MC_ZERO)) {
         return false;
     }
@@ -650,7 +799,7 @@ bool paper000_drive_move(paper000_drive_t *d, mc_t theta_to_rad, mc_t duration_s
     trajectory_segment_t *s = &tc.seg[0];
     *s = (trajectory_segment_t){0};
     s->start_tick = now + 1u;
-    s->duration_ticks = drive_ticks_of(duration_s, tc.fs_hz);
+    s->duration_ticks = p000_ticks_of(duration_s, tc.fs_hz);
     s->theta_to_rad = theta_to_rad;
     trajectory_t t;
     if (!trajectory_init(&t, &tc)) {
@@ -666,7 +815,7 @@ bool paper000_drive_stop(paper000_drive_t *d)
         return false;
     }
     /* keep the moves that have started by the next step's reference */
-    const uint32_t now = drive_traj_tick(d, d->tick + 1u);
+    const uint32_t now = p000_traj_tick(d, d->tick + 1u);
     trajectory_config_t tc = d->traj.cfg;
     int32_t n = 0;
     while (n < tc.n_segments && tc.seg[n].start_tick <= now) {
