@@ -27,8 +27,22 @@ bool ekf_ipmsm_init(ekf_ipmsm_t *e, const ekf_ipmsm_config_t *cfg, const motor_m
     return ok;
 }
 
+/* dw/dt of (37): J dw/dt = 3/2 p ((Ld - Lq) i_d i_q + psi i_q) - d w - M_0   (6), (7) */
+static inline mc_t ekf_dw(const motor_model_t *m, const mc_t *x)
+{
+    const mc_t torque = mc_mul(mc_mul_i(mc_mac(m->psi_Wb, mc_sub(m->Ld_H, m->Lq_H), x[EKF_ID]), m->n_p),
+                               mc_mul(MC_C(1.5), x[EKF_IQ]));
+    return mc_div(mc_sub(mc_sub(torque, mc_mul(m->fv_Nm_s, x[EKF_OMEGA])), x[EKF_M0]), m->J_kgm2);
+}
+
+#if defined(__GNUC__)
+#define EKF_IN_LINE inline __attribute__((always_inline))
+#else
+#define EKF_IN_LINE inline
+#endif
+
 /* f(x) + B u of (37) */
-static void ekf_f(const motor_model_t *m, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
+static EKF_IN_LINE void ekf_f(const motor_model_t *m, const mc_t *x, mc_t u_d, mc_t u_q, mc_t *f)
 {
     const mc_t w_el = mc_mul_i(x[EKF_OMEGA], m->n_p);
     /* L_d di_d/dt = u_d - R i_d + L_q p w i_q ; L_q di_q/dt = u_q - R i_q - L_d p w i_d - psi p w  (2) */
@@ -37,19 +51,12 @@ static void ekf_f(const motor_model_t *m, const mc_t *x, mc_t u_d, mc_t u_q, mc_
                               mc_mul(m->psi_Wb, w_el)),
                        m->Lq_H);
     f[EKF_THETA] = x[EKF_OMEGA];
-    /* J dw/dt = 3/2 p ((Ld - Lq) i_d i_q + psi i_q) - d w - M_0   (6), (7) */
-    const mc_t torque = mc_mul(mc_mul_i(mc_mac(m->psi_Wb, mc_sub(m->Ld_H, m->Lq_H), x[EKF_ID]), m->n_p),
-                               mc_mul(MC_C(1.5), x[EKF_IQ]));
-    f[EKF_OMEGA] = mc_div(mc_sub(mc_sub(torque, mc_mul(m->fv_Nm_s, x[EKF_OMEGA])), x[EKF_M0]), m->J_kgm2);
+    f[EKF_OMEGA] = ekf_dw(m, x);
     f[EKF_M0] = MC_ZERO;
 }
 
-mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e, const motor_model_t *m)
-{
-    mc_t f[EKF_N];
-    ekf_f(m, e->x, MC_ZERO, MC_ZERO, f);
-    return f[EKF_OMEGA];
-}
+/* dw/dt alone: the inputs u do not enter it */
+mc_t ekf_ipmsm_accel(const ekf_ipmsm_t *e, const motor_model_t *m) { return ekf_dw(m, e->x); }
 
 void ekf_ipmsm_predict(ekf_ipmsm_t *e, const motor_model_t *m, mc_t u_d_V, mc_t u_q_V)
 {

@@ -476,11 +476,26 @@ TEST(Paper002Drive, FaultsGoThroughTheGuard)
     }
 }
 
+// An estimator for the test below: the encoder's
+// (estimators/encoder_angle.h), which also records the applied mean the
+// drive holds its estimator at (the drive runs any estimator of the
+// interface, estimators/estimator.h).
+static mc_ab_t g_held_mean;
+static void probe_hold(void*, mc_ab_t u_mean_ab_V, mc_ab_t)
+{
+    g_held_mean = u_mean_ab_V;
+}
+static const estimator_ops_t kHoldProbe = [] {
+    estimator_ops_t o = encoder_angle_ops;
+    o.hold = probe_hold;
+    return o;
+}();
+
 // With a computation delay of d = 1 sample (an MCU's PWM): the output's
 // angle is the estimate advanced by (1/2 + d) Ts w_hat (step 6, checked
 // in double by loop_step), and the voltage the observers integrate over
 // the coming sample is the mean (1 - d) u + d u_prev of this command and
-// the last (step 7; the flux observer holds it, in alpha-beta), on the
+// the last (step 7; the estimator is held at it, in alpha-beta), on the
 // loop at -50 rad/s.
 TEST(Paper002Drive, ComputationDelayLeadAndAppliedMean)
 {
@@ -495,6 +510,7 @@ TEST(Paper002Drive, ComputationDelayLeadAndAppliedMean)
     ASSERT_TRUE(p002_design(&in, &cfg, err, sizeof err)) << err;
     static paper002_drive_t d;
     ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+    d.est = &kHoldProbe; /* the encoder, with the voltage it is held at recorded */
     Truth tr;
     std::mt19937_64 rng(3);
     double err_w = 0.0, v_err = 0.0, mean_err = 0.0;
@@ -505,8 +521,8 @@ TEST(Paper002Drive, ComputationDelayLeadAndAppliedMean)
         ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &err_w, k > 2000 ? &v_err : nullptr)) << k;
         // step 7: held = (1 - d) u + d u_prev with d = 1: the previous command
         const mc_ab_t u = d.u_ab_prev_V;
-        mean_err = std::max(mean_err, std::hypot(mc_to_double(d.flux.v_prev_V.alpha) - mc_to_double(prev.alpha),
-                                                 mc_to_double(d.flux.v_prev_V.beta) - mc_to_double(prev.beta)));
+        mean_err = std::max(mean_err, std::hypot(mc_to_double(g_held_mean.alpha) - mc_to_double(prev.alpha),
+                                                 mc_to_double(g_held_mean.beta) - mc_to_double(prev.beta)));
         prev = u;
     }
     std::printf("delay 1: output angle error %.3g V, applied mean error %.3g V, final |w_d - w| %.3g rad/s\n", v_err,
@@ -726,8 +742,9 @@ TEST(Paper002Drive, FindAngleStartIsDesignedAndBadConfigurationRefused)
     EXPECT_EQ(mc_to_double(c.flux_theta0_rad), 0.0) << "the start angle is not told";
     static paper002_drive_t d;
     ASSERT_TRUE(paper002_drive_init(&d, &c));
-    EXPECT_EQ(d.start_phase, P002_START_LOCK);
-    EXPECT_TRUE(d.hfi.on);
+    EXPECT_TRUE(d.starting);
+    EXPECT_EQ(d.est_state.hfi.phase, HFI_ANGLE_LOCK);
+    EXPECT_TRUE(d.est_state.hfi.hfi.on);
     paper002_config_t bad = c;
     bad.hfi_lock_ticks = 0;
     EXPECT_FALSE(paper002_drive_init(&d, &bad));
@@ -741,7 +758,7 @@ TEST(Paper002Drive, FindAngleStartIsDesignedAndBadConfigurationRefused)
     ASSERT_TRUE(p002_design(&in, &c, err, sizeof err)) << err;
     EXPECT_FALSE(c.hfi_find_angle);
     ASSERT_TRUE(paper002_drive_init(&d, &c));
-    EXPECT_EQ(d.start_phase, P002_START_RUN);
+    EXPECT_FALSE(d.starting);
 }
 
 // The lock's check before the polarity test (paper002_drive.h, LOCK): on
@@ -778,19 +795,19 @@ TEST(Paper002Drive, FindAngleRefusesAnUnlockedStart)
         for (int k = 0; k < ticks + 5 && trip < 0; ++k) {
             if (!loop_step(&d, &tr, &rng, 0.0, &e)) trip = k;
         }
-        const double amp = mc_to_double(d.hfi_lock_amp);
+        const double amp = mc_to_double(d.est_state.hfi.lock_amp);
         std::printf("lock of %d samples: mean (H1) amplitude %.3f, %s\n", ticks, amp,
                     trip >= 0 ? "refused" : "on to the test");
         if (ticks == 1000) {
             EXPECT_EQ(trip, -1);
             EXPECT_GT(amp, 0.9);
-            EXPECT_EQ(d.start_phase, P002_START_LOCK) << "in the rest before the test";
+            EXPECT_EQ(d.est_state.hfi.phase, HFI_ANGLE_LOCK) << "in the rest before the test";
             EXPECT_EQ(d.sup.state, SUP_STATE_CLOSED_LOOP);
         } else {
             EXPECT_EQ(trip, ticks - 1);
             EXPECT_LT(amp, mc_to_double(cc.hfi_lock_amp_min));
             EXPECT_EQ(d.sup.fault, DRIVE_FAULT_LOSS_OF_LOCK);
-            EXPECT_EQ(d.magpol.state, MAGPOL_IDLE) << "no test run";
+            EXPECT_EQ(d.est_state.hfi.magpol.state, MAGPOL_IDLE) << "no test run";
         }
     }
 }
@@ -808,8 +825,8 @@ TEST(Paper002Drive, FindAngleRefusesAnUnlockedStart)
 // p theta_meas wrapped, theta_offset being a multiple of 2 pi/p) lies on
 // the short arc between them, where its formula puts it; the long way
 // round is a jump of about pi in one sample. Through the drive: the blend
-// is static in paper002_drive.c; the two angles and w are read from its
-// state after the step (hfi.theta_e_rad, flux.unit, hfi_weight), which
+// runs in estimators/hfi_angle.c; the two angles and w are read from its
+// state after the step (the estimator's hfi.theta_e_rad, fa.flux.unit, weight), which
 // nothing changes after the blend within the step.
 // Broken once: the wrap of theta_flux - theta_hfi dropped (3.1 rad off).
 TEST(Paper002Drive, HfiBlendAcrossPlusMinusPiTakesTheShortArc)
@@ -836,13 +853,13 @@ TEST(Paper002Drive, HfiBlendAcrossPlusMinusPiTakesTheShortArc)
     int straddles = 0, blended = 0;
     for (int k = 0; k < 20000; ++k) {
         ASSERT_TRUE(loop_step(&d, &tr, &rng, 0.0, &e)) << k << " fault " << int(d.sup.fault);
-        const double w = mc_to_double(d.hfi_weight);
+        const double w = mc_to_double(d.est_state.hfi.weight);
         if (!(w > 0.0 && w < 1.0)) continue;
         blended += 1;
         w_min = std::min(w_min, w);
         w_max = std::max(w_max, w);
-        const double th_h = mc_to_double(d.hfi.theta_e_rad);
-        const double th_f = std::atan2(mc_to_double(d.flux.unit.s), mc_to_double(d.flux.unit.c));
+        const double th_h = mc_to_double(d.est_state.hfi.hfi.theta_e_rad);
+        const double th_f = std::atan2(mc_to_double(d.est_state.hfi.fa.flux.unit.s), mc_to_double(d.est_state.hfi.fa.flux.unit.c));
         const double th = std::remainder(kP * mc_to_double(d.last.theta_meas_rad), 2 * kPi);
         const double gap = std::remainder(th_f - th_h, 2 * kPi);  // the short arc from th_h to th_f
         worst_formula = std::max(worst_formula, std::fabs(std::remainder(th - (th_h + w * gap), 2 * kPi)));

@@ -1,3 +1,9 @@
+/*
+ * paper002_drive.c - paper 002's drive as a recipe (see paper002_drive.h):
+ * the angle from the estimator cfg.angle_source names
+ * (estimators/estimator.h: an encoder, the flux observer, the HF
+ * injection), the EKF, the speed law, MTPA, the current control.
+ */
 #include "drives/paper002/paper002_drive.h"
 
 #include "control/delay_comp.h"
@@ -10,123 +16,74 @@
  * sequence is v_bus/sqrt(3) */
 #define P002_INV_SQRT3 MC_C(0.57735026918962576)
 
-/* The injection's speeds (paper002_drive.h): 0 <= lo < hi <= on < off. */
-static bool p002_hfi_speeds_ok(const paper002_config_t *c)
+/* The angle estimators' configuration from the drive's (one type for all
+ * of them: estimators/rotor_angle.h). */
+static void p002_angle_config(const paper002_config_t *c, rotor_angle_config_t *a)
 {
-    return mc_ge(c->hfi_blend_lo_rad_s, MC_ZERO) && mc_lt(c->hfi_blend_lo_rad_s, c->hfi_blend_hi_rad_s) &&
-           mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) && mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s) &&
-           mc_ge(c->hfi_hold_gain_per_s, MC_ZERO);
+    a->n_p = c->model.n_p;
+    a->ts_s = c->model.ts_s;
+    a->theta0_rad = c->flux_theta0_rad;
+    a->flux = c->flux;
+    a->hfi = c->hfi;
+    a->blend_lo_rad_s = c->hfi_blend_lo_rad_s;
+    a->blend_hi_rad_s = c->hfi_blend_hi_rad_s;
+    a->off_rad_s = c->hfi_off_rad_s;
+    a->on_rad_s = c->hfi_on_rad_s;
+    a->hold_gain_per_s = c->hfi_hold_gain_per_s;
+    a->find_angle = c->hfi_find_angle;
+    a->lock_ticks = c->hfi_lock_ticks;
+    a->lock_window = c->hfi_lock_window;
+    a->lock_amp_min = c->hfi_lock_amp_min;
+    a->magpol = c->magpol;
 }
 
 /* Step 0 with cfg.iron saturating (model/iron_model.h), at the EKF's (a
  * priori) currents: the motor model's L_d, L_q, which the EKF, MTPA and
  * the current control read, set to L_i + w (L_s - L_i): the inductances
- * the currents' rates see, (I1), on the injection (w = 0, the handover's
- * last weight), the secant ones (S2) at speed (w = 1; the encoder and
- * flux variants always), where the back-EMF terms w L i want the flux's;
- * its psi to psi_s + (L_ds - L_d) i_d, so that psi + L_d i_d is the
- * secant flux psi_d; the flux observer's L of (14) and the active flux's
- * L_q the secant L_qs. A model whose L is above the iron's incremental
- * one is unstable with the EKF at low speed: a current rising faster
- * than the model's reads as less back-EMF, a lower speed, more torque
- * demanded (a 200-250 Hz limit cycle on the magnet's biased iron, and
- * the incremental values at speed lost synchronism:
- * docs/hf_injection.md). Linear: the configured model, untouched. */
-static void p002_iron_step(paper002_drive_t *d)
+ * the currents' rates see, (I1), on the injection (w = 0, the estimator's
+ * model weight of the last sample: the handover's), the secant ones (S2)
+ * at speed (w = 1; an estimator without an injection always), where the
+ * back-EMF terms w L i want the flux's; its psi to psi_s + (L_ds - L_d)
+ * i_d, so that psi + L_d i_d is the secant flux psi_d; the flux observer's
+ * L of (14) and the active flux's L_q the secant L_qs. A model whose L is above the iron's
+ * incremental one is unstable with the EKF at low speed: a current rising
+ * faster than the model's reads as less back-EMF, a lower speed, more
+ * torque demanded (a 200-250 Hz limit cycle on the magnet's biased iron,
+ * and the incremental values at speed lost synchronism:
+ * docs/hf_injection.md). Returns L_qs / L_q0 for a model-based estimator;
+ * linear: the configured model, untouched, and 0. */
+static mc_t p002_iron_step(paper002_drive_t *d)
 {
     const paper002_config_t *c = &d->cfg;
     if (!iron_model_saturates(&c->iron)) {
-        return;
+        return MC_ZERO;
     }
     motor_model_t *m = &d->cfg.model;
     const mc_t i_d = d->ekf.x[EKF_ID];
     const mc_t i_q = d->ekf.x[EKF_IQ];
     iron_model_point_t pt;
     iron_model_at(&c->iron, i_d, i_q, &pt);
-    const mc_t w = (c->angle_source == P002_ANGLE_HFI) ? d->hfi_weight : MC_ONE;
+    const mc_t w = d->est->model_weight ? d->est->model_weight(&d->est_state) : MC_ONE;
     m->Ld_H = mc_mac(pt.Ldi_H, w, mc_sub(pt.Lds_H, pt.Ldi_H));
     m->Lq_H = mc_mac(pt.Lqi_H, w, mc_sub(pt.Lqs_H, pt.Lqi_H));
     m->psi_Wb = mc_mac(pt.psi_s_Wb, mc_sub(pt.Lds_H, m->Ld_H), i_d);
     d->iron_Lqs_H = pt.Lqs_H;
-    flux_observer_set_L(&d->flux, mc_mul(c->flux.L_fs_ohm, mc_div(d->iron_Lqs_H, c->iron.Lq0_H)));
+    return d->est->model_based ? mc_div(d->iron_Lqs_H, c->iron.Lq0_H) : MC_ZERO;
 }
 
-/* angle_source = FLUX, HFI: the gradient term's target, the active flux's
- * radius psi + (L_d - L_q) i_d at the EKF's i_d (with the iron's secant
- * values of step 0, model/iron_model.h (A1)) relative to the observer's
- * psi, squared; the ratio is returned (the seed's radius). */
-static mc_t p002_active_flux(paper002_drive_t *d)
+/* A model-based estimator's flux radius: the active flux's, psi + (L_d -
+ * L_q) i_d at the EKF's i_d (with the iron's secant values of step 0,
+ * model/iron_model.h (A1)), relative to the observer's psi. */
+static mc_t p002_active_flux(const paper002_drive_t *d)
 {
     const paper002_config_t *c = &d->cfg;
     const motor_model_t *m = &c->model;
-    mc_t ratio;
     if (iron_model_saturates(&c->iron)) {
         /* psi_s + (L_ds - L_qs) i_d (A1): the model's psi + L_d i_d is psi_s + L_ds i_d (step 0) */
         const mc_t radius_Wb = mc_mac(m->psi_Wb, mc_sub(m->Ld_H, d->iron_Lqs_H), d->ekf.x[EKF_ID]);
-        ratio = mc_div(radius_Wb, c->iron.psi_Wb);
-    } else {
-        ratio = mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
+        return mc_div(radius_Wb, c->iron.psi_Wb);
     }
-    flux_observer_set_target(&d->flux, mc_mul(ratio, ratio));
-    return ratio;
-}
-
-/* angle_source = HFI, step 1: the injection on or off by the EKF's speed
- * (hysteresis), one step of it (the fundamental current, H5, back in
- * *i_ab), the flux observer on the fundamental, and the blended electrical
- * angle. */
-static mc_rot_t p002_hfi_angle(paper002_drive_t *d, mc_ab_t *i_ab)
-{
-    const paper002_config_t *c = &d->cfg;
-    const motor_model_t *m = &c->model;
-    const mc_t w_abs = mc_abs(d->ekf.x[EKF_OMEGA]);
-    if (d->hfi.on && mc_gt(w_abs, c->hfi_off_rad_s)) {
-        hf_injection_set_on(&d->hfi, false);
-    } else if (!d->hfi.on && mc_lt(w_abs, c->hfi_on_rad_s)) {
-        hf_injection_set_on(&d->hfi, true);
-    }
-    if (!d->hfi.on) {
-        /* off: the loop follows the observer, to start from it when on */
-        hf_injection_track(&d->hfi, mc_atan2(d->flux.unit.s, d->flux.unit.c),
-                           mc_mul_i(d->ekf.x[EKF_OMEGA], m->n_p));
-    }
-    hf_injection_step(&d->hfi, *i_ab);
-    *i_ab = d->hfi.i_f_A;
-    /* the flux observer on the fundamental, on the active flux as the
-     * flux variant's */
-    const mc_t ratio = p002_active_flux(d);
-    flux_observer_step(&d->flux, *i_ab);
-    /* the blend's weight, 0 below lo, 1 above hi */
-    const mc_t w = mc_clamp(mc_div(mc_sub(w_abs, c->hfi_blend_lo_rad_s),
-                                   mc_sub(c->hfi_blend_hi_rad_s, c->hfi_blend_lo_rad_s)),
-                            MC_ZERO, MC_ONE);
-    d->hfi_weight = w;
-    /* the injection's tracked angle (H6) */
-    const mc_t th_h = d->hfi.theta_e_rad;
-    if (mc_eq(w, MC_ZERO)) {
-        /* the observer knows nothing here: it takes the injection's
-         * angle, at the active flux's radius */
-        flux_observer_seed(&d->flux, mc_rot_from_angle(th_h), *i_ab, ratio);
-        return mc_rot_from_angle(th_h);
-    }
-    const mc_t th_f = mc_atan2(d->flux.unit.s, d->flux.unit.c);
-    return mc_rot_from_angle(mc_wrap_pi(mc_mac(th_h, w, mc_wrap_pi(mc_sub(th_f, th_h)))));
-}
-
-/* angle_source = HFI, step 3: the angle hold (paper002_drive.h). The held
- * angle follows the integral of w_d, and the EKF's angle once the blend is
- * complete; the correction k (1 - w) wrap(hold - theta_hat) is added to
- * the speed reference. */
-static mc_t p002_hfi_hold(paper002_drive_t *d, mc_t w_d)
-{
-    const paper002_config_t *c = &d->cfg;
-    const mc_t th = d->ekf.x[EKF_THETA];
-    d->hfi_hold_rad = mc_wrap_pi(mc_mac(d->hfi_hold_rad, w_d, c->model.ts_s));
-    if (mc_eq(d->hfi_weight, MC_ONE)) {
-        d->hfi_hold_rad = th;
-    }
-    const mc_t k = mc_mul(c->hfi_hold_gain_per_s, mc_sub(MC_ONE, d->hfi_weight));
-    return mc_mac(w_d, k, mc_wrap_pi(mc_sub(d->hfi_hold_rad, th)));
+    return mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
 }
 
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
@@ -161,34 +118,17 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
                     mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
                     mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
                     mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
-                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX ||
-                     (cfg->angle_source == P002_ANGLE_HFI && p002_hfi_speeds_ok(cfg))) &&
                     deadtime_comp_init(&d->dtc, &cfg->deadtime);
-    const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
-    const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, m->n_p);
-    flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
-    angle_unwrap_init(&d->unwrap, e0);
-    hf_injection_init(&d->hfi, &cfg->hfi, e0);
-    hf_injection_set_on(&d->hfi, cfg->angle_source == P002_ANGLE_HFI);
-    d->hfi_weight = MC_ZERO;
-    d->hfi_hold_rad = mc_wrap_pi(cfg->flux_theta0_rad);
-    /* the electrical angle fixes the mechanical one up to 2 pi/p: the
-     * start's turn among the p is kept as an offset */
-    d->theta_offset_rad = mc_sub(mc_wrap_pi(cfg->flux_theta0_rad), mc_div_i(e0, m->n_p));
-    const bool find = cfg->angle_source == P002_ANGLE_HFI && cfg->hfi_find_angle;
-    d->start_phase = find ? P002_START_LOCK : P002_START_RUN;
-    d->start_k = 0;
-    d->polarity = 0;
-    d->hfi_lock_amp = MC_ZERO;
-    magnet_polarity_init(&d->magpol, &cfg->magpol);
-    const bool ok_find = !find || (cfg->hfi_lock_ticks >= 1 && cfg->hfi_lock_window >= 1 &&
-                                   cfg->hfi_lock_window <= cfg->hfi_lock_ticks && mc_gt(cfg->hfi_lock_amp_min, MC_ZERO) &&
-                                   cfg->magpol.n_pulse >= 1 && cfg->magpol.n_rest >= 1 &&
-                                   mc_gt(cfg->magpol.v_p_V, MC_ZERO) && mc_gt(cfg->magpol.margin_A, MC_ZERO));
-    if (!ok || !ok_find) {
+    /* the angle's estimator, found by the number the configuration holds */
+    d->est = estimator_find(EST_FAMILY_ROTOR_ANGLE, (uint32_t)cfg->angle_source);
+    rotor_angle_config_t ac;
+    p002_angle_config(cfg, &ac);
+    const bool ok_est = d->est != 0 && d->est->init(&d->est_state, &ac);
+    d->starting = ok_est && d->est->starting && d->est->starting(&d->est_state);
+    if (!ok || !ok_est) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
     }
-    return ok && ok_find;
+    return ok && ok_est;
 }
 
 static bool p002_zero(paper002_drive_t *d, hal_command_t *out)
@@ -217,80 +157,39 @@ static bool p002_fault(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
     return true;
 }
 
-/* hfi_find_angle, the end of the start (paper002_drive.h, step 3): the
- * injection, the flux observer, the angle's unwrapping and the EKF
- * restarted at the electrical angle e found, the mechanical e/p (offset 0:
- * the turn among the n_p is unknown), the hold there. */
+/* The end of the estimator's start (hfi_find_angle): it, the EKF and the
+ * drive's monitors restarted at the electrical angle e found, the
+ * mechanical e/p (the turn among the n_p is unknown, of no matter to a
+ * speed drive). */
 static void p002_start_at(paper002_drive_t *d, mc_t e)
 {
     const paper002_config_t *c = &d->cfg;
     const motor_model_t *m = &c->model;
-    const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
-    hf_injection_init(&d->hfi, &c->hfi, e);
-    hf_injection_set_on(&d->hfi, true);
-    flux_observer_init(&d->flux, &c->flux, mc_rot_from_angle(e), i0);
-    angle_unwrap_init(&d->unwrap, e);
-    d->theta_offset_rad = MC_ZERO;
+    d->est->seed(&d->est_state, e);
     ekf_ipmsm_config_t ec = c->ekf;
     ec.x0[EKF_THETA] = mc_div_i(e, m->n_p);
     (void)ekf_ipmsm_init(&d->ekf, &ec, m); /* the same configuration init accepted, one angle changed */
-    d->hfi_weight = MC_ZERO;
-    d->hfi_hold_rad = ec.x0[EKF_THETA];
     d->los.run = 0;
     d->stall.run = 0;
     lock_monitor_init(&d->lock, &c->lock);
-    d->u_ab_prev_V = i0;
-    d->start_phase = P002_START_RUN;
+    d->u_ab_prev_V.alpha = MC_ZERO;
+    d->u_ab_prev_V.beta = MC_ZERO;
+    d->starting = false;
 }
 
-/* hfi_find_angle, one sample of the start's LOCK or POLARITY phase
- * (paper002_drive.h): no current command, the speed loop open. */
+/* One sample of the estimator's own start (paper002_drive.h): its voltage
+ * alone, no current command, the speed loop open; a refused start latches
+ * LOSS_OF_LOCK (the safe state, whatever the reaction table). */
 static bool p002_start_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t i_ab, hal_command_t *out)
 {
-    const paper002_config_t *c = &d->cfg;
-    mc_ab_t u = {MC_ZERO, MC_ZERO};
-    if (d->start_phase == P002_START_LOCK) {
-        if (d->start_k < c->hfi_lock_ticks) {
-            hf_injection_step(&d->hfi, i_ab);
-            u = d->hfi.u_h_V;
-            hf_injection_hold(&d->hfi, (mc_ab_t){MC_ZERO, MC_ZERO});
-            if (d->start_k >= c->hfi_lock_ticks - c->hfi_lock_window) {
-                d->hfi_lock_amp = mc_add(d->hfi_lock_amp, d->hfi.amp);
-            }
-            if (d->start_k + 1 == c->hfi_lock_ticks) {
-                hf_injection_set_on(&d->hfi, false);
-                /* locked: the estimate within pi/4 of the d axis, else
-                 * the test's decision could take the wrong sign */
-                d->hfi_lock_amp = mc_div_i(d->hfi_lock_amp, c->hfi_lock_window);
-                if (mc_lt(d->hfi_lock_amp, c->hfi_lock_amp_min)) {
-                    return p002_trip(d, DRIVE_FAULT_LOSS_OF_LOCK, out);
-                }
-            }
-        }
-        /* then the test's own rest at 0 V: the injection leaves up to its
-         * triangle's 0.17 A (docs/hf_injection.md) in the winding, which in
-         * the test's first pulse alone would be a false difference of that
-         * size, three times the 55 mA margin (measured: without the rest the
-         * test answered -1 from 16 of 16 angles on the plant without the
-         * magnet's bias, which has nothing to decide) */
-        d->start_k += 1;
-        if (d->start_k >= c->hfi_lock_ticks + c->magpol.n_rest) {
-            /* the PLL on the d axis: the test along it */
-            magnet_polarity_start(&d->magpol, d->hfi.theta_e_rad);
-            d->start_phase = P002_START_POLARITY;
-        }
-    } else {
-        magnet_polarity_step(&d->magpol, i_ab);
-        u = d->magpol.u_V;
-        if (d->magpol.state == MAGPOL_DONE) {
-            d->polarity = d->magpol.result;
-            if (d->polarity == 0) {
-                /* undecided: never a start that may run backwards */
-                return p002_trip(d, DRIVE_FAULT_LOSS_OF_LOCK, out);
-            }
-            const mc_t e = d->hfi.theta_e_rad;
-            p002_start_at(d, (d->polarity > 0) ? e : mc_wrap_pi(mc_add(e, MC_PI)));
-        }
+    mc_ab_t u;
+    mc_t e = MC_ZERO;
+    const estimator_start_t s = d->est->start(&d->est_state, i_ab, &u, &e);
+    if (s == EST_START_REFUSED) {
+        return p002_trip(d, DRIVE_FAULT_LOSS_OF_LOCK, out);
+    }
+    if (s == EST_START_DONE) {
+        p002_start_at(d, e);
     }
     phase_adapter_voltages(3u, u, out);
     const drive_fault_t f_out = fault_monitor_command(&d->mon, out, false);
@@ -302,6 +201,121 @@ static bool p002_start_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t
     return true;
 }
 
+/* Steps 0-2: the iron's inductances, the estimator's angle, the d-q
+ * currents in its frame, the EKF's correction, the reference; then the
+ * loss of the estimate (the EKF's innovation, a stall) and, while a
+ * model-based angle is in use, the loss of lock (supervisor/lock_monitor.h):
+ * two named criteria, each stepped every sample: the flux observer's
+ * residual along its rotor axis, gPhi3 |target - |rho|^2| of (12), against
+ * the tolerance bound at the EKF's speed and the current in the observer's
+ * frame (a steady drift); and the EKF's angle innovation against 6 sigma
+ * of its noise (S = P^-_thth + r_th, the a priori covariance: C = [I_3 0],
+ * the angle is measurement 2 and state 2) and the stall band's speed error
+ * over a sample, by a leaky count (the limit cycle and the flips of the
+ * sensorless variants' losses, docs/paper002.md). The encoder's angle is
+ * measured: the EKF's innovation checks it. Float only, as the drive (the
+ * fixed-point build refuses paper 002's design, docs/paper002.md). False:
+ * the drive went to FAULT (0 V out). */
+static bool p002_estimate_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t i_ab, estimator_out_t *eo,
+                               mc_t *w_d, mc_t *dw_d, hal_command_t *out)
+{
+    const paper002_config_t *c = &d->cfg;
+    const estimator_ops_t *e = d->est;
+    estimator_in_t ei;
+    ei.sample = in;
+    ei.omega_hint_rad_s = d->ekf.x[EKF_OMEGA];
+    ei.L_ratio = p002_iron_step(d);
+    ei.flux_ratio = e->model_based ? p002_active_flux(d) : MC_ONE;
+    const mc_rot_t rot_e = e->update(&d->est_state, &ei, &i_ab, eo);
+    mc_t i_d, i_q;
+    mc_rot_fwd(rot_e, i_ab.alpha, i_ab.beta, &i_d, &i_q);
+    const mc_t s_theta_rad2 = eo->lock_checkable ? mc_add(d->ekf.P[EKF_THETA][EKF_THETA], d->ekf.cfg.r[EKF_THETA]) : MC_ZERO;
+    const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, eo->theta_rad);
+    speed_poly_eval(&d->reference, d->tick, w_d, dw_d);
+    d->theta_ref_rad = mc_wrap_pi(mc_mac(d->theta_ref_rad, *w_d, c->model.ts_s));
+    const bool lost = fault_persist_step(&d->los, !mc_le(mc_abs(d->ekf.innovation[2]), c->los_theta_rad), c->los_ticks);
+    const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(*w_d));
+    const bool stalled =
+        fault_persist_step(&d->stall, !mc_le(mc_abs(mc_sub(d->ekf.x[EKF_OMEGA], *w_d)), stall_band), c->stall_ticks);
+    if ((!corrected || lost || stalled) && p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)) {
+        return false;
+    }
+    if (eo->lock_checkable) {
+        const lock_criterion_t by_flux =
+            lock_monitor_step_flux(&d->lock, eo->rho2, eo->rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q);
+        const lock_criterion_t by_innov =
+            lock_monitor_step_innovation(&d->lock, d->ekf.innovation[EKF_THETA], s_theta_rad2, stall_band);
+        if ((by_flux != LOCK_CRIT_NONE || by_innov != LOCK_CRIT_NONE) && p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
+            return false;
+        }
+    }
+    d->last.theta_meas_rad = eo->theta_rad;
+    d->last.i_d_A = i_d;
+    d->last.i_q_A = i_q;
+    const mc_t *x = d->ekf.x; /* the a posteriori estimate of this sample */
+    d->last.i_d_hat_A = x[EKF_ID];
+    d->last.i_q_hat_A = x[EKF_IQ];
+    d->last.theta_hat_rad = x[EKF_THETA];
+    d->last.w_hat_rad_s = x[EKF_OMEGA];
+    d->last.M0_hat_Nm = x[EKF_M0];
+    return true;
+}
+
+/* Steps 6-7: the command to alpha-beta at the angle the voltage acts
+ * around (the estimate advanced to the middle of the sample it acts over,
+ * (1/2 + d) Ts ahead), an estimator's injection on top, the inverter's
+ * expected error added; then the EKF's prediction with the voltage the
+ * motor sees over the coming sample (and the estimator's): this command,
+ * or with a delay the mean (1 - d) u + d u_prev, brought into the frame of
+ * the sample's middle. */
+static void p002_output(paper002_drive_t *d, const hal_sample_t *in, mc_t u_d, mc_t u_q, hal_command_t *out)
+{
+    const paper002_config_t *c = &d->cfg;
+    const motor_model_t *m = &c->model;
+    const mc_t *x = d->ekf.x;
+    const mc_t half_ts = mc_div_i(m->ts_s, 2);
+    const mc_t lead = mc_mac(half_ts, c->compute_delay, m->ts_s);
+    const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], lead, x[EKF_OMEGA]), m->n_p);
+    const mc_rot_t rot_out = mc_rot_from_angle(th_el); /* also the compensation's way back */
+    mc_ab_t u_ab;
+    mc_rot_inv(rot_out, u_d, u_q, &u_ab.alpha, &u_ab.beta);
+    if (d->est->injection) {
+        /* the estimator's injection on top of the command; the estimators
+         * see the command alone */
+        const mc_ab_t u_h = d->est->injection(&d->est_state);
+        const mc_ab_t u_out = {mc_add(u_ab.alpha, u_h.alpha), mc_add(u_ab.beta, u_h.beta)};
+        phase_adapter_voltages(3u, u_out, out);
+    } else {
+        phase_adapter_voltages(3u, u_ab, out);
+    }
+    /* what the bus clamp takes of the compensation is in the voltage the
+     * estimators use */
+    mc_t u_d_est = u_d, u_q_est = u_q;
+    if (d->dtc.cfg.enabled) {
+        const mc_ab_t clamped = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
+        u_ab.alpha = mc_add(u_ab.alpha, clamped.alpha);
+        u_ab.beta = mc_add(u_ab.beta, clamped.beta);
+        mc_rot_fwd(rot_out, u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
+    }
+    const estimator_ops_t *e = d->est;
+    if (mc_eq(c->compute_delay, MC_ZERO)) {
+        if (e->hold) {
+            e->hold(&d->est_state, u_ab, u_ab);
+        }
+        ekf_ipmsm_predict(&d->ekf, m, u_d_est, u_q_est);
+    } else {
+        const mc_ab_t u_mean = delay_applied_mean(c->compute_delay, u_ab, d->u_ab_prev_V);
+        if (e->hold) {
+            e->hold(&d->est_state, u_mean, u_ab);
+        }
+        const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), m->n_p);
+        mc_t u_d_mean, u_q_mean;
+        mc_rot_fwd(mc_rot_from_angle(th_mid), u_mean.alpha, u_mean.beta, &u_d_mean, &u_q_mean);
+        ekf_ipmsm_predict(&d->ekf, m, u_d_mean, u_q_mean);
+    }
+    d->u_ab_prev_V = u_ab;
+}
+
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
@@ -310,97 +324,30 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
         return p002_zero(d, out);
     }
     d->v_bus_V = in->v_bus_V;
-    const bool flux = c->angle_source == P002_ANGLE_FLUX;
-    const bool hfi = c->angle_source == P002_ANGLE_HFI;
-    if (!phase_adapter_accepts(in, 3u) || (!flux && !hfi && !in->has_angle)) {
+    if (!phase_adapter_accepts(in, 3u) || (d->est->needs_angle && !in->has_angle)) {
         return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
     }
     const drive_fault_t f_in = fault_monitor_sample(&d->mon, in, 3u);
     if (f_in != DRIVE_FAULT_NONE && p002_fault(d, f_in, out)) {
         return false;
     }
-    /* 1. d-q currents with the encoder's electrical angle, or the flux
-     * observer's */
+    /* 1. alpha-beta currents; the estimator's own start first */
     mc_t i_zero;
-    mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
+    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
     (void)i_zero;
-    if (d->start_phase != P002_START_RUN) {
+    if (d->starting) {
         return p002_start_step(d, in, i_ab, out);
     }
-    /* 0. the saturating iron's inductances at the EKF's currents */
-    p002_iron_step(d);
-    mc_rot_t r_meas;
-    mc_t theta_meas;
-    if (flux || hfi) {
-        if (hfi) {
-            /* the injection's angle blended into the observer's; the
-             * fundamental current from here on */
-            r_meas = p002_hfi_angle(d, &i_ab);
-        } else {
-            (void)p002_active_flux(d);
-            flux_observer_step(&d->flux, i_ab);
-            r_meas = d->flux.unit;
-        }
-        angle_unwrap_step(&d->unwrap, r_meas.s, r_meas.c);
-        /* the mechanical angle: (e + 2 pi n)/p, with n taken modulo p first
-         * (n p-fold is a whole mechanical turn) so the sum stays small */
-        const int32_t p = m->n_p;
-        const int32_t n_mod = ((d->unwrap.n_turns % p) + p) % p;
-        theta_meas = mc_wrap_pi(mc_add(mc_div_i(mc_add(d->unwrap.e_rad, mc_mul_i(MC_TWO_PI, n_mod)), p), d->theta_offset_rad));
-    } else {
-        theta_meas = in->angle_rad;
-        r_meas = mc_rot_from_angle(mc_elec_angle(in->angle_rad, m->n_p));
-    }
-    mc_t i_d, i_q;
-    mc_rot_fwd(r_meas, i_ab.alpha, i_ab.beta, &i_d, &i_q);
-    /* 2. the EKF's correction; sensorless, the angle innovation's variance
-     * S = P^-_thth + r_th first (the a priori covariance, C = [I_3 0]: the
-     * angle is measurement 2 and state 2), for the loss of lock below */
-    const mc_t s_theta_rad2 = (flux || hfi) ? mc_add(d->ekf.P[EKF_THETA][EKF_THETA], d->ekf.cfg.r[EKF_THETA]) : MC_ZERO;
-    const bool corrected = ekf_ipmsm_correct(&d->ekf, i_d, i_q, theta_meas);
+    /* 0.-2. the angle, the EKF's correction, the reference, the checks */
+    estimator_out_t eo;
     mc_t w_d, dw_d;
-    speed_poly_eval(&d->reference, d->tick, &w_d, &dw_d);
-    d->theta_ref_rad = mc_wrap_pi(mc_mac(d->theta_ref_rad, w_d, m->ts_s));
-    const bool lost = fault_persist_step(&d->los, !mc_le(mc_abs(d->ekf.innovation[2]), c->los_theta_rad), c->los_ticks);
-    const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(w_d));
-    const bool stalled =
-        fault_persist_step(&d->stall, !mc_le(mc_abs(mc_sub(d->ekf.x[EKF_OMEGA], w_d)), stall_band), c->stall_ticks);
-    if ((!corrected || lost || stalled) && p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)) {
+    if (!p002_estimate_step(d, in, i_ab, &eo, &w_d, &dw_d, out)) {
         return false;
     }
-    /* the sensorless variant's loss of lock (supervisor/lock_monitor.h),
-     * two named criteria, each stepped every sample: the flux observer's
-     * residual along its rotor axis, gPhi3 |target - |rho|^2| of (12),
-     * against the tolerance bound at the EKF's speed and the current in
-     * the observer's frame (a steady drift); and the EKF's angle
-     * innovation against 6 sigma of its noise and the stall band's speed
-     * error over a sample, by a leaky count (the limit cycle and the flips
-     * of this variant's losses, docs/paper002.md). Only for the flux
-     * angle: the encoder's is measured (the EKF's innovation above checks
-     * it). With the injection (HFI) only while it is off, the flux
-     * observer's angle then in use. No product of its own here; float
-     * only, as the drive (the fixed-point build refuses paper 002's
-     * design, docs/paper002.md). */
-    if (flux || (hfi && !d->hfi.on)) {
-        const lock_criterion_t by_flux =
-            lock_monitor_step_flux(&d->lock, d->flux.rho2, d->flux.rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q);
-        const lock_criterion_t by_innov =
-            lock_monitor_step_innovation(&d->lock, d->ekf.innovation[EKF_THETA], s_theta_rad2, stall_band);
-        if ((by_flux != LOCK_CRIT_NONE || by_innov != LOCK_CRIT_NONE) &&
-            p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
-            return false;
-        }
-    }
-    d->last.theta_meas_rad = theta_meas;
     const mc_t *x = d->ekf.x;
-    d->last.i_d_hat_A = x[EKF_ID];
-    d->last.i_q_hat_A = x[EKF_IQ];
-    d->last.theta_hat_rad = x[EKF_THETA];
-    d->last.w_hat_rad_s = x[EKF_OMEGA];
-    d->last.M0_hat_Nm = x[EKF_M0];
-    /* 3. reference and torque demand; with the injection, the hold's
-     * correction on the speed reference */
-    const mc_t w_c = hfi ? p002_hfi_hold(d, w_d) : w_d;
+    /* 3. reference and torque demand; the estimator's correction of the
+     * speed reference (an angle hold) */
+    const mc_t w_c = d->est->reference ? d->est->reference(&d->est_state, w_d, x[EKF_THETA]) : w_d;
     const mc_t M_d = (c->controller == P002_SOSMC)
                          ? sosmc_step(&d->sosmc, &c->sosmc, m, w_c, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
                                       x[EKF_M0])
@@ -408,68 +355,22 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 4. MTPA */
     mtpa_out_t ref;
     mtpa_step(&c->mtpa, m, M_d, &ref);
-    /* 5. current control on the EKF's currents and speed */
+    /* 5. current control on the EKF's currents and speed, within the bus
+     * less an injection's share (0 when off) */
     mc_t u_max = mc_mul(in->v_bus_V, P002_INV_SQRT3);
-    if (hfi) {
-        /* the injection's share of the voltage kept free (0 when off) */
-        u_max = mc_max(MC_ZERO, mc_sub(u_max, d->hfi.u_h_amp_V));
+    if (d->est->injection) {
+        u_max = mc_max(MC_ZERO, mc_sub(u_max, eo.u_reserve_V));
     }
     ibcc_out_t u_dq;
     ibcc_step(&d->ibcc, &c->ibcc, m, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_dq);
-    const mc_t u_d = u_dq.u_d_V, u_q = u_dq.u_q_V;
-    /* 6. back to alpha-beta at the angle the voltage acts around: the
-     * estimate advanced to the middle of the sample it acts over, (1/2 +
-     * d) Ts ahead */
-    const mc_t half_ts = mc_div_i(m->ts_s, 2);
-    const mc_t lead = mc_mac(half_ts, c->compute_delay, m->ts_s);
-    const mc_t th_el = mc_elec_angle(mc_mac(x[EKF_THETA], lead, x[EKF_OMEGA]), m->n_p);
-    const mc_rot_t rot_out = mc_rot_from_angle(th_el); /* also the compensation's way back */
-    mc_ab_t u_ab;
-    mc_rot_inv(rot_out, u_d, u_q, &u_ab.alpha, &u_ab.beta);
-    if (hfi) {
-        /* the injection on top of the command (0 when off, but for its
-         * stop pulse); the estimators see the command alone */
-        const mc_ab_t u_out = {mc_add(u_ab.alpha, d->hfi.u_h_V.alpha), mc_add(u_ab.beta, d->hfi.u_h_V.beta)};
-        phase_adapter_voltages(3u, u_out, out);
-    } else {
-        phase_adapter_voltages(3u, u_ab, out);
-    }
-    /* the inverter's expected error added to the command; what the bus
-     * clamp takes of it is in the voltage the estimators use */
-    mc_t u_d_est = u_d, u_q_est = u_q;
-    if (d->dtc.cfg.enabled) {
-        const mc_ab_t clamped = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
-        u_ab.alpha = mc_add(u_ab.alpha, clamped.alpha);
-        u_ab.beta = mc_add(u_ab.beta, clamped.beta);
-        mc_rot_fwd(rot_out, u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
-    }
-    /* 7. the EKF's prediction with the voltage the motor sees over the
-     * coming sample (and the flux observer's): this command, or with a
-     * delay the mean (1 - d) u + d u_prev, brought into the frame of the
-     * sample's middle */
-    if (mc_eq(c->compute_delay, MC_ZERO)) {
-        flux_observer_hold(&d->flux, u_ab);
-        ekf_ipmsm_predict(&d->ekf, m, u_d_est, u_q_est);
-    } else {
-        const mc_ab_t u_mean = delay_applied_mean(c->compute_delay, u_ab, d->u_ab_prev_V);
-        flux_observer_hold(&d->flux, u_mean);
-        const mc_t th_mid = mc_elec_angle(mc_mac(x[EKF_THETA], half_ts, x[EKF_OMEGA]), m->n_p);
-        mc_t u_d_mean, u_q_mean;
-        mc_rot_fwd(mc_rot_from_angle(th_mid), u_mean.alpha, u_mean.beta, &u_d_mean, &u_q_mean);
-        ekf_ipmsm_predict(&d->ekf, m, u_d_mean, u_q_mean);
-    }
-    d->u_ab_prev_V = u_ab;
-    if (hfi) {
-        hf_injection_hold(&d->hfi, u_ab);
-    }
+    /* 6.-7. output and prediction */
+    p002_output(d, in, u_dq.u_d_V, u_dq.u_q_V, out);
     d->last.w_d_rad_s = w_d;
     d->last.M_d_Nm = M_d;
     d->last.i_dd_A = ref.i_d_A;
     d->last.i_qd_A = ref.i_q_A;
-    d->last.i_d_A = i_d;
-    d->last.i_q_A = i_q;
-    d->last.u_d_V = u_d;
-    d->last.u_q_V = u_q;
+    d->last.u_d_V = u_dq.u_d_V;
+    d->last.u_q_V = u_dq.u_q_V;
     d->last.saturated = d->ibcc.saturated;
     const drive_fault_t f_out = fault_monitor_command(&d->mon, out, d->ibcc.saturated);
     guard_record(&d->rec, d->tick, d->sup.state, in, out, w_d, x[EKF_THETA], x[EKF_OMEGA]);

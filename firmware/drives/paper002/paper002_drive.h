@@ -129,6 +129,7 @@
 #include "estimators/angle_unwrap.h"
 #include "estimators/ekf_ipmsm.h"
 #include "estimators/flux_observer.h"
+#include "estimators/estimator_registry.h"
 #include "estimators/hf_injection.h"
 #include "estimators/magnet_polarity.h"
 #include "drives/drive.h"
@@ -154,14 +155,6 @@ typedef enum {
     P002_ANGLE_FLUX = 1,    /* sensorless: paper 001's flux observer on the active flux */
     P002_ANGLE_HFI = 2      /* sensorless from standstill: HF injection, the flux observer at speed */
 } p002_angle_source_t;
-
-/* The start with cfg.hfi_find_angle (header): the injection locks, the
- * polarity test, then the cascade. Without it the drive starts in RUN. */
-typedef enum {
-    P002_START_LOCK = 0,
-    P002_START_POLARITY = 1,
-    P002_START_RUN = 2
-} p002_start_phase_t;
 
 typedef struct {
     motor_model_t model;           /* the one motor model: R, L_d, L_q, psi, n_p, J, f_v, Ts; every
@@ -216,23 +209,14 @@ typedef struct {
     sosmc_t sosmc;
     htsmc_t htsmc;
     ibcc_t ibcc;
-    flux_observer_t flux;          /* angle_source = FLUX */
     deadtime_comp_t dtc;           /* cfg.deadtime */
-    angle_unwrap_t unwrap;         /* angle_source = FLUX: the observer's angle, unwrapped */
-    mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
     fault_monitor_t mon;
     fault_persist_t los, stall;
-    lock_monitor_t lock;           /* angle_source = FLUX (HFI: with the injection off) */
-    hf_injection_t hfi;            /* angle_source = HFI */
+    lock_monitor_t lock;           /* a model-based angle (FLUX; HFI with the injection off) */
     mc_t iron_Lqs_H;               /* cfg.iron saturating: the secant L_qs of step 0 (the active flux's) */
-    mc_t hfi_weight;               /* angle_source = HFI: the blend's w, 0 injection .. 1 flux observer */
-    mc_t hfi_hold_rad;             /* angle_source = HFI: the held (mechanical) angle */
-    p002_start_phase_t start_phase; /* hfi_find_angle: LOCK, POLARITY, then RUN (else RUN from init) */
-    int32_t start_k;               /* samples within the LOCK phase */
-    magnet_polarity_t magpol;      /* hfi_find_angle: the test */
-    int32_t polarity;              /* the test's result once done: +1 kept, -1 flipped, 0 undecided/not run */
-    mc_t hfi_lock_amp;             /* hfi_find_angle: the lock's mean (H1) amplitude over its window (the
-                                    * running sum until the lock ends) */
+    const estimator_ops_t *est;    /* the angle's estimator, cfg.angle_source's (estimators/estimator.h) */
+    bool starting;                 /* its own start (hfi_find_angle) still runs */
+    estimator_storage_t est_state; /* its state */
     mc_ab_t u_ab_prev_V;           /* the last command (acts for d Ts of the coming sample) */
     speed_poly_t reference;        /* the reference now: cfg.reference, or a commanded change */
     bool disabled;                 /* CmdEnable 0: 0 V until enabled */

@@ -71,10 +71,10 @@ std::int64_t Paper002Recorder::on_period(const hal_sw_plant_period_t& p, double*
         }
         drift_max_ = std::max(drift_max_, std::fabs(wrap_pi(th - theta0_)));
         const double ia = plant_.i_a_A(), ib = plant_.i_b_A();
-        if (drive_.hfi.on) {
+        if (drive_.est_state.hfi.hfi.on) {
             n_hfi_on_ += 1;
             hfi_ripple_ss_ += 0.25 * ((ia - prev_ia_) * (ia - prev_ia_) + (ib - prev_ib_) * (ib - prev_ib_));
-            const double ua = to_double(drive_.hfi.u_h_V.alpha), ub = to_double(drive_.hfi.u_h_V.beta);
+            const double ua = to_double(drive_.est_state.hfi.hfi.u_h_V.alpha), ub = to_double(drive_.est_state.hfi.hfi.u_h_V.beta);
             hfi_u_ss_ += ua * ua + ub * ub;
         }
         prev_ia_ = ia;
@@ -178,12 +178,12 @@ MetricList Paper002Recorder::metrics(double wall_loop_s) const
         m.emplace_back("hfi_voltage_rms_V", rms(hfi_u_ss_, n_hfi_on_));
         if (drive_.cfg.hfi_find_angle) {
             // the start's polarity test: +1 kept, -1 flipped, 0 undecided (or not reached)
-            m.emplace_back("hfi_start_polarity", static_cast<std::int64_t>(drive_.polarity));
+            m.emplace_back("hfi_start_polarity", static_cast<std::int64_t>(drive_.est_state.hfi.polarity));
             // its difference of the two peaks (A; 0 until it is done)
-            m.emplace_back("hfi_start_polarity_diff_A", to_double(drive_.magpol.diff_A));
+            m.emplace_back("hfi_start_polarity_diff_A", to_double(drive_.est_state.hfi.magpol.diff_A));
             // the lock's mean (H1) amplitude over its last quarter (1 on the
             // d axis, L_d/L_q across it; below (1 + L_d/L_q)/2 refused)
-            m.emplace_back("hfi_start_lock_amp", to_double(drive_.hfi_lock_amp));
+            m.emplace_back("hfi_start_lock_amp", to_double(drive_.est_state.hfi.lock_amp));
         }
     }
     m.emplace_back("voltage_hf_rms_V", std::sqrt(hf_d * hf_d + hf_q * hf_q));
