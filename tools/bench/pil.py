@@ -150,21 +150,6 @@ def parse_ci_stack(build_dir, root_fn):
             "dynamic_frames": sorted(dynamic)}
 
 
-def registry_drives():
-    """The drives of firmware/drives/registry.c (each `&<name>_drive_ops`), in its order."""
-    return drive_facts.registry_drives()
-
-
-def default_scenario(drive):
-    """The drive's benchmark scenario (scenario of its tools.toml), or None
-    when its facts file is missing or wrong (the message on stderr)."""
-    try:
-        return str(drive_facts.load(drive).scenario)
-    except drive_facts.FactsError as e:
-        cb.log("pil.py: %s" % e)
-        return None
-
-
 def vectors_row_words(vec):
     m = re.search(r"pil_row_words = (\d+)u", open(vec).read())
     return int(m.group(1)) if m else 0
