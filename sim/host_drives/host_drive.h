@@ -4,8 +4,8 @@
 // keys of its own scenario table (parsed and validated with the scenario's
 // toml_view.h, errors naming file and key), the design of its
 // configuration from the scenario, and its answers to the programs'
-// per-drive questions (its estimators, its reference's peak demand, how a
-// replay tells it the applied voltage). The programs look drives up here
+// per-drive questions (its estimators and which one a configuration runs,
+// its reference's peak demand, how a replay tells it the applied voltage). The programs look drives up here
 // and never name one; a drive is added with its file in sim/host_drives/ and
 // one line in host_registry.cpp.
 #ifndef MCSIM_DRIVES_HOST_DRIVE_H
@@ -76,6 +76,11 @@ struct HostDrive {
     // applied over the coming sample, so that its estimator sees the
     // voltage that made the recorded currents rather than its own command.
     void (*set_applied_voltage)(drive_t* d, const double* v_V, int n_phases);
+    // The estimator the configuration *cfg runs, named as --estimator and
+    // the table's estimator key name it (nullptr: the drive has one
+    // estimator), for the tools' records (mc_pil_gen's source line of its
+    // vectors and of a board's configuration).
+    const char* (*estimator_name)(const drive_config_storage_t* cfg);
 };
 
 // The drive of that name, or nullptr.

@@ -87,6 +87,11 @@ void p001_select_estimator(Scenario* sc, const std::string& name)
     throw std::invalid_argument("--estimator: " + name + ": paper 001's drive is sensorless (flux or back_emf)");
 }
 
+const char* p001_estimator_name(const drive_config_storage_t* cfg)
+{
+    return cfg->paper001.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux";
+}
+
 }  // namespace
 
 void make_speed_design_input(const Scenario& sc, p001_design_input_t* in)
@@ -129,6 +134,6 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
 
 extern const HostDrive kPaper001Host;
 const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, nullptr, nullptr,
-                                 &p001_select_estimator, nullptr, nullptr};
+                                 &p001_select_estimator, nullptr, nullptr, &p001_estimator_name};
 
 }  // namespace mcsim

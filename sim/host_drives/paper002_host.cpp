@@ -161,6 +161,12 @@ void p002_select_estimator(Scenario* sc, const std::string& name)
     throw std::invalid_argument("--estimator: " + name + ": paper 002's drive takes encoder, flux or hfi");
 }
 
+const char* p002_estimator_name(const drive_config_storage_t* cfg)
+{
+    const int a = cfg->paper002.angle_source;
+    return a == P002_ANGLE_HFI ? "hfi" : (a == P002_ANGLE_FLUX ? "flux" : "encoder");
+}
+
 // The C^2 polynomial's peak acceleration is 1.875 (w1 - w0)/(t1 - t0).
 void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 {
@@ -172,6 +178,6 @@ void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 
 extern const HostDrive kPaper002Host;
 const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, nullptr, nullptr,
-                                 &p002_select_estimator, &p002_peak_demand, nullptr};
+                                 &p002_select_estimator, &p002_peak_demand, nullptr, &p002_estimator_name};
 
 }  // namespace mcsim

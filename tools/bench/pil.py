@@ -2,41 +2,45 @@
 """Processor-in-the-loop cost of the drives' control step on emulated Cortex-M.
 
 For each numeric type (float on Cortex-M4F / mps2-an386, fixed point Q14.17
-on Cortex-M3 / mps2-an385):
-  1. the HOST build of that type (preset host / host-fixed) runs the paper-000
+on Cortex-M3 / mps2-an385) and each drive of --drive (drives of the
+registry, firmware/drives/registry.c):
+  1. the HOST build of that type (preset host / host-fixed) runs the drive's
      scenario (drive + software plant, closed loop) and records, per period,
-     the currents the drive got and the voltages it returned
-     (mc_pil_gen, tools/bench/pil_gen.cpp) into a C file with the drive config;
+     the sample the drive got and the command it returned
+     (mc_pil_gen, tools/bench/pil_gen.cpp) into a C file with the drive's
+     configuration;
   2. the cross preset (cortex-m4f / cortex-m3-fixed) builds the firmware
-     library and the bare-metal image mc_pil (hal/backends/mcu/pil_main.c)
-     with those vectors;
-  3. qemu-system-arm runs the image with -icount: every paper000_drive_step() is timed
-     with SysTick and its outputs are compared BIT FOR BIT with the host's.
+     library and the bare-metal image mc_pil (hal/backends/mcu/pil_image.c,
+     cmake -DMC_DRIVE=<drive>) with those vectors;
+  3. qemu-system-arm runs the image with -icount: every <drive>_drive_step()
+     is timed with SysTick and its outputs are compared BIT FOR BIT with the
+     host's.
 
---drive paper001 (or --drive paper000,paper001) does the same for the
-paper-001 speed drive (paper001_drive_step, drives/paper001/paper001_drive.h) on a
-[speed] scenario (default sim/scenarios/paper001_benchmark.toml, the 3-phase
-PMSM benchmark), once per estimator of --estimators (default
-flux,back_emf; mc_pil_gen --estimator sets paper001_config_t.estimator
-whatever the scenario says): the host records the three phase currents, the
-bus voltage and the three phase voltages per period, the image
-(hal/backends/mcu/pil_paper001_main.c, cmake -DMC_PIL_DRIVE=paper001)
-replays them and compares the three voltages bit for bit. With the FLUX
-estimator, in every period that starts and ends in closed loop, the image
-also times the parts of the step on copies of their states, replayed with
-the step's own inputs and checked bit for bit against the drive's states
-afterwards: flux_observer_step (12)-(14), speed_load_observer_step (I&I,
-(15)-(16)), ida_pbc_step (11, inline in the step) and the two dq rotations
-(inline), each called through a noipa wrapper that takes its arguments in
-one struct, minus an empty wrapper timed in the same period (the same
-pointer + bl sequence): a part's count is its body plus loading its
-arguments (and the bl for the library calls), as in the step.
-Keys p001_<estimator>_<m4f_float|m3_fixed>_...: the whole step (instr_*,
-over all periods), closed_loop_instr_* / open_loop_instr_* (periods that
-start and end in that state), part_<flux_observer|ii|ida_pbc|frames>_instr_*,
+What this script knows of a drive comes from its facts file,
+firmware/drives/<drive>/tools.toml (tools/lib/drive_facts.py): its
+benchmark scenario (the default of --scenario), the numeric types its
+design runs in, the prefix of its keys, the estimators measured one by one
+(mc_pil_gen --estimator, whatever the scenario says), further images built
+beside mc_pil, its probe's columns and its cost targets. The keys of one run
+are <head><estimator>_<m4f_float|m3_fixed>_..., where <head> is "" for
+the drive measured by default (paper 000's: m4f_float_instr_mean ...), the
+drive's short name (p001_flux_m4f_float_...) or its name
+(paper002_m4f_float_...): the whole step (instr_*, over all periods),
+closed_loop_instr_* / open_loop_instr_* (periods that start and end in that
+state), the CAN node's step, bit-exactness, sizes, stack. A drive with a
+probe (tools/bench/pil_probes/<drive>_probe.c, linked into its image) has
+its parts timed too: paper 001's, with the FLUX estimator, in every period
+that starts and ends in closed loop, times the parts of the step on copies
+of their states, replayed with the step's own inputs and checked bit for bit
+against the drive's states afterwards: flux_observer_step (12)-(14),
+speed_load_observer_step (I&I, (15)-(16)), ida_pbc_step (11, inline in the
+step) and the two dq rotations (inline), each called through a noipa
+wrapper that takes its arguments in one struct, minus an empty wrapper timed
+in the same period (the same pointer + bl sequence): a part's count is its
+body plus loading its arguments (and the bl for the library calls), as in
+the step. Keys part_<flux_observer|ii|ida_pbc|frames>_instr_*,
 part_fo_ida_instr_* (flux observer + IDA-PBC per period) and
-part_fo_ida_frames_instr_* (+ the rotations). Target: flux observer +
-IDA-PBC on M4F float, mean <= 600 instructions.
+part_fo_ida_frames_instr_* (+ the rotations).
 
 Instruction counts: qemu's mps2 SysTick runs at the 25 MHz core clock (40 ns
 a tick); with -icount shift=S an instruction lasts 2^S ns of virtual time.
@@ -47,14 +51,14 @@ sequences when this was written). The count of an empty timed region
 (the SysTick read itself) is subtracted. --shift 0 is accepted and gives the
 40-instruction-resolution numbers.
 
-Writes JSON to stdout (keys m4f_float_instr_mean/max/min, m3_fixed_instr_...,
-sizes, stack, bit-exactness; p001_... for --drive paper001); progress goes
-to stderr. --check exits 1 when an image fails to run or an output differs
-from the host build (the ctest); --check-targets also when a cost target
-(paper 000: float M4F mean <= 1000 and max <= 1200, fixed M3 mean <= 1500;
-paper 001: flux observer + IDA-PBC on M4F float mean <= 600) is missed;
-misses are always listed under "target_misses".
-Exit 77 (ctest skip) when the arm toolchain or qemu is not installed.
+Writes JSON to stdout; progress goes to stderr. --check exits 1 when an
+image fails to run or an output differs from the host build (the ctest);
+--check-targets also when a cost target of the drive's facts (paper 000:
+float M4F mean <= 1000 and max <= 1200, fixed M3 mean <= 1500; paper 001:
+flux observer + IDA-PBC on M4F float mean <= 600; paper 002: its step on
+M4F float mean <= 2500) is missed; misses are always listed under
+"target_misses". Exit 77 (ctest skip) when the arm toolchain or qemu is not
+installed.
 
   tools/bench/pil.py                       # paper 000, both types, full scenario
   tools/bench/pil.py --types fixed --max-samples 5000 --check
@@ -73,26 +77,11 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # tools/: the toolbox
 import crossbuild as cb  # noqa: E402
+from lib import drive_facts  # noqa: E402
 
-TARGETS = {"float": {"mean": 1000, "max": 1200}, "fixed": {"mean": 1500}}
 PREFIX = {"float": "m4f_float", "fixed": "m3_fixed"}
-# paper 001: (estimator, type) -> {key suffix: limit}
-P001_TARGETS = {("flux", "float"): {"part_fo_ida_instr_mean": 600}}
-DEFAULT_SCENARIO = {"paper000": os.path.join(cb.ROOT, "sim", "scenarios", "paper000_ideal.toml"),
-                    "paper001": os.path.join(cb.ROOT, "sim", "scenarios", "paper001_benchmark.toml")}
-# the other drives' benchmarks (any drive of the registry runs: without an
-# entry here, the first scenario of sim/scenarios/ with [drive] kind = it)
-DEFAULT_SCENARIO.update({
-    "paper002": os.path.join(cb.ROOT, "sim", "scenarios", "paper002_reference.toml"),
-    "sensored_foc": os.path.join(cb.ROOT, "sim", "scenarios", "sensored_benchmark.toml")})
-# numeric types a drive runs in (default both): paper 002's design and
-# scenario are float only (docs/paper002.md)
-DRIVE_TYPES = {"paper002": ("float",)}
-# (drive, type) -> {key suffix: limit} of the other drives: paper 002's
-# budget of issue 14 (EKF + MTPA + current control + SOSMC <= 2,500 on the
-# M4F), here on its whole step
-DRIVE_TARGETS = {("paper002", "float"): {"instr_mean": 2500}}
 
 
 def host_generator(typ, given):
@@ -119,7 +108,7 @@ def ci_files(build_dir):
     return glob.glob(os.path.join(build_dir, "firmware", "**", "*.ci"), recursive=True)
 
 
-def parse_ci_stack(build_dir, root_fn="paper000_drive_step"):
+def parse_ci_stack(build_dir, root_fn):
     """Worst stack depth from root_fn over the call graph GCC wrote with
     -fcallgraph-info=su (static frame sizes; calls into libgcc/newlib
     helpers that have no .ci entry count as 0 and are listed)."""
@@ -159,23 +148,6 @@ def parse_ci_stack(build_dir, root_fn="paper000_drive_step"):
     ext = sorted(u for u in unknown if not u.startswith("mc_"))
     return {"bytes": worst, "path": path, "external_calls_not_counted": ext,
             "dynamic_frames": sorted(dynamic)}
-
-
-def registry_drives():
-    """The drives of firmware/drives/registry.c (each `&<name>_drive_ops`), in its order."""
-    with open(os.path.join(cb.ROOT, "firmware", "drives", "registry.c")) as f:
-        return re.findall(r"&(\w+)_drive_ops", f.read())
-
-
-def default_scenario(drive):
-    """The drive's benchmark scenario: DEFAULT_SCENARIO's, else the first of
-    sim/scenarios/ with [drive] kind = "<drive>"."""
-    if drive in DEFAULT_SCENARIO:
-        return DEFAULT_SCENARIO[drive]
-    for path in sorted(glob.glob(os.path.join(cb.ROOT, "sim", "scenarios", "*.toml"))):
-        if re.search(r'^kind\s*=\s*"%s"' % re.escape(drive), open(path).read(), re.M):
-            return path
-    return None
 
 
 def vectors_row_words(vec):
@@ -284,26 +256,31 @@ def common_keys(p, run, args, bdir, elf, vec, drive, machine):
     return res, instr, to_instr, calib
 
 
-def run_type(typ, args):
-    """Paper 000's position drive on type typ (keys m4f_float_* / m3_fixed_*)."""
-    preset, machine, _ = cb.PRESETS[typ]
-    run, bdir, elf, vec = run_image("paper000", typ, args, args.scenario_paper000, "pil_vectors_%s.c" % typ,
-                                    extra_targets=["mc_selftest"])
-    p = PREFIX[typ]
-    res, _, _, _ = common_keys(p, run, args, bdir, elf, vec, "paper000", machine)
-    sz_st = cb.size_of([os.path.join(bdir, "hal", "backends", "mcu", "mc_selftest.elf")])
-    res[p + "_selftest_image_flash_bytes"] = sz_st["text"] + sz_st["data"]
-    res[p + "_selftest_image_ram_bytes"] = sz_st["data"] + sz_st["bss"]
-    return res
-
-
-def run_generic(drive, typ, args):
-    """Any other drive of the registry on type typ (keys <drive>_<m4f_float|m3_fixed>_*)."""
+def run_drive(facts, typ, est, args):
+    """One run of drive facts.name on type typ (with estimator est, or the
+    scenario's when None): keys <head>[<est>_]<m4f_float|m3_fixed>_*, with its
+    further images' sizes and its probe's parts."""
+    drive = facts.name
     preset, machine, _ = cb.PRESETS[typ]
     run, bdir, elf, vec = run_image(drive, typ, args, getattr(args, "scenario_" + drive),
-                                    "pil_vectors_%s_%s.c" % (drive, typ))
-    res, _, _, _ = common_keys("%s_%s" % (drive, PREFIX[typ]), run, args, bdir, elf, vec, drive, machine)
+                                    "pil_vectors_%s%s_%s.c" % (drive, "_" + est if est else "", typ),
+                                    gen_extra=["--estimator", est] if est else [],
+                                    extra_targets=facts.pil.images)
+    p = run_prefix(facts, est, typ)
+    res, instr, to_instr, calib = common_keys(p, run, args, bdir, elf, vec, drive, machine)
+    for img in facts.pil.images:
+        sz = cb.size_of([os.path.join(bdir, "hal", "backends", "mcu", img + ".elf")])
+        what = img[len("mc_"):]
+        res["%s_%s_image_flash_bytes" % (p, what)] = sz["text"] + sz["data"]
+        res["%s_%s_image_ram_bytes" % (p, what)] = sz["data"] + sz["bss"]
+    if facts.pil.probe is not None:
+        res.update(probe_keys(facts.pil.probe, p, run, instr, to_instr, calib))
     return res
+
+
+def run_prefix(facts, est, typ):
+    """The prefix of one run's keys: <head>[<est>_]<m4f_float|m3_fixed>."""
+    return facts.head() + (est + "_" if est else "") + PREFIX[typ]
 
 
 def stack_and_qemu(res, p, st, info, qemu):
@@ -354,58 +331,56 @@ def linked_firmware_bytes(map_path):
     return {"flash": flash, "ram": ram} if flash else None
 
 
-def run_p001(typ, est, args):
-    """The paper-001 speed drive with estimator est (flux | back_emf) on type
-    typ; its probe (tools/bench/pil_probes/paper001_probe.c) times the parts."""
-    preset, machine, _ = cb.PRESETS[typ]
-    run, bdir, elf, vec = run_image("paper001", typ, args, args.scenario_paper001,
-                                    "pil_vectors_paper001_%s_%s.c" % (est, typ), gen_extra=["--estimator", est])
-    p = "p001_%s_%s" % (est, PREFIX[typ])
-    res, instr, to_instr, calib = common_keys(p, run, args, bdir, elf, vec, "paper001", machine)
+def probe_keys(probe, p, run, instr, to_instr, calib):
+    """The keys of a drive's probe (tools/bench/pil_probes/<drive>_probe.c):
+    its lines P <period> <column>..., each part's count its column minus the
+    first empty column after it (an empty call timed alike), the sums of its
+    facts, the whole step in those periods and the rest, the call overhead
+    subtracted (the first empty column), the mismatches of its replay."""
     parts, info = run["parts"], run["info"]
     n = int(info.get("n", "0"))
+    res = {}
     if parts:
-        # P <period> <flux> <ii> <empty> <ida> <empty> <frames> <empty>: each
-        # part's noipa wrapper minus its empty twin (same call sequence)
-        flux = [to_instr(r[1]) - to_instr(r[3]) for r in parts]
-        ii = [to_instr(r[2]) - to_instr(r[3]) for r in parts]
-        ida = [to_instr(r[4]) - to_instr(r[5]) for r in parts]
-        frames = [to_instr(r[6]) - to_instr(r[7]) for r in parts]
+        count = {name: [to_instr(r[c]) - to_instr(r[e]) for r in parts] for name, c, e in probe.parts()}
         res[p + "_part_periods"] = len(parts)
-        res.update(instr_stats(p + "_part_flux_observer", flux))
-        res.update(instr_stats(p + "_part_ii", ii))
-        res.update(instr_stats(p + "_part_ida_pbc", ida))
-        res.update(instr_stats(p + "_part_frames", frames))
-        res.update(instr_stats(p + "_part_fo_ida", [a + b for a, b in zip(flux, ida)]))
-        res.update(instr_stats(p + "_part_fo_ida_frames", [a + b + c for a, b, c in zip(flux, ida, frames)]))
+        for name, _, _ in probe.parts():
+            res.update(instr_stats(p + "_part_" + name, count[name]))
+        for name, of in probe.sums.items():
+            res.update(instr_stats(p + "_part_" + name, [sum(v) for v in zip(*(count[x] for x in of))]))
         if len(instr) == n:
             whole = [instr[r[0]] for r in parts]
             res.update(instr_stats(p + "_part_whole_step", whole))
             res[p + "_part_rest_instr_mean"] = round(
-                (sum(whole) - sum(flux) - sum(ii) - sum(ida) - sum(frames)) / len(parts), 1)
-        res[p + "_part_call_overhead_subtracted"] = round(sum(to_instr(r[3]) for r in parts) / len(parts) - calib, 1)
+                (sum(whole) - sum(sum(v) for v in count.values())) / len(parts), 1)
+        first = probe.first_empty()
+        res[p + "_part_call_overhead_subtracted"] = round(sum(to_instr(r[first]) for r in parts) / len(parts) - calib,
+                                                          1)
     res[p + "_part_mismatches"] = int(info.get("part_mismatches", "-1"))
     if parts:
         res[p + "_part_outputs_checked"] = int(info.get("part_outputs_checked", "0"))
     return res
 
 
-def markdown_table(path):
-    """The paper-000 drive's cost table of a --results file, markdown on stdout."""
+def markdown_table(path, facts):
+    """The cost table of drive facts.name (its keys without an estimator:
+    the default drive's, m4f_float_... and m3_fixed_...) in a --results
+    file, markdown on stdout."""
     try:
         with open(path) as f:
             r = json.load(f)
     except (OSError, ValueError) as e:
         print("pil.py: %s: %s" % (path, e), file=sys.stderr)
         return 2
-    cols = [("m4f_float", "Cortex-M4F, float"), ("m3_fixed", "Cortex-M3, fixed point Q14.17")]
+    h, drive = facts.head(), facts.name
+    cols = [(h + "m4f_float", "Cortex-M4F, float"), (h + "m3_fixed", "Cortex-M3, fixed point Q14.17")]
     if any(p + "_instr_mean" not in r for p, _ in cols):
-        print("pil.py: %s: no paper-000 results of both types (run pil.py --results FILE)" % path, file=sys.stderr)
+        print("pil.py: %s: no results of the %s drive of both types (run pil.py --drive %s --results FILE)"
+              % (path, drive, drive), file=sys.stderr)
         return 2
     tg = r.get("targets", {})
 
     def row(name, fmt, target=""):
-        print("| %s | %s | %s | %s |" % (name, fmt("m4f_float"), fmt("m3_fixed"), target))
+        print("| %s | %s | %s | %s |" % (name, fmt(cols[0][0]), fmt(cols[1][0]), target))
 
     def n(x):
         return "{:,}".format(int(round(x)))
@@ -416,43 +391,53 @@ def markdown_table(path):
     print("| | %s | %s | target |" % (cols[0][1], cols[1][1]))
     print("| --- | --- | --- | --- |")
     row("instructions per step, mean / max", lambda p: "%s / %s" % (n(r[p + "_instr_mean"]), n(r[p + "_instr_max"])),
-        "mean ≤ %s (M4F), ≤ %s (M3); max ≤ %s (M4F)" % (n(tg.get("m4f_float_instr_mean", 0)),
-                                                        n(tg.get("m3_fixed_instr_mean", 0)),
-                                                        n(tg.get("m4f_float_instr_max", 0))))
+        "mean ≤ %s (M4F), ≤ %s (M3); max ≤ %s (M4F)" % (n(tg.get(cols[0][0] + "_instr_mean", 0)),
+                                                        n(tg.get(cols[1][0] + "_instr_mean", 0)),
+                                                        n(tg.get(cols[0][0] + "_instr_max", 0))))
     row("the CAN node's step after it, mean / max",
         lambda p: "%s / %s" % (n(r[p + "_can_instr_mean"]), n(r[p + "_can_instr_max"])))
     row("firmware library flash, static RAM", lambda p: "%s, %d" % (kb(r[p + "_lib_flash_bytes"]),
                                                                     r[p + "_lib_ram_static_bytes"]))
     row("PIL image flash without the recorded vectors", lambda p: kb(r[p + "_pil_image_flash_bytes_without_vectors"]))
-    row("`paper000_drive_t` (all state)", lambda p: "%s B" % n(r[p + "_drive_state_ram_bytes"]))
-    row("stack of `paper000_drive_step`, static / measured",
+    row("`%s_drive_t` (all state)" % drive, lambda p: "%s B" % n(r[p + "_drive_state_ram_bytes"]))
+    row("stack of `%s_drive_step`, static / measured" % drive,
         lambda p: "%d / %d B" % (r[p + "_step_stack_bytes_static"], r[p + "_step_stack_measured_bytes"]))
     row("periods, bit-exact with the host build",
         lambda p: "%s, %s" % (n(r[p + "_periods"]), "yes" if r.get(p + "_bit_exact_vs_host") else "NO"))
     print()
     lto = all(r.get(p + "_lto") for p, _ in cols)
     print("%s, %s, GCC %s, -O3%s; `%s`. Targets missed: %s."
-          % (r.get("scenario", "?"), r.get("date", "?"), r.get("gcc", "?"),
+          % (r.get(h + "scenario", "?"), r.get("date", "?"), r.get("gcc", "?"),
              " -flto (MC_LTO)" if lto else "", os.path.relpath(os.path.abspath(path), cb.ROOT),
              "; ".join(r.get("target_misses", [])) or "none"))
     return 0
 
 
 def main():
+    try:
+        facts = drive_facts.load_all()
+    except drive_facts.FactsError as e:
+        print("pil.py: %s" % e, file=sys.stderr)
+        return 2
+    default = drive_facts.default_drive(facts)
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--types", default="float,fixed", help="comma list of float,fixed")
-    ap.add_argument("--drive", default="paper000",
-                    help="comma list of drives of the registry (firmware/drives/registry.c): %s (default "
-                         "paper000)" % ", ".join(registry_drives()))
+    ap.add_argument("--types", default="float,fixed",
+                    help="comma list of float,fixed (a drive runs those of its types, tools.toml)")
+    ap.add_argument("--drive", default=default,
+                    help="comma list of drives of the registry (firmware/drives/registry.c): %s (default %s: "
+                         "the one whose keys carry no prefix)" % (", ".join(facts), default))
     ap.add_argument("--step-call", choices=["direct", "interface"], default="direct",
                     help="how the image calls the timed step (CMake MC_PIL_STEP_CALL): direct, the drive's "
                          "<name>_drive_step as drive_ops_t.step calls it (default), or interface, drive_step()")
-    ap.add_argument("--estimators", "--estimator", default="flux,back_emf",
-                    help="paper001 only: comma list of flux, back_emf (default both)")
+    ap.add_argument("--estimators", "--estimator", default=None,
+                    help="comma list of estimators, for the drives measured per estimator (default: each one's "
+                         "pil.estimators of its tools.toml: %s)"
+                         % "; ".join("%s %s" % (n, ",".join(f.pil.estimators)) for n, f in facts.items()
+                                     if f.pil.estimators))
     ap.add_argument("--scenario", default=None,
-                    help="scenario of the (one) drive of --drive (default: sim/scenarios/paper000_ideal.toml, "
-                         "paper001_benchmark.toml for paper001, paper002_reference.toml for paper002, "
-                         "sensored_benchmark.toml for sensored_foc)")
+                    help="scenario of the (one) drive of --drive (default: its benchmark, scenario of "
+                         "firmware/drives/<drive>/tools.toml: %s)"
+                         % ", ".join("%s %s" % (n, os.path.relpath(f.scenario, cb.ROOT)) for n, f in facts.items()))
     ap.add_argument("--max-samples", type=int, default=0, help="record at most N periods (0 = whole scenario)")
     ap.add_argument("--gen-float", default=None, help="mc_pil_gen of a float host build (default: build/host)")
     ap.add_argument("--gen-fixed", default=None, help="mc_pil_gen of a fixed host build (default: build/host-fixed)")
@@ -461,30 +446,31 @@ def main():
     ap.add_argument("--check", action="store_true",
                     help="exit 1 when an image does not run to the end or an output differs from the host build")
     ap.add_argument("--check-targets", action="store_true",
-                    help="also exit 1 when a cost target is missed (float M4F mean/max, fixed M3 mean; "
-                         "paper001: flux observer + IDA-PBC M4F mean)")
+                    help="also exit 1 when a cost target of the drive (pil.targets of its tools.toml) is missed")
     ap.add_argument("--results", default=None, help="also write the JSON to this file")
     ap.add_argument("--markdown", metavar="RESULTS.json", default=None,
-                    help="run nothing: print the paper-000 cost table of a results file (docs/benchmarks.md and "
-                         "docs/fixed_point.md embed it)")
+                    help="run nothing: print the cost table of --drive (default %s) of a results file "
+                         "(docs/benchmarks.md and docs/fixed_point.md embed it)" % default)
     args = ap.parse_args()
+    drives = [d.strip() for d in (args.drive or "").split(",") if d.strip()]
+    if not drives or any(d not in facts for d in drives):
+        ap.error("--drive: comma list of drives of the registry: %s" % ", ".join(facts))
     if args.markdown:
-        return markdown_table(args.markdown)
+        if len(drives) > 1:
+            ap.error("--markdown: give one --drive with it")
+        return markdown_table(args.markdown, facts[drives[0]])
     args.build_root = os.path.abspath(args.build_root)
-    drives = [d.strip() for d in args.drive.split(",") if d.strip()]
-    ests = [e.strip() for e in args.estimators.split(",") if e.strip()]
-    known = registry_drives()
-    if not drives or any(d not in known for d in drives):
-        ap.error("--drive: comma list of drives of the registry: %s" % ", ".join(known))
-    if not ests or any(e not in ("flux", "back_emf") for e in ests):
-        ap.error("--estimators: comma list of flux, back_emf")
+    ests = {}  # drive -> the estimators measured one by one ([None]: the scenario's)
+    for d in drives:
+        ests[d] = list(facts[d].pil.estimators) or [None]
+        if args.estimators is not None and facts[d].pil.estimators:
+            ests[d] = [e.strip() for e in args.estimators.split(",") if e.strip()]
+            if not ests[d] or any(e not in facts[d].estimators for e in ests[d]):
+                ap.error("--estimators: comma list of %s (the %s drive's)" % (", ".join(facts[d].estimators), d))
     if args.scenario and len(drives) > 1:
         ap.error("--scenario: give one --drive with it")
     for d in drives:
-        sc = os.path.abspath(args.scenario) if args.scenario else default_scenario(d)
-        if sc is None:
-            ap.error("--drive %s: no scenario with [drive] kind = \"%s\" in sim/scenarios/: give --scenario" % (d, d))
-        setattr(args, "scenario_" + d, sc)
+        setattr(args, "scenario_" + d, os.path.abspath(args.scenario) if args.scenario else str(facts[d].scenario))
     miss = cb.missing_tools()
     if miss:
         print("SKIP: PIL needs %s (apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm)"
@@ -492,32 +478,28 @@ def main():
         return cb.SKIP
     types = [t.strip() for t in args.types.split(",") if t.strip()]
     out = {}
-    if "paper000" in drives:
-        out["scenario"] = os.path.relpath(args.scenario_paper000, cb.ROOT)
-    if "paper001" in drives:
-        out["p001_scenario"] = os.path.relpath(args.scenario_paper001, cb.ROOT)
-        out["p001_estimators"] = ests
-        out["p001_max_samples"] = args.max_samples or None
-        try:  # the drive changes under these snapshots: say which tree was measured
-            head = subprocess.run(["git", "-C", cb.ROOT, "rev-parse", "--short", "HEAD"], stdout=subprocess.PIPE,
-                                  stderr=subprocess.DEVNULL, text=True).stdout.strip()
-            dirty = subprocess.run(["git", "-C", cb.ROOT, "status", "--porcelain", "--untracked-files=no"],
-                                   stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout.strip()
-            out["p001_git_head"] = head + ("-dirty" if dirty else "") if head else None
-        except OSError:
-            pass
+    for d in drives:
+        h = facts[d].head()
+        out[h + "scenario"] = os.path.relpath(getattr(args, "scenario_" + d), cb.ROOT)
+        if facts[d].pil.estimators:
+            # measured per estimator: these results are compared across
+            # commits, the drive changing under them: say which tree
+            out[h + "estimators"] = ests[d]
+            out[h + "max_samples"] = args.max_samples or None
+            try:
+                head = subprocess.run(["git", "-C", cb.ROOT, "rev-parse", "--short", "HEAD"], stdout=subprocess.PIPE,
+                                      stderr=subprocess.DEVNULL, text=True).stdout.strip()
+                dirty = subprocess.run(["git", "-C", cb.ROOT, "status", "--porcelain", "--untracked-files=no"],
+                                       stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout.strip()
+                out[h + "git_head"] = head + ("-dirty" if dirty else "") if head else None
+            except OSError:
+                pass
     out.update({"date": datetime.date.today().isoformat(),
                 "instr_counting": "SysTick ticks * 40 ns / 2^shift ns, minus the empty-region count"})
     targets = {}
-    if "paper000" in drives:
-        targets.update({"m4f_float_instr_mean": 1000, "m4f_float_instr_max": 1200, "m3_fixed_instr_mean": 1500})
-    for (d, t), lims in DRIVE_TARGETS.items():
-        if d in drives:
-            targets.update({"%s_%s_%s" % (d, PREFIX[t], k): lim for k, lim in lims.items()})
-    if "paper001" in drives:
-        for (e, t), lims in P001_TARGETS.items():
-            for k, lim in lims.items():
-                targets["p001_%s_%s_%s" % (e, PREFIX[t], k)] = lim
+    for d in drives:
+        for (e, t), lims in facts[d].pil.targets.items():
+            targets.update({"%s_%s" % (run_prefix(facts[d], e, t), k): lim for k, lim in lims.items()})
     out["targets"] = targets
     try:
         out["gcc"] = subprocess.run(["arm-none-eabi-gcc", "-dumpversion"], stdout=subprocess.PIPE,
@@ -525,59 +507,30 @@ def main():
     except OSError:
         pass
     failures, misses = [], []
-    if "paper000" in drives:
-        for t in types:
-            r = run_type(t, args)
-            out.update(r)
-            p = PREFIX[t]
-            if not r.get(p + "_image_ok"):
-                failures.append("%s: image did not run to PIL PASS" % t)
-            if r.get(p + "_mismatches", -1) != 0:
-                failures.append("%s: %s outputs differ from the host build" % (t, r.get(p + "_mismatches")))
-            for k, lim in TARGETS[t].items():
-                v = r.get("%s_instr_%s" % (p, k))
-                if v is None or v > lim:
-                    misses.append("%s: instr %s %s > target %d" % (t, k, v, lim))
-    if "paper001" in drives:
-        for e in ests:
+    for d in drives:
+        f = facts[d]
+        for e in ests[d]:
             for t in types:
-                r = run_p001(t, e, args)
+                if t not in f.types:
+                    cb.log("%s: no %s run (its design is %s only)" % (d, t, "/".join(f.types)))
+                    continue
+                r = run_drive(f, t, e, args)
                 out.update(r)
-                p = "p001_%s_%s" % (e, PREFIX[t])
-                what = "paper001 %s %s" % (e, t)
+                p = run_prefix(f, e, t)
+                what = " ".join([d] + ([e] if e else []) + [t])
                 if not r.get(p + "_image_ok"):
                     failures.append("%s: image did not run to PIL PASS" % what)
                 if r.get(p + "_mismatches", -1) != 0:
                     failures.append("%s: %s outputs differ from the host build" % (what, r.get(p + "_mismatches")))
-                if r.get(p + "_part_mismatches", -1) != 0:
+                if f.pil.probe is not None and r.get(p + "_part_mismatches", -1) != 0:
                     failures.append("%s: %s replayed parts differ from the drive's states"
                                     % (what, r.get(p + "_part_mismatches")))
-                for k, lim in P001_TARGETS.get((e, t), {}).items():
+                for k, lim in f.targets_of(e, t).items():
                     v = r.get("%s_%s" % (p, k))
                     if v is None:
-                        misses.append("%s: %s not measured (no closed-loop period recorded)" % (what, k))
+                        misses.append("%s: %s not measured" % (what, k))
                     elif v > lim:
-                        misses.append("%s: %s %s > target %d" % (what, k, v, lim))
-    for d in drives:
-        if d in ("paper000", "paper001"):
-            continue
-        out[d + "_scenario"] = os.path.relpath(getattr(args, "scenario_" + d), cb.ROOT)
-        for t in types:
-            if t not in DRIVE_TYPES.get(d, ("float", "fixed")):
-                cb.log("%s: no %s run (its design is %s only)" % (d, t, "/".join(DRIVE_TYPES[d])))
-                continue
-            r = run_generic(d, t, args)
-            out.update(r)
-            p = "%s_%s" % (d, PREFIX[t])
-            what = "%s %s" % (d, t)
-            if not r.get(p + "_image_ok"):
-                failures.append("%s: image did not run to PIL PASS" % what)
-            if r.get(p + "_mismatches", -1) != 0:
-                failures.append("%s: %s outputs differ from the host build" % (what, r.get(p + "_mismatches")))
-            for k, lim in DRIVE_TARGETS.get((d, t), {}).items():
-                v = r.get("%s_%s" % (p, k))
-                if v is None or v > lim:
-                    misses.append("%s: %s %s > target %d" % (what, k, v, lim))
+                        misses.append("%s: %s %s > target %s" % (what, k, v, lim))
     out["failures"] = failures
     out["target_misses"] = misses
     text = json.dumps(out, indent=2)

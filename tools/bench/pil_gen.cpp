@@ -17,12 +17,15 @@
 // The configuration comes from the drive's host part (sim/host_drives/):
 // the design motorsim runs for the scenario's drive ([drive] kind, or the
 // drive whose table the scenario has: [trajectory], [speed], [paper002]).
-// --drive defaults to the scenario's drive. --estimator flux|back_emf
-// overrides a [speed] scenario's estimator (paper 001's drive), encoder|flux
-// a [paper002] scenario's (its drive's host part checks which it takes).
+// --drive defaults to the scenario's drive. --estimator NAME overrides the
+// scenario's estimator of a drive that has several (flux|back_emf for a
+// [speed] scenario, paper 001's drive; encoder|flux|hfi for a [paper002]
+// one): the drive's host part checks which it takes (HostDrive::
+// select_estimator) and names the one a configuration runs
+// (HostDrive::estimator_name), written into the vectors' source line.
 //
-// Usage: mc_pil_gen [--drive NAME] [--estimator flux|back_emf|encoder|hfi] SCENARIO.toml OUT.c [MAX_SAMPLES]
-//        mc_pil_gen --board-config [--drive NAME] [--estimator ...] SCENARIO.toml OUT.c
+// Usage: mc_pil_gen [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c [MAX_SAMPLES]
+//        mc_pil_gen --board-config [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c
 //                   (an MCU board's drive configuration only, see write_board_config)
 #include <array>
 #include <cinttypes>
@@ -65,7 +68,7 @@ std::uint32_t bits(mc_t v)
 
 struct Options {
     std::string drive;      // registry name; empty: the scenario's
-    std::string estimator;  // paper 001: flux | back_emf; empty: the scenario's
+    std::string estimator;  // one of the drive's estimators; empty: the scenario's
 };
 
 // The scenario's own drive: its [drive] kind, or the drive its table chose.
@@ -95,14 +98,13 @@ void design(const std::string& name, const Options& opt, mcsim::Scenario& sc, dr
     host->design(sc, cfg);
 }
 
+// ", estimator NAME" when the drive has several (its host part names the
+// one cfg runs), else "".
 std::string estimator_note(const std::string& name, const drive_config_storage_t& cfg)
 {
-    if (name == "paper002") {
-        const int a = cfg.paper002.angle_source;
-        return std::string(", estimator ") + (a == P002_ANGLE_HFI ? "hfi" : (a == P002_ANGLE_FLUX ? "flux" : "encoder"));
-    }
-    if (name != "paper001") return "";
-    return std::string(", estimator ") + (cfg.paper001.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux");
+    const mcsim::HostDrive* host = mcsim::host_drive_find(name);
+    if (host == nullptr || host->estimator_name == nullptr) return "";
+    return std::string(", estimator ") + host->estimator_name(&cfg);
 }
 
 void write_cfg_words(FILE* f, const drive_config_storage_t& cfg, std::uint32_t bytes, const char* name)
@@ -301,9 +303,10 @@ int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* give
 int main(int argc, char** argv)
 {
     const char* usage =
-        "usage: %s [--drive NAME] [--estimator flux|back_emf|encoder|hfi] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
-        "       %s --board-config [--drive NAME] [--estimator flux|back_emf|encoder|hfi] SCENARIO.toml OUT.c\n"
-        "NAME: a drive of the registry (default: the scenario's):";
+        "usage: %s [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
+        "       %s --board-config [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c\n"
+        "--estimator: one of the drive's estimators (default: the scenario's)\n"
+        "--drive: a drive of the registry (default: the scenario's):";
     Options opt;
     bool board = false;
     std::vector<const char*> pos;
@@ -321,9 +324,7 @@ int main(int argc, char** argv)
         }
     }
     const bool bad_drive = !opt.drive.empty() && drive_find(opt.drive.c_str()) == nullptr;
-    const bool bad_est =
-        !opt.estimator.empty() && opt.estimator != "flux" && opt.estimator != "back_emf" && opt.estimator != "encoder";
-    if (pos.size() < 2 || pos.size() > (board ? 2u : 3u) || bad_drive || bad_est) {
+    if (pos.size() < 2 || pos.size() > (board ? 2u : 3u) || bad_drive) {
         if (bad_drive) std::fprintf(stderr, "error: --drive %s: not a drive of the registry\n", opt.drive.c_str());
         std::fprintf(stderr, usage, argv[0], argv[0]);
         for (std::size_t k = 0; k < drive_registry_count; ++k) std::fprintf(stderr, " %s", drive_registry[k]->name);

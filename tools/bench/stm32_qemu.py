@@ -14,7 +14,10 @@ under -icount, the empty timed region subtracted): the whole control
 interrupt's body (the backend around the step and the CAN-less application
 included) and the drive's step alone, in instructions, and as a share of
 the control period at 168 MHz (an instruction a cycle: a lower bound of
-the share on the chip).
+the share on the chip). What it knows of a drive comes from its facts
+file, firmware/drives/<drive>/tools.toml (tools/lib/drive_facts.py): its
+benchmark scenario and, with --check-budget, its budget beyond the share of
+the period every image keeps ([stm32]).
 
     tools/bench/stm32_qemu.py [--drive NAME] [--board NAME] [--variant NAME] [--scenario FILE]
                               [--max-samples N] [--shift S] [--build-root DIR] [--check-budget]
@@ -30,7 +33,9 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # tools/: the toolbox
 import crossbuild as cb  # noqa: E402
+from lib import drive_facts  # noqa: E402
 
 MACHINE = "netduinoplus2"
 # QEMU's netduinoplus2 runs its core clock (and so SysTick) at 168 MHz;
@@ -62,10 +67,10 @@ def recorded_estimator(vec):
     return m.group(1) if m else None
 
 
-def run_image(a, drive, board, variant, gen, scenario):
-    """Configures, builds and runs the image of (drive, board, variant);
+def run_image(a, facts, board, variant, gen, scenario):
+    """Configures, builds and runs the image of (facts.name, board, variant);
     its result (the JSON fields below) with "pass"."""
-    import pil  # noqa: E402  (the drives' targets: one place)
+    drive = facts.name
     image = "_".join([drive, board] + ([variant] if variant else []))
     build_root = a.build_root or os.path.join(cb.ROOT, "build", "stm32_qemu", image)
     if a.build_root and a.all:
@@ -163,17 +168,15 @@ def run_image(a, drive, board, variant, gen, scenario):
     sz = cb.size_of([os.path.join(bdir, "stm32_qemu.elf")])
     res["qemu_image_flash_bytes"] = sz["text"] + sz["data"]
     if a.check_budget:
-        # the share of the period every image keeps, and the PIL tool's
-        # targets of the drive on the float M4F (one place: pil.py):
-        # paper 001's on the whole interrupt (mean and max, as before the
-        # images were per pair), the others' on their step
+        # the share of the period every image keeps, and the drive's own
+        # ([stm32] of its tools.toml): on the whole interrupt (paper 001's,
+        # as before the images were per pair) and on its step (paper 002's:
+        # its PIL target on the float M4F, for the images of its own
+        # estimator only)
         budget = {"isr_period_share_max": PERIOD_SHARE_MAX}
-        if drive == "paper001":
-            t = pil.TARGETS["float"]
-            budget.update({"isr_instr_mean": t["mean"], "isr_instr_max": t["max"]})
-        for k, lim in pil.DRIVE_TARGETS.get((drive, "float"), {}).items():
-            if not variant:  # the targets are of the drive's own estimator
-                budget["drive_step_" + k] = lim
+        budget.update({"isr_" + k: lim for k, lim in facts.stm32.isr.items()})
+        if not variant:
+            budget.update({"drive_step_" + k: lim for k, lim in facts.step_budget().items()})
         res["budget"] = budget
         misses = [k for k, lim in budget.items() if res.get(k, 1e9) > lim]
         res["within_budget"] = not misses
@@ -198,21 +201,26 @@ def images():
     return out
 
 
-def preset_of(drive, board, variant):
-    """The configure preset of an image (CMakePresets.json), or None."""
+def preset_var(name, key):
+    """A cache variable of a configure preset (CMakePresets.json, through its
+    inherits), or None."""
     presets = json.load(open(os.path.join(cb.ROOT, "CMakePresets.json")))["configurePresets"]
     byname = {p["name"]: p for p in presets}
+    p = byname.get(name)
+    while p is not None:
+        if key in p.get("cacheVariables", {}):
+            return p["cacheVariables"][key]
+        p = byname.get(p.get("inherits"))
+    return None
 
-    def var(p, k):
-        while p is not None:
-            if k in p.get("cacheVariables", {}):
-                return p["cacheVariables"][k]
-            p = byname.get(p.get("inherits"))
-        return None
-    for p in presets:
-        if var(p, "MC_STM32F405") == "ON" and (var(p, "MC_DRIVE"), var(p, "MC_BOARD"),
-                                                var(p, "MC_DRIVE_VARIANT") or "") == (drive, board, variant):
-            return p["name"]
+
+def preset_of(drive, board, variant):
+    """The configure preset of an image (CMakePresets.json), or None."""
+    for p in json.load(open(os.path.join(cb.ROOT, "CMakePresets.json")))["configurePresets"]:
+        n = p["name"]
+        image = (preset_var(n, "MC_DRIVE"), preset_var(n, "MC_BOARD"), preset_var(n, "MC_DRIVE_VARIANT") or "")
+        if preset_var(n, "MC_STM32F405") == "ON" and image == (drive, board, variant):
+            return n
     return None
 
 
@@ -234,12 +242,24 @@ def markdown(results):
 
 
 def main():
+    try:
+        facts = drive_facts.load_all()
+    except drive_facts.FactsError as e:
+        cb.log("stm32_qemu.py: %s" % e)
+        return 2
+    # the default image: the stm32f405 preset's (drive, board)
+    drive0, board0 = preset_var("stm32f405", "MC_DRIVE"), preset_var("stm32f405", "MC_BOARD")
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--drive", default="paper001", help="a drive of the registry (default paper001)")
-    ap.add_argument("--board", default="vesc6", help="a board of hal/backends/stm32f405/boards/ (default vesc6)")
-    ap.add_argument("--variant", default="", help="a variant of the drive's configuration (paper002: sensorless)")
+    ap.add_argument("--drive", default=drive0,
+                    help="a drive of the registry: %s (default %s, the stm32f405 preset's)"
+                         % (", ".join(facts), drive0))
+    ap.add_argument("--board", default=board0,
+                    help="a board of hal/backends/stm32f405/boards/ (default %s, the stm32f405 preset's)" % board0)
+    ap.add_argument("--variant", default="",
+                    help="a variant of the drive's configuration for the board "
+                         "(firmware/drives/<drive>/boards/<board>_<variant>.toml)")
     ap.add_argument("--scenario", default=None,
-                    help="default: the drive's benchmark (tools/bench/pil.py), paper001_benchmark.toml for paper001")
+                    help="default: the drive's benchmark (scenario of firmware/drives/<drive>/tools.toml)")
     ap.add_argument("--max-samples", type=int, default=12000,
                     help="periods replayed (default 12000: 1.2 s, through the start into closed loop)")
     ap.add_argument("--shift", type=int, default=3,
@@ -254,6 +274,8 @@ def main():
     ap.add_argument("--markdown", action="store_true",
                     help="the cost table of hal/backends/stm32f405/README.md instead of the JSON")
     a = ap.parse_args()
+    if a.drive not in facts:
+        ap.error("--drive %s: not a drive of the registry (%s)" % (a.drive, ", ".join(facts)))
     miss = cb.missing_tools()
     if miss:
         cb.log("stm32_qemu: missing " + ", ".join(miss))
@@ -263,21 +285,21 @@ def main():
         cb.run(["cmake", "--preset", "host"], cwd=cb.ROOT)
         cb.run(["cmake", "--build", os.path.dirname(os.path.dirname(os.path.dirname(gen))), "--target", "mc_pil_gen"],
                cwd=cb.ROOT)
-    import pil  # noqa: E402  (the drives' default scenarios)
     if a.all:
         results = []
         for drive, board, variant in images():
-            scenario = a.scenario or pil.default_scenario(drive)
-            r = run_image(a, drive, board, variant, gen, scenario)
+            if drive not in facts:
+                cb.log("stm32_qemu.py: firmware/drives/%s/boards/: %s is not a drive of the registry" % (drive, drive))
+                return 2
+            scenario = a.scenario or str(facts[drive].scenario)
+            r = run_image(a, facts[drive], board, variant, gen, scenario)
             r["preset"] = preset_of(drive, board, variant)
             results.append(r)
         ok = all(r["pass"] for r in results)
         print(markdown(results) if a.markdown else json.dumps(results, indent=2))
         return 0 if ok else 1
-    scenario = a.scenario or pil.default_scenario(a.drive)
-    if scenario is None:
-        ap.error("--drive %s: give --scenario" % a.drive)
-    res = run_image(a, a.drive, a.board, a.variant, gen, scenario)
+    scenario = a.scenario or str(facts[a.drive].scenario)
+    res = run_image(a, facts[a.drive], a.board, a.variant, gen, scenario)
     res["preset"] = preset_of(a.drive, a.board, a.variant)
     print(markdown([res]) if a.markdown else json.dumps(res, indent=2))
     return 0 if res["pass"] else 1

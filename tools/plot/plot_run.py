@@ -3,7 +3,9 @@
 
 usage: plot_run.py [--t-start S] [--t-end S] [--panels NAME,...] RUN.csv OUT.png
 
-The kind of run is told from the CSV header:
+The kind of run is told from the CSV header (each drive's facts file,
+firmware/drives/<name>/tools.toml, names the kind its runs are, `plot`:
+the drives of each kind are named in the title and in --help):
 
 * position run (paper 000's drive, column theta_ref), like Figs. 4-8 of
   paper 000. Panels: position (reference, true, estimated), position
@@ -22,7 +24,7 @@ The kind of run is told from the CSV header:
   friction; estimated), d-q currents (in the drive's estimated frame) with
   the i_q reference, phase voltages (v_c left out when it is 0: two phases).
   Noisy estimates are drawn under the true traces.
-* paper-002 run (paper 002's drive, column omega_d_rad_s). Panels: speed
+* EKF speed run (ekf_speed: paper 002's drive, column omega_d_rad_s). Panels: speed
   (reference ω_d, true, the EKF's; rad/s), speed errors, the lumped
   disturbance M_0 (load + friction) with the EKF's estimate and the torque
   demand, d-q currents (encoder frame) with the MTPA references, d-q
@@ -61,6 +63,9 @@ import math
 import os
 import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # tools/: the toolbox
+from lib import drive_facts  # noqa: E402
 
 MODE_OPEN, MODE_CLOSED, MODE_FAULT = 0, 1, 2  # drive_mode_t
 # drive_fault_t (firmware/supervisor/supervisor.h): code -> (name, meaning).
@@ -109,10 +114,11 @@ class InputError(Exception):
 # ---------------------------------------------------------------- run kinds --
 # Each kind: the column that identifies it, the columns every plot needs, the
 # panels (name -> help, columns) in default order, the headline metrics
-# (key, label, unit). The panels are drawn by PANEL_DRAW[kind][name].
+# (key, label, unit). The panels are drawn by PANEL_DRAW[kind][name]. The
+# drives whose runs are of a kind say so in their facts file (plot = KIND).
 KINDS = {
     "position": {
-        "title": "position run, paper-000 drive",
+        "title": "position run",
         "key": "theta_ref",
         # the metrics of a faulted run against what is plotted
         "fault_note": "metrics of the whole run, against the scenario's reference "
@@ -137,7 +143,7 @@ KINDS = {
         ],
     },
     "speed": {
-        "title": "speed run (any speed drive: paper 001, sensored FOC)",
+        "title": "speed run",
         "key": "omega_ref_rad_s",
         "fault_note": "metrics of the whole run, the part after the fault included:",
         "base": ["t_s", "mode", "fault", "estimate_valid"],
@@ -159,8 +165,8 @@ KINDS = {
             ("max_abs_current_A", "max|i_phase|", "A"),
         ],
     },
-    "paper002": {
-        "title": "speed run, paper-002 drive",
+    "ekf_speed": {
+        "title": "EKF speed run",
         "key": "omega_d_rad_s",
         "fault_note": "metrics of the whole run, the part after the fault included:",
         "base": ["t_s", "mode", "fault"],
@@ -186,10 +192,49 @@ TITLE_LINE_CHARS = 140  # metrics per title line: up to this many characters
 MARKS_ROW_CHARS = 190  # the markings legend in one row up to this many characters, else two
 
 
+def kind_drives() -> dict[str, list[str]]:
+    """The drives of each kind, in the registry's order: the `plot` of each
+    drive's facts file (InputError naming the file and the key when one is
+    missing or wrong, or names no kind of KINDS)."""
+    global _KIND_DRIVES
+    if _KIND_DRIVES is None:
+        try:
+            facts = drive_facts.load_all()
+        except drive_facts.FactsError as e:
+            raise InputError(str(e)) from None
+        out: dict[str, list[str]] = {kind: [] for kind in KINDS}
+        for name, f in facts.items():
+            if f.plot not in KINDS:
+                raise InputError(f"{f.rel()}: plot: unknown kind {f.plot!r} (plot_run.py's: {', '.join(KINDS)})")
+            out[f.plot].append(name)
+        _KIND_DRIVES = out
+    return _KIND_DRIVES
+
+
+_KIND_DRIVES: dict[str, list[str]] | None = None
+
+
+def kind_title(kind: str) -> str:
+    """'speed run, drive a / b': the kind's title and its drives (without
+    them, and a warning, when a facts file is wrong: the plot does not need
+    them; ctest tools.drive_facts fails on it)."""
+    try:
+        drives = kind_drives()[kind]
+    except InputError as e:
+        print(f"plot_run.py: warning: {e}", file=sys.stderr)
+        drives = []
+    return f"{KINDS[kind]['title']}, drive {' / '.join(drives)}" if drives else KINDS[kind]["title"]
+
+
 def panel_help() -> str:
     lines = []
+    try:
+        drives = kind_drives()
+    except InputError as e:
+        drives, lines = {}, [f"({e})"]
     for kind, k in KINDS.items():
-        lines.append(f"{kind} runs (CSV header with {k['key']}), in the default order:")
+        of = f"; drive {' / '.join(drives[kind])}" if drives.get(kind) else ""
+        lines.append(f"{kind} runs (CSV header with {k['key']}{of}), in the default order:")
         lines += [f"  {name:15s} {h}" for name, (h, _) in k["panels"].items()]
     return "\n".join(lines)
 
@@ -209,13 +254,14 @@ def read_header(path: Path) -> tuple[list[str], int | None]:
 
 
 def detect_kind(header: list[str]) -> str:
-    """'position', 'speed' or 'paper002', from the column that identifies the kind."""
+    """A kind of KINDS, from the column that identifies it."""
     for kind, k in KINDS.items():
         if k["key"] in header:
             return kind
     keys = " or ".join(k["key"] for k in KINDS.values())
+    kinds = ", ".join(f"{kind} run" for kind in KINDS)
     raise InputError(f"not a motorsim run CSV: the header has no {keys} column "
-                     f"(position, speed or paper-002 run); it starts with {','.join(header[:4])}")
+                     f"({kinds}); it starts with {','.join(header[:4])}")
 
 
 def parse_panels(spec: str | None, kind: str) -> list[str]:
@@ -344,7 +390,7 @@ def headline(csv: Path, kind: str, faulted: bool = False, windowed: bool = False
 def title_lines(csv: Path, kind: str, window: tuple[float, float] | None,
                 fault: tuple[int, float] | None) -> tuple[str, str | None]:
     """(black title text, red fault line or None)."""
-    head = f"motorsim: {csv.stem} ({KINDS[kind]['title']})"
+    head = f"motorsim: {csv.stem} ({kind_title(kind)})"
     if window is not None:
         head += f", t = {window[0]:.6g} s to {window[1]:.6g} s"
     lines = [head] + headline(csv, kind, faulted=fault is not None, windowed=window is not None)
@@ -452,7 +498,7 @@ def arrange(fig, header, axes, twins) -> None:
 # Each draws one panel on axes a from the context c and returns its twin
 # axes (or None). c.plot(axis, y, fmt, ...) draws against the window's time.
 
-def p0_position(a, c):
+def pos_position(a, c):
     d = c.d
     c.plot(a, d["theta_ref"], "r", lw=1.2, label="θ_ref")
     c.plot(a, d["theta"], "b", lw=1.0, label="θ (true)")
@@ -460,14 +506,14 @@ def p0_position(a, c):
     a.set_ylabel("position [rad]")
 
 
-def p0_position_error(a, c):
+def pos_position_error(a, c):
     d = c.d
     c.plot(a, c.est(d["theta"] - d["theta_ref"]), "b", lw=0.8, label="θ - θ_ref (tracking)")
     c.plot(a, c.est(d["theta"] - d["theta_est"]), "g", lw=0.8, label="θ - θ_est (observation)")
     a.set_ylabel("position error [rad]")
 
 
-def p0_velocity(a, c):
+def pos_velocity(a, c):
     d = c.d
     c.plot(a, d["omega_ref"], "r", lw=1.2, label="ω_ref")
     c.plot(a, d["omega"], "b", lw=0.8, label="ω (true)")
@@ -479,7 +525,7 @@ def p0_velocity(a, c):
     return b
 
 
-def p0_current(a, c):
+def pos_current(a, c):
     d = c.d
     c.plot(a, d["i_f"], "b", lw=0.6, label="i_f")
     c.plot(a, d["i_g"], "c", lw=0.6, label="i_g")
@@ -493,7 +539,7 @@ def p0_current(a, c):
     return b
 
 
-def p0_disturbance(a, c):
+def pos_disturbance(a, c):
     d = c.d
     c.plot(a, d["d_f"], "b", lw=0.8, label="d_f = K/L ω sin(n_p Δθ)")
     c.plot(a, d["d_g"], "c", lw=0.8, label="d_g = -K/L ω cos(n_p Δθ)")
@@ -502,21 +548,21 @@ def p0_disturbance(a, c):
     a.set_ylabel("(f-g) back-EMF dist. [A/s]\nframe at n_p θ_ref")
 
 
-def p0_load(a, c):
+def pos_load(a, c):
     d = c.d
     c.plot(a, d["load_true_Nm"], "b", lw=1.0, label="C_r true (Coulomb friction + load)")
     c.plot(a, c.est(d["load_est_Nm"]), "g", lw=0.8, label="C_r est. (mech. observer (33)-(37))", zorder=EST_Z)
     a.set_ylabel("load torque [N m]")
 
 
-def p0_voltage(a, c):
+def pos_voltage(a, c):
     d = c.d
     c.plot(a, d["v_a"], "b", lw=0.4, label="v_a")
     c.plot(a, d["v_b"], "c", lw=0.4, label="v_b")
     a.set_ylabel("phase voltage [V]")
 
 
-def p1_speed(a, c):
+def spd_speed(a, c):
     d = c.d
     c.plot(a, d["omega_ref_rad_s"] * RAD_S_TO_RPM, "r", lw=1.4, label="ω* (reference)")
     c.plot(a, d["omega_rad_s"] * RAD_S_TO_RPM, "b", lw=1.0, label="ω (true)")
@@ -524,7 +570,7 @@ def p1_speed(a, c):
     a.set_ylabel("speed [rpm]")
 
 
-def p1_speed_error(a, c):
+def spd_speed_error(a, c):
     d = c.d
     c.plot(a, (d["omega_rad_s"] - d["omega_ref_rad_s"]) * RAD_S_TO_RPM, "b", lw=0.8,
            label="ω - ω* (tracking)")
@@ -533,20 +579,20 @@ def p1_speed_error(a, c):
     a.set_ylabel("speed error [rpm]")
 
 
-def p1_angle_error(a, c):
+def spd_angle_error(a, c):
     c.plot(a, c.np.degrees(c.d["theta_e_err_rad"]), "-", color="tab:purple", lw=0.6,
            label="θ_e,est - θ_e (electrical, wrapped to ±180°)")
     a.set_ylabel("angle error [° el.]")
 
 
-def p1_load(a, c):
+def spd_load(a, c):
     d = c.d
     c.plot(a, d["load_Nm"], "b", lw=1.2, label="τ_L true (load + friction)")
     c.plot(a, d["load_est_Nm"], "g", lw=0.7, label="τ_L est. (I&I observer)", zorder=EST_Z)
     a.set_ylabel("load torque [N m]")
 
 
-def p1_current(a, c):
+def spd_current(a, c):
     d = c.d
     c.plot(a, d["i_d_A"], "-", color="tab:blue", lw=0.6, label="i_d")
     c.plot(a, d["i_q_A"], "-", color="tab:orange", lw=0.6, label="i_q")
@@ -554,7 +600,7 @@ def p1_current(a, c):
     a.set_ylabel("d-q current [A]\n(frame at θ_e,est)")
 
 
-def p1_voltage(a, c):
+def spd_voltage(a, c):
     d = c.d
     c.plot(a, d["v_a_V"], "b", lw=0.4, label="v_a")
     c.plot(a, d["v_b_V"], "c", lw=0.4, label="v_b")
@@ -563,7 +609,7 @@ def p1_voltage(a, c):
     a.set_ylabel("phase voltage [V]")
 
 
-def p2_speed(a, c):
+def ekf_speed(a, c):
     d = c.d
     c.plot(a, d["omega_d_rad_s"], "r", lw=1.4, label="ω_d (reference)")
     c.plot(a, d["omega_rad_s"], "b", lw=1.0, label="ω (true)")
@@ -571,14 +617,14 @@ def p2_speed(a, c):
     a.set_ylabel("speed [rad/s]")
 
 
-def p2_speed_error(a, c):
+def ekf_speed_error(a, c):
     d = c.d
     c.plot(a, d["omega_d_rad_s"] - d["omega_rad_s"], "b", lw=0.8, label="ω_d - ω (tracking)")
     c.plot(a, d["omega_est_rad_s"] - d["omega_rad_s"], "g", lw=0.5, label="ω_est - ω (estimation)", zorder=EST_Z)
     a.set_ylabel("speed error [rad/s]")
 
 
-def p2_disturbance(a, c):
+def ekf_disturbance(a, c):
     d = c.d
     c.plot(a, d["M0_Nm"], "b", lw=1.2, label="M_0 true (load + friction)")
     c.plot(a, d["M0_est_Nm"], "g", lw=0.6, label="M_0 est. (EKF)", zorder=EST_Z)
@@ -586,7 +632,7 @@ def p2_disturbance(a, c):
     a.set_ylabel("torque [N m]")
 
 
-def p2_current(a, c):
+def ekf_current(a, c):
     d = c.d
     c.plot(a, d["i_d_A"], "-", color="tab:blue", lw=0.6, label="i_d")
     c.plot(a, d["i_q_A"], "-", color="tab:orange", lw=0.6, label="i_q")
@@ -595,7 +641,7 @@ def p2_current(a, c):
     a.set_ylabel("d-q current [A]\n(encoder frame)")
 
 
-def p2_voltage(a, c):
+def ekf_voltage(a, c):
     d = c.d
     c.plot(a, d["u_d_V"], "b", lw=0.4, label="u_d")
     c.plot(a, d["u_q_V"], "c", lw=0.4, label="u_q")
@@ -603,13 +649,13 @@ def p2_voltage(a, c):
 
 
 PANEL_DRAW = {
-    "position": {"position": p0_position, "position_error": p0_position_error, "velocity": p0_velocity,
-                 "current": p0_current, "disturbance": p0_disturbance, "load": p0_load,
-                 "voltage": p0_voltage},
-    "speed": {"speed": p1_speed, "speed_error": p1_speed_error, "angle_error": p1_angle_error,
-              "load": p1_load, "current": p1_current, "voltage": p1_voltage},
-    "paper002": {"speed": p2_speed, "speed_error": p2_speed_error, "disturbance": p2_disturbance,
-                 "current": p2_current, "voltage": p2_voltage},
+    "position": {"position": pos_position, "position_error": pos_position_error, "velocity": pos_velocity,
+                 "current": pos_current, "disturbance": pos_disturbance, "load": pos_load,
+                 "voltage": pos_voltage},
+    "speed": {"speed": spd_speed, "speed_error": spd_speed_error, "angle_error": spd_angle_error,
+              "load": spd_load, "current": spd_current, "voltage": spd_voltage},
+    "ekf_speed": {"speed": ekf_speed, "speed_error": ekf_speed_error, "disturbance": ekf_disturbance,
+                  "current": ekf_current, "voltage": ekf_voltage},
 }
 
 
@@ -808,8 +854,8 @@ class Parser(argparse.ArgumentParser):
 
 def parse_args(argv: list[str]) -> argparse.Namespace:
     p = Parser(prog="plot_run.py", formatter_class=argparse.RawDescriptionHelpFormatter,
-               description="Plots one motorsim run CSV (position run of paper 000 or speed run of "
-                           "paper 001, told from the header) into a PNG.",
+               description="Plots one motorsim run CSV (a position, speed or EKF speed run, told from the "
+                           "header) into a PNG.",
                epilog="panels (--panels NAME,...):\n" + panel_help() + "\n\n" + F_G_NOTE + ".\n"
                       "Exit status: 0 ok, 2 bad input, 3 numpy/matplotlib missing.")
     p.add_argument("csv", metavar="RUN.csv", type=Path, help="the CSV motorsim wrote")
