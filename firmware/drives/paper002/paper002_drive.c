@@ -1,5 +1,7 @@
 #include "drives/paper002/paper002_drive.h"
 
+#include <stddef.h>
+
 #include "control/delay_comp.h"
 #include "supervisor/guard.h"
 
@@ -10,12 +12,73 @@
  * sequence is v_bus/sqrt(3) */
 #define P002_INV_SQRT3 MC_C(0.57735026918962576)
 
-/* The injection's speeds (paper002_drive.h): 0 <= lo < hi <= on < off. */
-static bool p002_hfi_speeds_ok(const paper002_config_t *c)
+/* The motor model the blocks start from: the configured one, with
+ * cfg.iron saturating the unsaturated iron's L_d, L_q and psi, as at
+ * power-up (a re-init after a run gets the configuration with the last
+ * secant values). */
+static void p002_start_model(const paper002_config_t *cfg, motor_model_t *m)
 {
-    return mc_ge(c->hfi_blend_lo_rad_s, MC_ZERO) && mc_lt(c->hfi_blend_lo_rad_s, c->hfi_blend_hi_rad_s) &&
-           mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) && mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s) &&
-           mc_ge(c->hfi_hold_gain_per_s, MC_ZERO);
+    *m = cfg->model;
+    if (iron_model_saturates(&cfg->iron)) {
+        m->Ld_H = cfg->iron.Ld0_H;
+        m->Lq_H = cfg->iron.Lq0_H;
+        m->psi_Wb = cfg->iron.psi_Wb;
+    }
+}
+
+const char *paper002_config_problem(const paper002_config_t *c)
+{
+    motor_model_t m;
+    p002_start_model(c, &m);
+    /* the blocks whose own init checks their configuration, each asked
+     * on scratch state (paper002_drive_init inits the drive's own) */
+    union {
+        ekf_ipmsm_t ekf;
+        sosmc_t sosmc;
+        htsmc_t htsmc;
+        ibcc_t ibcc;
+        deadtime_comp_t dtc;
+    } scratch;
+    if (!ekf_ipmsm_init(&scratch.ekf, &c->ekf, &m))
+        return "ekf.q, ekf.r, ekf.p0: must be > 0; or model: R_ohm, Ld_H, Lq_H, J_kgm2, ts_s > 0, psi_Wb, fv_Nm_s >= 0, "
+               "n_p >= 1";
+    if (!sosmc_init(&scratch.sosmc, &c->sosmc, &m))
+        return "sosmc: alpha_0, alpha_I, eps, M_max_Nm must be > 0, eta >= 0";
+    if (!htsmc_init(&scratch.htsmc, &c->htsmc, &m))
+        return "htsmc: alpha_I, alpha_m, lambda, s0, nu_max, eps, M_max_Nm must be > 0, alpha_M > alpha_m, rho in "
+               "(0, 1/2]";
+    if (!ibcc_init(&scratch.ibcc, &c->ibcc, &m))
+        return "ibcc: lambda_per_s in (0, IBCC_LAMBDA_TS_MAX model.fs_hz], ref_alpha in (0, 1]; or model.fs_hz: must be > 0";
+    if (!mc_gt(c->i_trip_A, MC_ZERO)) return "i_trip_A: must be > 0";
+    if (!mc_gt(c->los_theta_rad, MC_ZERO)) return "los_theta_rad: must be > 0";
+    if (c->los_ticks < 1) return "los_ticks: must be >= 1";
+    if (!mc_ge(c->stall_tol, MC_ZERO)) return "stall_tol: must be >= 0";
+    if (!mc_gt(c->stall_floor_rad_s, MC_ZERO)) return "stall_floor_rad_s: must be > 0";
+    if (c->stall_ticks < 1) return "stall_ticks: must be >= 1";
+    if (!mc_ge(c->compute_delay, MC_ZERO) || !mc_le(c->compute_delay, MC_ONE))
+        return "compute_delay: must be in [0, 1]";
+    if (c->angle_source != P002_ANGLE_ENCODER && c->angle_source != P002_ANGLE_FLUX &&
+        c->angle_source != P002_ANGLE_HFI)
+        return "angle_source: must be ENCODER, FLUX or HFI";
+    if (c->angle_source == P002_ANGLE_HFI) {
+        /* the injection's speeds (paper002_drive.h): 0 <= lo < hi <= on < off */
+        if (!mc_ge(c->hfi_blend_lo_rad_s, MC_ZERO) || !mc_lt(c->hfi_blend_lo_rad_s, c->hfi_blend_hi_rad_s) ||
+            !mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) || !mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s))
+            return "hfi_blend_lo_rad_s, hfi_blend_hi_rad_s, hfi_on_rad_s, hfi_off_rad_s: must be 0 <= lo < hi <= on < off";
+        if (!mc_ge(c->hfi_hold_gain_per_s, MC_ZERO)) return "hfi_hold_gain_per_s: must be >= 0";
+    }
+    if (!deadtime_comp_init(&scratch.dtc, &c->deadtime)) return "deadtime: its coefficients must be >= 0";
+    if (c->angle_source == P002_ANGLE_HFI && c->hfi_find_angle) {
+        if (c->hfi_lock_ticks < 1) return "hfi_lock_ticks: must be >= 1 (hfi_find_angle)";
+        if (c->hfi_lock_window < 1 || c->hfi_lock_window > c->hfi_lock_ticks)
+            return "hfi_lock_window: must be in [1, hfi_lock_ticks] (hfi_find_angle)";
+        if (!mc_gt(c->hfi_lock_amp_min, MC_ZERO)) return "hfi_lock_amp_min: must be > 0 (hfi_find_angle)";
+        if (c->magpol.n_pulse < 1) return "magpol.n_pulse: must be >= 1 (hfi_find_angle)";
+        if (c->magpol.n_rest < 1) return "magpol.n_rest: must be >= 1 (hfi_find_angle)";
+        if (!mc_gt(c->magpol.v_p_V, MC_ZERO)) return "magpol.v_p_V: must be > 0 (hfi_find_angle)";
+        if (!mc_gt(c->magpol.margin_A, MC_ZERO)) return "magpol.margin_A: must be > 0 (hfi_find_angle)";
+    }
+    return NULL;
 }
 
 /* Step 0 with cfg.iron saturating (model/iron_model.h), at the EKF's (a
@@ -132,13 +195,7 @@ static mc_t p002_hfi_hold(paper002_drive_t *d, mc_t w_d)
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
-    if (iron_model_saturates(&cfg->iron)) {
-        /* the unsaturated model, as at power-up (a re-init after a run
-         * gets the configuration with the last secant values) */
-        d->cfg.model.Ld_H = cfg->iron.Ld0_H;
-        d->cfg.model.Lq_H = cfg->iron.Lq0_H;
-        d->cfg.model.psi_Wb = cfg->iron.psi_Wb;
-    }
+    p002_start_model(cfg, &d->cfg.model);
     d->iron_Lqs_H = d->cfg.model.Lq_H;
     guard_start_closed_loop(&d->sup);
     flight_recorder_init(&d->rec);
@@ -156,14 +213,12 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->stop_ramp_rad_s2 = mc_div(mc_mul(mc_mul_i(mc_mul(MC_C(1.5), m->psi_Wb), m->n_p), cfg->mtpa.i_max_A),
                                  mc_mul_i(m->J_kgm2, 4));
     fault_monitor_init(&d->mon, &cfg->faults);
-    const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf, m) && sosmc_init(&d->sosmc, &cfg->sosmc, m) &&
-                    htsmc_init(&d->htsmc, &cfg->htsmc, m) && ibcc_init(&d->ibcc, &cfg->ibcc, m) &&
-                    mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
-                    mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
-                    mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
-                    (cfg->angle_source == P002_ANGLE_ENCODER || cfg->angle_source == P002_ANGLE_FLUX ||
-                     (cfg->angle_source == P002_ANGLE_HFI && p002_hfi_speeds_ok(cfg))) &&
-                    deadtime_comp_init(&d->dtc, &cfg->deadtime);
+    /* every block's state; whether cfg is consistent: paper002_config_problem, below */
+    (void)ekf_ipmsm_init(&d->ekf, &cfg->ekf, m);
+    (void)sosmc_init(&d->sosmc, &cfg->sosmc, m);
+    (void)htsmc_init(&d->htsmc, &cfg->htsmc, m);
+    (void)ibcc_init(&d->ibcc, &cfg->ibcc, m);
+    (void)deadtime_comp_init(&d->dtc, &cfg->deadtime);
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
     const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, m->n_p);
     flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
@@ -181,14 +236,11 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->polarity = 0;
     d->hfi_lock_amp = MC_ZERO;
     magnet_polarity_init(&d->magpol, &cfg->magpol);
-    const bool ok_find = !find || (cfg->hfi_lock_ticks >= 1 && cfg->hfi_lock_window >= 1 &&
-                                   cfg->hfi_lock_window <= cfg->hfi_lock_ticks && mc_gt(cfg->hfi_lock_amp_min, MC_ZERO) &&
-                                   cfg->magpol.n_pulse >= 1 && cfg->magpol.n_rest >= 1 &&
-                                   mc_gt(cfg->magpol.v_p_V, MC_ZERO) && mc_gt(cfg->magpol.margin_A, MC_ZERO));
-    if (!ok || !ok_find) {
+    if (paper002_config_problem(cfg) != NULL) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
+        return false;
     }
-    return ok && ok_find;
+    return true;
 }
 
 static bool p002_zero(paper002_drive_t *d, hal_command_t *out)

@@ -255,7 +255,13 @@ typedef struct {
 /* The drive's operations (drives/drive.h), paper002_ops.c. */
 extern const drive_ops_t paper002_drive_ops;
 
+/* Validates cfg, copies it and resets every state. Returns false (drive in
+ * FAULT, outputs 0 V) if cfg is inconsistent; paper002_config_problem says why. */
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
+
+/* NULL if cfg is consistent, else its first problem: a literal naming the
+ * field ("i_trip_A: must be > 0"). */
+const char *paper002_config_problem(const paper002_config_t *cfg);
 
 /* One sample; false (0 V out) in FAULT or disabled. */
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out);

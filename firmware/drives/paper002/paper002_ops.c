@@ -13,6 +13,11 @@
 #include "drives/paper002/paper002_drive.h"
 #include "comm/generated/drive_can.h"
 
+static const char *p002_config_problem(const void *cfg)
+{
+    return paper002_config_problem((const paper002_config_t *)cfg);
+}
+
 static bool p002_init(void *self, const void *cfg)
 {
     return paper002_drive_init((paper002_drive_t *)self, (const paper002_config_t *)cfg);
@@ -104,7 +109,7 @@ const drive_ops_t paper002_drive_ops = {
     .can_kind = (uint8_t)DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE, /* the DBC's DriveKind */
     .state_bytes = (uint32_t)sizeof(paper002_drive_t),
     .config_bytes = (uint32_t)sizeof(paper002_config_t),
-    .config_problem = 0,
+    .config_problem = p002_config_problem,
     .init = p002_init,
     .step = p002_step,
     .command = p002_command,
