@@ -857,3 +857,56 @@ TEST(Paper002Drive, ConfigProblemNamesTheFirstOffendingField)
     no_find.hfi_lock_ticks = 0;
     EXPECT_EQ(paper002_config_problem(&no_find), nullptr);
 }
+
+// Disabled is not a fault (drives/drive.h: false only in FAULT, which the
+// programs answer with hal_safe_state()): the step returns true with 0 V
+// on every leg and counts the sample; in FAULT it returns false. Through
+// the interface as the programs hold it. Broken once: the step's disabled
+// branch returning false again (the disabled steps failed).
+TEST(Paper002Drive, DisabledStepsAreZeroVoltsButNotAFault)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    static paper002_drive_t d;
+    const paper002_config_t cfg = config(P002_SOSMC, true);
+    ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+    drive_t h{&paper002_drive_ops, &d};
+    Truth tr;
+    std::mt19937_64 rng(3);
+    double err = 0.0;
+    for (int k = 0; k < 100; ++k) {
+        ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &err)) << k;
+    }
+    drive_cmd_t off{};
+    off.kind = DRIVE_CMD_ENABLE;
+    off.enable = false;
+    ASSERT_EQ(drive_command(&h, &off), DRIVE_REFUSE_NONE);
+    hal_sample_t in{};
+    in.n_phases = 3;
+    in.v_bus_V = M(48.0);
+    in.has_angle = true;
+    for (int k = 0; k < 5; ++k) {
+        hal_command_t out{};
+        for (int j = 0; j < 3; ++j) out.v_V[j] = M(99.0);  // must be overwritten
+        EXPECT_TRUE(drive_step(&h, &in, &out)) << "disabled, sample " << k;
+        EXPECT_EQ(out.n_phases, 3);
+        for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0) << "leg " << j;
+        EXPECT_EQ(d.tick, static_cast<uint32_t>(101 + k));
+    }
+    drive_status_t s{};
+    drive_status(&h, &s);
+    EXPECT_FALSE(s.enabled);
+    EXPECT_EQ(s.state, static_cast<uint8_t>(SUP_STATE_CLOSED_LOOP));
+    EXPECT_EQ(d.rec.events, 0u);
+    // enabled again it runs as at power-up; a sample without the encoder's
+    // angle is then a fault: false, and false again while in FAULT
+    off.enable = true;
+    ASSERT_EQ(drive_command(&h, &off), DRIVE_REFUSE_NONE);
+    in.has_angle = false;
+    hal_command_t out{};
+    EXPECT_FALSE(drive_step(&h, &in, &out));
+    EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_FALSE(drive_step(&h, &in, &out));
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0) << "leg " << j;
+}

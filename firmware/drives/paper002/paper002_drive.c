@@ -358,8 +358,12 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
 {
     const paper002_config_t *c = &d->cfg;
     const motor_model_t *m = &c->model;
-    if (d->sup.state == SUP_STATE_FAULT || d->disabled) {
+    if (d->sup.state == SUP_STATE_FAULT) {
         return p002_zero(d, out);
+    }
+    if (d->disabled) {
+        (void)p002_zero(d, out); /* 0 V, the sample counted; not a fault (drives/drive.h) */
+        return true;
     }
     d->v_bus_V = in->v_bus_V;
     const bool flux = c->angle_source == P002_ANGLE_FLUX;

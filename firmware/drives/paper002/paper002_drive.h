@@ -263,7 +263,8 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
  * field ("i_trip_A: must be > 0"). */
 const char *paper002_config_problem(const paper002_config_t *cfg);
 
-/* One sample; false (0 V out) in FAULT or disabled. */
+/* One sample: always fills *out (0 V in FAULT or disabled, the sample
+ * counted); false in FAULT only. */
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out);
 
 /* Commands (through the drive interface: paper002_ops.c), between steps; false: refused, nothing
