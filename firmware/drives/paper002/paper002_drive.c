@@ -192,6 +192,18 @@ static mc_t p002_hfi_hold(paper002_drive_t *d, mc_t w_d)
     return mc_mac(w_d, k, mc_wrap_pi(mc_sub(d->hfi_hold_rad, th)));
 }
 
+/* The EKF's angle is kept in [-pi, pi) (estimators/ekf_ipmsm.h); the
+ * estimate's is unwrapped: a step of the angle beyond pi is a wrap, a
+ * turn (|w| Ts < pi, far above any speed the drive runs at). */
+static void p002_count_turns(paper002_drive_t *d, mc_t theta_rad)
+{
+    const mc_t step = mc_sub(theta_rad, d->theta_prev_rad);
+    if (mc_gt(mc_abs(step), MC_PI)) {
+        d->theta_turns += mc_lt(step, MC_ZERO) ? 1 : -1;
+    }
+    d->theta_prev_rad = theta_rad;
+}
+
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
@@ -219,6 +231,8 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     (void)htsmc_init(&d->htsmc, &cfg->htsmc, m);
     (void)ibcc_init(&d->ibcc, &cfg->ibcc, m);
     (void)deadtime_comp_init(&d->dtc, &cfg->deadtime);
+    d->theta_prev_rad = d->ekf.x[EKF_THETA];
+    d->theta_turns = 0;
     const mc_ab_t i0 = {MC_ZERO, MC_ZERO};
     const mc_t e0 = mc_elec_angle(cfg->flux_theta0_rad, m->n_p);
     flux_observer_init(&d->flux, &cfg->flux, mc_rot_from_angle(e0), i0);
@@ -286,6 +300,8 @@ static void p002_start_at(paper002_drive_t *d, mc_t e)
     ekf_ipmsm_config_t ec = c->ekf;
     ec.x0[EKF_THETA] = mc_div_i(e, m->n_p);
     (void)ekf_ipmsm_init(&d->ekf, &ec, m); /* the same configuration init accepted, one angle changed */
+    /* the estimate's angle starts again there: no turn */
+    d->theta_prev_rad = d->ekf.x[EKF_THETA];
     d->hfi_weight = MC_ZERO;
     d->hfi_hold_rad = ec.x0[EKF_THETA];
     d->los.run = 0;
@@ -452,6 +468,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.i_d_hat_A = x[EKF_ID];
     d->last.i_q_hat_A = x[EKF_IQ];
     d->last.theta_hat_rad = x[EKF_THETA];
+    p002_count_turns(d, x[EKF_THETA]);
     d->last.w_hat_rad_s = x[EKF_OMEGA];
     d->last.M0_hat_Nm = x[EKF_M0];
     /* 3. reference and torque demand; with the injection, the hold's

@@ -220,6 +220,9 @@ typedef struct {
     deadtime_comp_t dtc;           /* cfg.deadtime */
     angle_unwrap_t unwrap;         /* angle_source = FLUX: the observer's angle, unwrapped */
     mc_t theta_offset_rad;         /* angle_source = FLUX: theta0 - e0/p, a multiple of 2 pi/p */
+    mc_t theta_prev_rad;           /* the EKF's angle (in [-pi, pi)) of the last step, or its start ... */
+    int32_t theta_turns;           /* ... and its whole turns since: the estimate's unwrapped angle
+                                    * theta_prev_rad + 2 pi theta_turns (estimators/estimate.h) */
     fault_monitor_t mon;
     fault_persist_t los, stall;
     lock_monitor_t lock;           /* angle_source = FLUX (HFI: with the injection off) */

@@ -86,11 +86,14 @@ static void p002_status(const void *self, drive_status_t *s)
     s->v2_V = d->last.u_q_V;
 }
 
-/* The EKF's a posteriori estimate of the last step (the angle wrapped). */
+/* The EKF's a posteriori estimate of the last step, its angle unwrapped
+ * (estimators/estimate.h: mechanical, continuous over turns; from its
+ * start angle before the first step, and again from the angle the
+ * hfi_find_angle start found). */
 static void p002_estimate(const void *self, mc_estimate_t *e)
 {
     const paper002_drive_t *d = (const paper002_drive_t *)self;
-    e->theta_rad = d->last.theta_hat_rad;
+    e->theta_rad = mc_add(d->theta_prev_rad, mc_mul_i(MC_TWO_PI, d->theta_turns));
     e->omega_rad_s = d->last.w_hat_rad_s;
     e->accel_rad_s2 = ekf_ipmsm_accel(&d->ekf, &d->cfg.model);
     e->load_Nm = d->last.M0_hat_Nm;
