@@ -39,7 +39,7 @@ typedef struct {
     double v_switch_V, r_switch_Ohm, v_diode_V, r_diode_Ohm;
     double i_transition_A;
     bool synchronous;
-    double i_noise_A;  /* the current sensor's noise (sigma or half-width); 0: none */
+    double i_noise_A; /* the current sensor's noise (sigma or half-width); 0: none */
 } deadtime_comp_design_input_t;
 
 /* *out enabled with the coefficients above; false with a reason in err for

@@ -10,6 +10,10 @@
 #                sim/ (with the software plant backend) in float. The Clang
 #                static analyzer (clang-analyzer-*) runs on firmware/ always
 #                and on sim/ only with --full (docs/testing.md: why)
+#   clang-format the style of .clang-format (clang-format --dry-run -Werror)
+#                on the C and C++ files of firmware/, hal/, sim/, design/ and
+#                tools/ but the generated ones and those of
+#                scripts/clang_format_pending.txt, a list that may only shrink
 #
 # Check sets and why: .clang-tidy and docs/testing.md ("Static analysis and
 # fuzzing"). Suppressions are inline only, each with its reason:
@@ -21,10 +25,11 @@ cd "$ROOT"
 
 usage() {
     cat <<'EOF'
-usage: scripts/check_static.sh [--build-dir DIR] [--jobs N] [--full] [cppcheck] [clang-tidy]
+usage: scripts/check_static.sh [--build-dir DIR] [--jobs N] [--full] [cppcheck] [clang-tidy] [clang-format]
 
-Runs cppcheck and clang-tidy (default: both) over firmware/, sim/ and hal/;
-exits 1 on any finding, 2 on a usage or set-up error.
+Runs cppcheck and clang-tidy over firmware/, sim/ and hal/, and clang-format's
+check of .clang-format over firmware/, hal/, sim/, design/ and tools/ (default:
+all three); exits 1 on any finding, 2 on a usage or set-up error.
 
   --build-dir DIR  where the host configures for compile_commands.json go
                    (DIR/float, DIR/fixed; default build/static)
@@ -44,14 +49,14 @@ while [ $# -gt 0 ]; do
         --build-dir) build="$(realpath -m "${2:?--build-dir needs a directory}")"; shift ;;
         --jobs) jobs="${2:?--jobs needs a number}"; shift ;;
         --full) full=1 ;;
-        cppcheck | clang-tidy) tools+=("$1") ;;
+        cppcheck | clang-tidy | clang-format) tools+=("$1") ;;
         -h | --help) usage; exit 0 ;;
         -*) echo "check_static.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
-        *) echo "check_static.sh: unknown tool '$1' (cppcheck or clang-tidy)" >&2; usage >&2; exit 2 ;;
+        *) echo "check_static.sh: unknown tool '$1' (cppcheck, clang-tidy or clang-format)" >&2; usage >&2; exit 2 ;;
     esac
     shift
 done
-[ "${#tools[@]}" -gt 0 ] || tools=(cppcheck clang-tidy)
+[ "${#tools[@]}" -gt 0 ] || tools=(cppcheck clang-tidy clang-format)
 want() { printf '%s\n' "${tools[@]}" | grep -qx -- "$1"; }
 
 for t in "${tools[@]}"; do
@@ -78,9 +83,11 @@ configure() {
     fi
     rm -f "$log"
 }
-echo "==== static: configure $build/{float,fixed} (compile_commands.json)"
-configure float OFF
-configure fixed ON
+if want cppcheck || want clang-tidy; then
+    echo "==== static: configure $build/{float,fixed} (compile_commands.json)"
+    configure float OFF
+    configure fixed ON
+fi
 gen="$build/float/firmware/generated"
 
 # ------------------------------------------------------------ cppcheck ----
@@ -184,6 +191,47 @@ if want clang-tidy; then
     add_tidy "firmware/ (fixed point)" "$build/fixed" all firmware/
     run_tidy
     echo "---- clang-tidy: $((SECONDS - tt)) s"
+fi
+
+# -------------------------------------------------------- clang-format ----
+# .clang-format at the root is the style the code already follows (tuned on
+# clang-format 14, Debian 12's). Every C and C++ file of the trees below
+# must conform, but the generated ones and those listed in
+# scripts/clang_format_pending.txt: a ratchet (as PENDING of
+# tools/checks/drive_names.py), which may only shrink. A listed file that
+# conforms now, or no longer exists, fails too (take it off the list).
+FORMAT_PENDING=scripts/clang_format_pending.txt
+format_files() {  # the checked files, generated ones left out
+    find firmware hal sim design tools -type f \( -name '*.c' -o -name '*.h' -o -name '*.cpp' -o -name '*.hpp' \) \
+        ! -path 'firmware/comm/generated/*' ! -path 'firmware/drives/*/boards/*_config.c' | LC_ALL=C sort
+}
+if want clang-format; then
+    tf=$SECONDS
+    echo "==== static: $(clang-format --version | sed 's/^.*clang-format version/clang-format/' | head -1), .clang-format"
+    mapfile -t pending < <(grep -Ev '^[[:space:]]*(#|$)' "$FORMAT_PENDING")
+    declare -A is_pending=()
+    stale=()
+    for f in "${pending[@]}"; do
+        is_pending[$f]=1
+        if [ ! -f "$f" ]; then
+            stale+=("$f: does not exist")
+        elif clang-format --dry-run -Werror "$f" >/dev/null 2>&1; then
+            stale+=("$f: conforms now")
+        fi
+    done
+    conform=()
+    while IFS= read -r f; do
+        [ -n "${is_pending[$f]:-}" ] || conform+=("$f")
+    done < <(format_files)
+    echo "---- clang-format: ${#conform[@]} files conform, ${#pending[@]} not yet ($FORMAT_PENDING)"
+    if ! clang-format --dry-run -Werror "${conform[@]}"; then
+        failed+=("clang-format: files not in the style of .clang-format, not in $FORMAT_PENDING (above)")
+    fi
+    if [ "${#stale[@]}" -gt 0 ]; then
+        printf '%s\n' "${stale[@]/%/: take it off $FORMAT_PENDING}"
+        failed+=("clang-format: $FORMAT_PENDING lists files it should not (above)")
+    fi
+    echo "---- clang-format: $((SECONDS - tf)) s"
 fi
 
 echo

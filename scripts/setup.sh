@@ -60,11 +60,11 @@ die() { echo "setup: error: $*" >&2; exit 1; }
 BASE_PKGS=(cmake ninja-build gcc g++ googletest libgtest-dev python3-venv
            libeigen3-dev libtomlplusplus-dev libcli11-dev libcomedi-dev)
 # Static analysis and fuzzing (scripts/check_static.sh, scripts/fuzz.sh, both
-# in CI): cppcheck, clang-tidy; clang with libFuzzer and the sanitizer
+# in CI): cppcheck, clang-tidy, clang-format; clang with libFuzzer and the sanitizer
 # runtimes (libclang-rt-14-dev: clang 14 only recommends it, and packages are
 # installed here without recommends); llvm for llvm-symbolizer (sanitizer
 # reports with file and line).
-ANALYSIS_PKGS=(cppcheck clang-tidy clang libclang-rt-14-dev llvm)
+ANALYSIS_PKGS=(cppcheck clang-tidy clang-format clang libclang-rt-14-dev llvm)
 # The VM fixture (tools/vm/: Debian's own kernel in QEMU with TCG, for the
 # SocketCAN and Comedi tests this machine's kernel cannot run): QEMU for
 # x86-64, busybox-static for the initramfs, can-utils (candump, cansend)

@@ -10,8 +10,8 @@ bool foc_current_init(foc_current_t *c, const foc_current_config_t *cfg, const m
     return pi_ok && mc_gt(m->Ld_H, MC_ZERO) && mc_gt(m->Lq_H, MC_ZERO) && mc_ge(m->psi_Wb, MC_ZERO);
 }
 
-void foc_current_step(foc_current_t *c, const motor_model_t *m, mc_t i_d_ref_A, mc_t i_q_ref_A, mc_t i_d_A,
-                      mc_t i_q_A, mc_t w_e_rad_s, mc_t u_max_V)
+void foc_current_step(foc_current_t *c, const motor_model_t *m, mc_t i_d_ref_A, mc_t i_q_ref_A, mc_t i_d_A, mc_t i_q_A,
+                      mc_t w_e_rad_s, mc_t u_max_V)
 {
     /* the header's equations: the coupling fed forward (both terms before
      * the loops run: the motor is not needed after), d first */

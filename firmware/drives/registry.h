@@ -4,8 +4,13 @@
  * its line in drive_registry (registry.c), nothing else; its folder
  * (drives/<name>/) is compiled by the glob of firmware/CMakeLists.txt. Programs find a drive here by name
  * (drive_find) and hold it as a drive_t (drives/drive.h); none names a
- * drive itself. A build leaves a drive out by its CMake option
- * (firmware/CMakeLists.txt), never by editing a program.
+ * drive itself. Every build compiles every registered drive (there is no
+ * option to leave one out); a bare-metal image runs the one drive chosen
+ * when it is configured (CMake MC_DRIVE, checked against this registry by
+ * cmake/mc_drive.cmake), never by editing a program. Both bare-metal
+ * images (the PIL image, hal/backends/mcu/pil_drive.h.in; the STM32F405
+ * image, app_drive.c) bind that drive's operations directly rather than
+ * through drive_find, so the linker's --gc-sections drops the others.
  */
 #ifndef DRIVES_REGISTRY_H
 #define DRIVES_REGISTRY_H

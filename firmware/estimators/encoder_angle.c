@@ -30,6 +30,7 @@ const estimator_ops_t encoder_angle_ops = {
     .state_bytes = (uint32_t)sizeof(encoder_angle_t),
     .needs_angle = true,
     .model_based = false,
+    .config_problem = rotor_angle_problem,
     .init = enc_init,
     .starting = 0,
     .start = 0,

@@ -37,23 +37,23 @@ extern "C" {
 
 /* One sample in. */
 typedef struct {
-    const hal_sample_t *sample;  /* the whole sample: an encoder's angle (has_angle, angle_rad) */
-    mc_t omega_hint_rad_s;       /* the drive's a priori mechanical speed: what an estimator schedules on */
-    mc_t flux_ratio;             /* model_based: the flux radius the drive's motor model gives this
+    const hal_sample_t *sample; /* the whole sample: an encoder's angle (has_angle, angle_rad) */
+    mc_t omega_hint_rad_s;      /* the drive's a priori mechanical speed: what an estimator schedules on */
+    mc_t flux_ratio;            /* model_based: the flux radius the drive's motor model gives this
                                   * sample over the estimator's nominal one (1: nominal) */
-    mc_t L_ratio;                /* model_based: the inductance this sample over the configured one;
+    mc_t L_ratio;               /* model_based: the inductance this sample over the configured one;
                                   * 0: keep the configured (a linear motor model) */
 } estimator_in_t;
 
 /* One sample out. */
 typedef struct {
-    mc_t theta_rad;              /* the mechanical angle, wrapped into [-pi, pi): what a mechanical
+    mc_t theta_rad;         /* the mechanical angle, wrapped into [-pi, pi): what a mechanical
                                   * observer downstream is given as its measurement */
-    bool lock_checkable;         /* a model-based observer's angle is in use this sample: its residual
+    bool lock_checkable;    /* a model-based observer's angle is in use this sample: its residual
                                   * (rho2 against rho2_target) is a loss-of-lock criterion */
-    mc_t rho2, rho2_target;      /* lock_checkable only: that observer's consistency figure |rho|^2
+    mc_t rho2, rho2_target; /* lock_checkable only: that observer's consistency figure |rho|^2
                                   * and its target */
-    mc_t u_reserve_V;            /* an estimator with an injection only: the amplitude it takes of the
+    mc_t u_reserve_V;       /* an estimator with an injection only: the amplitude it takes of the
                                   * voltage this sample (0 when off); the controller's limit is reduced
                                   * by it */
 } estimator_out_t;
@@ -73,12 +73,15 @@ typedef enum {
 } estimator_family_t;
 
 typedef struct estimator_ops {
-    const char *name;            /* as in the docs and logs: "flux" */
-    estimator_family_t family;   /* the configuration type init takes */
-    uint8_t id;                  /* the number a drive's configuration holds for it (stable, per family) */
-    uint32_t state_bytes;        /* sizeof the state struct */
-    bool needs_angle;            /* a sample without an encoder angle is bad input */
-    bool model_based;            /* reads estimator_in_t's flux_ratio and L_ratio */
+    const char *name;          /* as in the docs and logs: "flux" */
+    estimator_family_t family; /* the configuration type init takes */
+    uint8_t id;                /* the number a drive's configuration holds for it (stable, per family) */
+    uint32_t state_bytes;      /* sizeof the state struct */
+    bool needs_angle;          /* a sample without an encoder angle is bad input */
+    bool model_based;          /* reads estimator_in_t's flux_ratio and L_ratio */
+    /* NULL if cfg is consistent, else its first problem: a literal naming the field (NULL op: init
+     * alone decides) */
+    const char *(*config_problem)(const void *cfg);
     /* validates cfg, resets every state; false: cfg refused (the state is then undefined) */
     bool (*init)(void *self, const void *cfg);
     /* true while a start of its own is still to run (NULL: never) */

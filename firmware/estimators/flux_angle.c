@@ -79,6 +79,7 @@ const estimator_ops_t flux_angle_ops = {
     .state_bytes = (uint32_t)sizeof(flux_angle_t),
     .needs_angle = false,
     .model_based = true,
+    .config_problem = rotor_angle_problem,
     .init = fa_init,
     .starting = 0,
     .start = 0,

@@ -25,10 +25,10 @@ extern "C" {
 #endif
 
 typedef struct {
-    flux_observer_t flux;           /* (12)-(14) on the active flux */
-    flux_observer_config_t flux0;   /* its configuration as given (L = L_q of the linear model) */
-    angle_unwrap_t unwrap;          /* the observer's angle, unwrapped */
-    mc_t theta_offset_rad;          /* theta0 - e0/n_p: a multiple of 2 pi/n_p */
+    flux_observer_t flux;         /* (12)-(14) on the active flux */
+    flux_observer_config_t flux0; /* its configuration as given (L = L_q of the linear model) */
+    angle_unwrap_t unwrap;        /* the observer's angle, unwrapped */
+    mc_t theta_offset_rad;        /* theta0 - e0/n_p: a multiple of 2 pi/n_p */
     int32_t n_p;
 } flux_angle_t;
 

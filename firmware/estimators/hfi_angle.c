@@ -1,29 +1,37 @@
 /* hfi_angle.c - see hfi_angle.h. */
 #include "estimators/hfi_angle.h"
 
-/* The injection's speeds: 0 <= lo < hi <= on < off, the hold's gain >= 0. */
-static bool hfi_speeds_ok(const rotor_angle_config_t *c)
+/* The first problem of the configuration (estimator.h), NULL if none: the
+ * pole pairs, the injection's speeds 0 <= lo < hi <= on < off, the hold's
+ * gain >= 0; with hfi_find_angle a lock of at least a sample, its window
+ * within it, a positive least amplitude, a polarity test of pulses and
+ * rests. */
+static const char *hfi_problem(const void *cfg)
 {
-    return mc_ge(c->blend_lo_rad_s, MC_ZERO) && mc_lt(c->blend_lo_rad_s, c->blend_hi_rad_s) &&
-           mc_le(c->blend_hi_rad_s, c->on_rad_s) && mc_lt(c->on_rad_s, c->off_rad_s) &&
-           mc_ge(c->hold_gain_per_s, MC_ZERO);
-}
-
-/* find_angle: a lock of at least a sample, its window within it, a
- * positive least amplitude, a polarity test of pulses and rests. */
-static bool hfi_find_ok(const rotor_angle_config_t *c)
-{
-    return !c->find_angle ||
-           (c->lock_ticks >= 1 && c->lock_window >= 1 && c->lock_window <= c->lock_ticks &&
-            mc_gt(c->lock_amp_min, MC_ZERO) && c->magpol.n_pulse >= 1 && c->magpol.n_rest >= 1 &&
-            mc_gt(c->magpol.v_p_V, MC_ZERO) && mc_gt(c->magpol.margin_A, MC_ZERO));
+    const rotor_angle_config_t *c = (const rotor_angle_config_t *)cfg;
+    const char *shared = rotor_angle_problem(c);
+    if (shared != 0) return shared;
+    if (!mc_ge(c->hfi_blend_lo_rad_s, MC_ZERO) || !mc_lt(c->hfi_blend_lo_rad_s, c->hfi_blend_hi_rad_s) ||
+        !mc_le(c->hfi_blend_hi_rad_s, c->hfi_on_rad_s) || !mc_lt(c->hfi_on_rad_s, c->hfi_off_rad_s))
+        return "hfi_blend_lo_rad_s, hfi_blend_hi_rad_s, hfi_on_rad_s, hfi_off_rad_s: must be 0 <= lo < hi <= on < off";
+    if (!mc_ge(c->hfi_hold_gain_per_s, MC_ZERO)) return "hfi_hold_gain_per_s: must be >= 0";
+    if (!c->hfi_find_angle) return 0;
+    if (c->hfi_lock_ticks < 1) return "hfi_lock_ticks: must be >= 1 (hfi_find_angle)";
+    if (c->hfi_lock_window < 1 || c->hfi_lock_window > c->hfi_lock_ticks)
+        return "hfi_lock_window: must be in [1, hfi_lock_ticks] (hfi_find_angle)";
+    if (!mc_gt(c->hfi_lock_amp_min, MC_ZERO)) return "hfi_lock_amp_min: must be > 0 (hfi_find_angle)";
+    if (c->magpol.n_pulse < 1) return "magpol.n_pulse: must be >= 1 (hfi_find_angle)";
+    if (c->magpol.n_rest < 1) return "magpol.n_rest: must be >= 1 (hfi_find_angle)";
+    if (!mc_gt(c->magpol.v_p_V, MC_ZERO)) return "magpol.v_p_V: must be > 0 (hfi_find_angle)";
+    if (!mc_gt(c->magpol.margin_A, MC_ZERO)) return "magpol.margin_A: must be > 0 (hfi_find_angle)";
+    return 0;
 }
 
 static bool hfi_init(void *self, const void *cfg)
 {
     hfi_angle_t *o = (hfi_angle_t *)self;
     const rotor_angle_config_t *c = (const rotor_angle_config_t *)cfg;
-    if (c->n_p < 1) {
+    if (hfi_problem(c) != 0) {
         return false;
     }
     o->cfg = *c;
@@ -33,12 +41,12 @@ static bool hfi_init(void *self, const void *cfg)
     hf_injection_set_on(&o->hfi, true);
     o->weight = MC_ZERO;
     o->hold_rad = mc_wrap_pi(c->theta0_rad);
-    o->phase = c->find_angle ? HFI_ANGLE_LOCK : HFI_ANGLE_RUN;
+    o->phase = c->hfi_find_angle ? HFI_ANGLE_LOCK : HFI_ANGLE_RUN;
     o->start_k = 0;
     o->polarity = 0;
     o->lock_amp = MC_ZERO;
     magnet_polarity_init(&o->magpol, &c->magpol);
-    return hfi_speeds_ok(c) && hfi_find_ok(c);
+    return true;
 }
 
 static bool hfi_starting(const void *self) { return ((const hfi_angle_t *)self)->phase != HFI_ANGLE_RUN; }
@@ -53,25 +61,25 @@ static bool hfi_starting(const void *self) { return ((const hfi_angle_t *)self)-
 static estimator_start_t hfi_lock(hfi_angle_t *o, mc_ab_t i_ab_A, mc_ab_t *u_ab_V)
 {
     const rotor_angle_config_t *c = &o->cfg;
-    if (o->start_k < c->lock_ticks) {
+    if (o->start_k < c->hfi_lock_ticks) {
         hf_injection_step(&o->hfi, i_ab_A);
         *u_ab_V = o->hfi.u_h_V;
         hf_injection_hold(&o->hfi, (mc_ab_t){MC_ZERO, MC_ZERO});
-        if (o->start_k >= c->lock_ticks - c->lock_window) {
+        if (o->start_k >= c->hfi_lock_ticks - c->hfi_lock_window) {
             o->lock_amp = mc_add(o->lock_amp, o->hfi.amp);
         }
-        if (o->start_k + 1 == c->lock_ticks) {
+        if (o->start_k + 1 == c->hfi_lock_ticks) {
             hf_injection_set_on(&o->hfi, false);
             /* locked: the estimate within pi/4 of the d axis, else the
              * test's decision could take the wrong sign */
-            o->lock_amp = mc_div_i(o->lock_amp, c->lock_window);
-            if (mc_lt(o->lock_amp, c->lock_amp_min)) {
+            o->lock_amp = mc_div_i(o->lock_amp, c->hfi_lock_window);
+            if (mc_lt(o->lock_amp, c->hfi_lock_amp_min)) {
                 return EST_START_REFUSED;
             }
         }
     }
     o->start_k += 1;
-    if (o->start_k >= c->lock_ticks + c->magpol.n_rest) {
+    if (o->start_k >= c->hfi_lock_ticks + c->magpol.n_rest) {
         /* the PLL on the d axis: the test along it */
         magnet_polarity_start(&o->magpol, o->hfi.theta_e_rad);
         o->phase = HFI_ANGLE_POLARITY;
@@ -120,9 +128,9 @@ static mc_rot_t hfi_update(void *self, const estimator_in_t *in, mc_ab_t *i_ab_A
     flux_observer_t *flux = &o->fa.flux;
     flux_angle_model(&o->fa, in);
     const mc_t w_abs = mc_abs(in->omega_hint_rad_s);
-    if (o->hfi.on && mc_gt(w_abs, c->off_rad_s)) {
+    if (o->hfi.on && mc_gt(w_abs, c->hfi_off_rad_s)) {
         hf_injection_set_on(&o->hfi, false);
-    } else if (!o->hfi.on && mc_lt(w_abs, c->on_rad_s)) {
+    } else if (!o->hfi.on && mc_lt(w_abs, c->hfi_on_rad_s)) {
         hf_injection_set_on(&o->hfi, true);
     }
     if (!o->hfi.on) {
@@ -134,8 +142,9 @@ static mc_rot_t hfi_update(void *self, const estimator_in_t *in, mc_ab_t *i_ab_A
     *i_ab_A = i_f;
     flux_observer_step(flux, i_f);
     /* the blend's weight, 0 below lo, 1 above hi */
-    const mc_t w = mc_clamp(mc_div(mc_sub(w_abs, c->blend_lo_rad_s), mc_sub(c->blend_hi_rad_s, c->blend_lo_rad_s)),
-                            MC_ZERO, MC_ONE);
+    const mc_t w =
+        mc_clamp(mc_div(mc_sub(w_abs, c->hfi_blend_lo_rad_s), mc_sub(c->hfi_blend_hi_rad_s, c->hfi_blend_lo_rad_s)),
+                 MC_ZERO, MC_ONE);
     o->weight = w;
     const mc_t th_h = o->hfi.theta_e_rad; /* the injection's tracked angle (H6) */
     mc_rot_t r;
@@ -168,7 +177,7 @@ static mc_t hfi_reference(void *self, mc_t omega_ref_rad_s, mc_t theta_hat_rad)
     if (mc_eq(o->weight, MC_ONE)) {
         o->hold_rad = theta_hat_rad;
     }
-    const mc_t k = mc_mul(c->hold_gain_per_s, mc_sub(MC_ONE, o->weight));
+    const mc_t k = mc_mul(c->hfi_hold_gain_per_s, mc_sub(MC_ONE, o->weight));
     return mc_mac(omega_ref_rad_s, k, mc_wrap_pi(mc_sub(o->hold_rad, theta_hat_rad)));
 }
 
@@ -188,6 +197,7 @@ const estimator_ops_t hfi_angle_ops = {
     .state_bytes = (uint32_t)sizeof(hfi_angle_t),
     .needs_angle = false,
     .model_based = true,
+    .config_problem = hfi_problem,
     .init = hfi_init,
     .starting = hfi_starting,
     .start = hfi_start,

@@ -23,12 +23,6 @@ mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_
     return mc_mul(mc_atan2(y, x), p->cfg.inv_n_p);
 }
 
-void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
-{
-    position_estimator_observe(p, e_f_V, e_g_V);
-    position_estimator_track(p, e_f_V, e_g_V, theta_r_rad, omega_r_rad_s);
-}
-
 void position_estimator_track(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s)
 {
     const position_estimator_config_t *c = &p->cfg;
@@ -64,9 +58,4 @@ void position_estimator_set_branch(position_estimator_t *p, mc_t theta_r_rad, mc
     const mc_t off = mc_sub(theta_near_rad, mc_add(theta_r_rad, p->dtheta_est_rad));
     p->k = mc_round_i(mc_div(off, p->cfg.pitch_rad));
     p->theta_est_rad = mc_add(mc_add(theta_r_rad, p->dtheta_est_rad), mc_mul_i(p->cfg.pitch_rad, p->k));
-}
-
-mc_t position_estimator_speed_magnitude(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V)
-{
-    return mc_mul(p->cfg.inv_K_rad_s_per_V, mc_hypot(e_f_V, e_g_V)); /* (30) */
 }

@@ -28,7 +28,7 @@ typedef struct {
     mc_t pitch_rad;     /* 2 pi / n_p: one electrical period in mechanical rad */
     mc_t half_pitch_rad; /* set by position_estimator_init */
     mc_t inv_n_p;        /* 1/n_p, set by position_estimator_init */
-    mc_t inv_K_rad_s_per_V; /* 1/K for eq. (30) */
+    mc_t inv_K_rad_s_per_V; /* 1/K of eq. (30), |w| = |e|/K: not needed by the control */
     mc_t e2_min_V2;     /* below this |e|^2 the angle is not observable (w ~ 0) */
 } position_estimator_config_t;
 
@@ -55,24 +55,17 @@ static inline void position_estimator_observe(position_estimator_t *p, mc_t e_f_
 /* dtheta_est of (29) from e and the sign of omega_r, in (-pi/n_p, pi/n_p]. */
 mc_t position_estimator_angle(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t omega_r_rad_s);
 
-/* One sample of (29) and (71) (includes position_estimator_observe). e_*: back-EMF estimates [V]; theta_r,
- * omega_r: the reference of this sample. */
-void position_estimator_step(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s);
-
-/* The same for the e of the last position_estimator_observe (its |e|^2 and
- * observability are not formed again): what a caller that has just
- * observed e runs. */
+/* One sample of (29) and (71) for the e of the last
+ * position_estimator_observe (its |e|^2 and observability are not formed
+ * again). e_*: back-EMF estimates [V]; theta_r, omega_r: the reference of
+ * this sample. */
 void position_estimator_track(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t theta_r_rad, mc_t omega_r_rad_s);
 
-/* (31)-(32) for the sample of the last position_estimator_step (separate:
+/* (31)-(32) for the sample of the last position_estimator_track (separate:
  * the open-loop start does not need it). z_*: filtered equivalent
  * injections [V/s]. */
 void position_estimator_speed(position_estimator_t *p, mc_t e_f_V, mc_t e_g_V, mc_t z_f_V_s, mc_t z_g_V_s,
                               mc_t omega_r_rad_s);
-
-/* |omega| of eq. (30) (errata factor L/K: |e|/K); not needed by the
- * control, so computed only on request. */
-mc_t position_estimator_speed_magnitude(const position_estimator_t *p, mc_t e_f_V, mc_t e_g_V);
 
 /* Chooses the jump count k that puts theta_est closest to theta_near_rad
  * (used at the open-to-closed-loop switch) and updates theta_est. */

@@ -48,13 +48,3 @@ lock_criterion_t lock_monitor_step_innovation(lock_monitor_t *m, mc_t nu_rad, mc
     }
     return (m->innov_count >= c->innov_limit) ? LOCK_CRIT_ANGLE_INNOVATION : LOCK_CRIT_NONE;
 }
-
-const char *lock_criterion_name(lock_criterion_t c)
-{
-    switch (c) {
-    case LOCK_CRIT_NONE: return "none";
-    case LOCK_CRIT_FLUX_RESIDUAL: return "flux-residual";
-    case LOCK_CRIT_ANGLE_INNOVATION: return "angle-innovation";
-    default: return "unknown";
-    }
-}

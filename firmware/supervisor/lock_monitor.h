@@ -85,9 +85,10 @@ extern "C" {
 
 typedef enum {
     LOCK_CRIT_NONE = 0,
-    LOCK_CRIT_FLUX_RESIDUAL = 1,   /* the flux observer's d-axis residual beyond the tolerance bound */
-    LOCK_CRIT_ANGLE_INNOVATION = 2 /* the estimator's angle innovation beyond its noise and tolerance bound on
-                                    * more samples than a lock shows (leaky count) */
+    LOCK_CRIT_FLUX_RESIDUAL = 1,   /* "flux-residual" (docs/faults.md): the flux observer's d-axis residual
+                                    * beyond the tolerance bound */
+    LOCK_CRIT_ANGLE_INNOVATION = 2 /* "angle-innovation": the estimator's angle innovation beyond its noise and
+                                    * tolerance bound on more samples than a lock shows (leaky count) */
 } lock_criterion_t;
 
 typedef struct {
@@ -133,9 +134,6 @@ lock_criterion_t lock_monitor_step_flux(lock_monitor_t *m, mc_t rho2, mc_t rho2_
  * Q14.17's resolution, so a fixed-point build would need nu and S scaled
  * by the drive first (no fixed-point drive uses it). */
 lock_criterion_t lock_monitor_step_innovation(lock_monitor_t *m, mc_t nu_rad, mc_t s_rad2, mc_t omega_tol_rad_s);
-
-/* Short name of a criterion ("flux-residual", "angle-innovation"; "none"): static strings. */
-const char *lock_criterion_name(lock_criterion_t c);
 
 #ifdef __cplusplus
 }

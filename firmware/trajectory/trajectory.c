@@ -88,22 +88,3 @@ void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *o
         return;
     }
 }
-
-mc_t trajectory_jerk(const trajectory_t *t, uint32_t tick)
-{
-    for (int32_t i = 0; i < t->cfg.n_segments; ++i) {
-        const trajectory_segment_t *s = &t->cfg.seg[i];
-        if (tick < s->start_tick) {
-            break;
-        }
-        if (tick >= s->start_tick + s->duration_ticks) {
-            continue;
-        }
-        const int32_t n = (int32_t)(tick - s->start_tick);
-        const int32_t N = (int32_t)s->duration_ticks;
-        const mc_t x = mc_ratio_i(2 * n - N, 2 * N);
-        const mc_t u = mc_sub(MC_C(0.25), mc_mul(x, x));
-        return mc_mul(mc_mul(mc_mul_i(u, 840), mc_sub(MC_ONE, mc_mul_i(u, 5))), s->j_scale);
-    }
-    return MC_ZERO;
-}

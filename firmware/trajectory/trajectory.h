@@ -31,7 +31,10 @@ typedef struct {
      * coefficients of theta_r = theta_mid + x (c0 - x^2 (c1 - x^2 (c2 -
      * c3 x^2))), x = D - 1/2: c0..c3 = delta (35/16, 35/4, 21, 20),
      * theta_mid = theta_i + delta/2. Multiplying delta in before x keeps
-     * the position to a few LSB in fixed point (p(D) alone would not). */
+     * the position to a few LSB in fixed point (p(D) alone would not).
+     * j_scale (the jerk's) is derived but read by no block: the drive takes
+     * the jerk term of (39) as the change of the references over the
+     * sample (fg_tracking_references). */
     mc_t v_scale, a_scale, j_scale;
     mc_t c0, c1, c2, c3, theta_mid_rad;
 } trajectory_segment_t;
@@ -60,14 +63,9 @@ bool trajectory_init(trajectory_t *t, const trajectory_config_t *cfg);
 /* Reference and its first two derivatives at sample `tick`. */
 void trajectory_eval(const trajectory_t *t, uint32_t tick, trajectory_point_t *out);
 
-/* Third derivative theta_r^(3) at sample `tick` [rad/s^3]. The drive takes
- * the jerk term of (39) as the change of the references over the sample
- * instead (see drive_references), so this is for tests and tools. */
-mc_t trajectory_jerk(const trajectory_t *t, uint32_t tick);
-
 /* The normalised polynomial and its derivatives w.r.t. D at D in [0, 1]:
- * p, p', p'', p'''. For tests and tools: trajectory_eval folds the
- * segment's scale in before rounding. */
+ * p, p', p'', p'''. For the sensored drive's moves, tests and tools:
+ * trajectory_eval folds the segment's scale in before rounding. */
 void trajectory_poly7(mc_t D, mc_t *p, mc_t *dp, mc_t *ddp, mc_t *dddp);
 
 

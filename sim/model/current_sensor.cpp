@@ -29,8 +29,7 @@ void CurrentSensor::measure(double i_a_A, double i_b_A, double* i_a_meas_A, doub
     double n_a = 0.0;
     double n_b = 0.0;
     switch (p_.noise) {
-    case NoiseKind::kNone:
-        break;
+    case NoiseKind::kNone: break;
     case NoiseKind::kUniform:
         n_a = p_.noise_A * (2.0 * uniform01(rng_) - 1.0);
         n_b = p_.noise_A * (2.0 * uniform01(rng_) - 1.0);

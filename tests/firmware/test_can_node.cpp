@@ -708,10 +708,11 @@ TEST(CanNode, Paper002DriveCommands)
     speed_poly_eval(&d.reference, d.tick + 563, &w, &dw);
     EXPECT_NEAR(D(w), 0.0, 1e-3);
     d.tick -= 600;
-    // disable: 0 V; a second disable refused; enable restarts at tick 0
+    // disable: 0 V, not a fault (true: drive.h); a second disable refused;
+    // enable restarts at tick 0
     ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)frame(0x200, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
-    EXPECT_FALSE(step_p002(&d, 10, &out));
+    EXPECT_TRUE(step_p002(&d, 10, &out));
     EXPECT_EQ(D(out.v_V[0]), 0.0);
     EXPECT_EQ(can_node_receive(&n, 11, &(const can_frame_t&)frame(0x200, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_MODE);

@@ -100,7 +100,6 @@ TEST(LockMonitor, OffWithoutTicks)
     for (int k = 0; k < 5; ++k) {
         EXPECT_EQ(lock_monitor_step_flux(&m, rho2_for(5.0), MC_ONE, MC_ZERO, MC_ZERO, MC_ZERO), LOCK_CRIT_NONE);
     }
-    EXPECT_STREQ(lock_criterion_name(LOCK_CRIT_FLUX_RESIDUAL), "flux-residual");
 }
 
 namespace {
@@ -142,7 +141,6 @@ TEST(LockMonitor, InnovationBoundIsNoiseAndSpeedTolerance)
     EXPECT_EQ(lock_monitor_step_innovation(&m, mc_from_double(0.19), mc_from_double(kS), mc_from_double(-kWtol)),
               LOCK_CRIT_NONE)
         << "the tolerance's sign does not matter";
-    EXPECT_STREQ(lock_criterion_name(LOCK_CRIT_ANGLE_INNOVATION), "angle-innovation");
 }
 
 TEST(LockMonitor, InnovationCountIsLeaky)

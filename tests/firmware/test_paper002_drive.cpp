@@ -879,3 +879,159 @@ TEST(Paper002Drive, HfiBlendAcrossPlusMinusPiTakesTheShortArc)
     EXPECT_LT(worst_formula, 1e-4);
     EXPECT_LT(worst_arc, 1e-4);
 }
+
+// A refused configuration names its first offending field (the drive
+// interface's config_problem, drives/drive.h), through the interface's
+// operation too, and init refuses exactly that: FAULT, BAD_INPUT latched.
+// The blocks with their own check (the EKF, the speed laws, the current
+// control, the dead-time compensation) are named by their part of the
+// configuration. Broken once: the check of hfi_lock_window against
+// hfi_lock_ticks left out of paper002_config_problem (its case failed: no
+// problem named).
+TEST(Paper002Drive, ConfigProblemNamesTheFirstOffendingField)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    ASSERT_NE(paper002_drive_ops.config_problem, nullptr);
+    const paper002_config_t enc = config(P002_SOSMC, true);
+    p002_design_input_t in;
+    paper002_config_t find{};
+    char err[200];
+    ASSERT_TRUE(find_angle_design(&in, &find, err, sizeof err, 0.0)) << err;
+    const paper002_config_t* goods[] = {&enc, &find};
+    for (const paper002_config_t* good : goods) {
+        EXPECT_EQ(paper002_config_problem(good), nullptr) << paper002_config_problem(good);
+        EXPECT_EQ(paper002_drive_ops.config_problem(good), nullptr);
+    }
+    static paper002_drive_t d;
+    struct Case {
+        const char* field;
+        bool find_angle;
+        void (*breaks)(paper002_config_t*);
+    };
+    const Case cases[] = {
+        {"ekf.q", false, [](paper002_config_t* c) { c->ekf.q[3] = MC_ZERO; }},
+        {"sosmc", false, [](paper002_config_t* c) { c->sosmc.alpha_0 = MC_ZERO; }},
+        {"htsmc", false, [](paper002_config_t* c) { c->htsmc.rho = M(0.75); }},
+        {"ibcc", false, [](paper002_config_t* c) { c->ibcc.ref_alpha = M(1.5); }},
+        {"i_trip_A", false, [](paper002_config_t* c) { c->i_trip_A = MC_ZERO; }},
+        {"los_ticks", false, [](paper002_config_t* c) { c->los_ticks = 0; }},
+        {"stall_floor_rad_s", false, [](paper002_config_t* c) { c->stall_floor_rad_s = MC_ZERO; }},
+        {"compute_delay", false, [](paper002_config_t* c) { c->compute_delay = M(-0.5); }},
+        {"deadtime", false, [](paper002_config_t* c) { c->deadtime.r_drop_ohm = M(-1.0); }},
+        {"hfi_blend_lo_rad_s", true, [](paper002_config_t* c) { c->hfi_blend_hi_rad_s = c->hfi_blend_lo_rad_s; }},
+        {"hfi_hold_gain_per_s", true, [](paper002_config_t* c) { c->hfi_hold_gain_per_s = M(-1.0); }},
+        {"hfi_lock_ticks", true, [](paper002_config_t* c) { c->hfi_lock_ticks = 0; }},
+        {"hfi_lock_window", true, [](paper002_config_t* c) { c->hfi_lock_window = c->hfi_lock_ticks + 1; }},
+        {"magpol.n_pulse", true, [](paper002_config_t* c) { c->magpol.n_pulse = 0; }},
+    };
+    for (const Case& k : cases) {
+        paper002_config_t bad = k.find_angle ? find : enc;
+        k.breaks(&bad);
+        const char* why = paper002_config_problem(&bad);
+        ASSERT_NE(why, nullptr) << k.field;
+        EXPECT_EQ(std::string(why).rfind(k.field, 0), 0u) << k.field << ": " << why;
+        EXPECT_EQ(paper002_drive_ops.config_problem(&bad), why) << k.field;
+        EXPECT_FALSE(paper002_drive_init(&d, &bad)) << k.field;
+        EXPECT_EQ(d.sup.state, SUP_STATE_FAULT) << k.field;
+        EXPECT_EQ(d.sup.fault, DRIVE_FAULT_BAD_INPUT) << k.field;
+    }
+    // the start's checks only when it finds the angle
+    paper002_config_t no_find = enc;
+    no_find.hfi_lock_ticks = 0;
+    EXPECT_EQ(paper002_config_problem(&no_find), nullptr);
+}
+
+// Disabled is not a fault (drives/drive.h: false only in FAULT, which the
+// programs answer with hal_safe_state()): the step returns true with 0 V
+// on every leg and counts the sample; in FAULT it returns false. Through
+// the interface as the programs hold it. Broken once: the step's disabled
+// branch returning false again (the disabled steps failed).
+TEST(Paper002Drive, DisabledStepsAreZeroVoltsButNotAFault)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    static paper002_drive_t d;
+    const paper002_config_t cfg = config(P002_SOSMC, true);
+    ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+    drive_t h{&paper002_drive_ops, &d};
+    Truth tr;
+    std::mt19937_64 rng(3);
+    double err = 0.0;
+    for (int k = 0; k < 100; ++k) {
+        ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &err)) << k;
+    }
+    drive_cmd_t off{};
+    off.kind = DRIVE_CMD_ENABLE;
+    off.enable = false;
+    ASSERT_EQ(drive_command(&h, &off), DRIVE_REFUSE_NONE);
+    hal_sample_t in{};
+    in.n_phases = 3;
+    in.v_bus_V = M(48.0);
+    in.has_angle = true;
+    for (int k = 0; k < 5; ++k) {
+        hal_command_t out{};
+        for (int j = 0; j < 3; ++j) out.v_V[j] = M(99.0);  // must be overwritten
+        EXPECT_TRUE(drive_step(&h, &in, &out)) << "disabled, sample " << k;
+        EXPECT_EQ(out.n_phases, 3);
+        for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0) << "leg " << j;
+        EXPECT_EQ(d.tick, static_cast<uint32_t>(101 + k));
+    }
+    drive_status_t s{};
+    drive_status(&h, &s);
+    EXPECT_FALSE(s.enabled);
+    EXPECT_EQ(s.state, static_cast<uint8_t>(SUP_STATE_CLOSED_LOOP));
+    EXPECT_EQ(d.rec.events, 0u);
+    // enabled again it runs as at power-up; a sample without the encoder's
+    // angle is then a fault: false, and false again while in FAULT
+    off.enable = true;
+    ASSERT_EQ(drive_command(&h, &off), DRIVE_REFUSE_NONE);
+    in.has_angle = false;
+    hal_command_t out{};
+    EXPECT_FALSE(drive_step(&h, &in, &out));
+    EXPECT_EQ(d.sup.state, SUP_STATE_FAULT);
+    EXPECT_FALSE(drive_step(&h, &in, &out));
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(mc_to_double(out.v_V[j]), 0.0) << "leg " << j;
+}
+
+// The estimate's angle is unwrapped (estimators/estimate.h): mechanical,
+// continuous over turns, where the EKF keeps its own in [-pi, pi). On the
+// closed loop above, the reference to 100 rad/s (the rotor turns about
+// 3.3 times in 0.5 s): the estimate never steps by more than a sample's
+// travel, follows the plant's unwrapped angle (as sampled) within 5 mrad, and equals
+// the EKF's angle plus whole turns. Broken once: the estimate's angle
+// without the turns (the EKF's, wrapped): the steps of 2 pi and the
+// distance to the plant's angle failed.
+TEST(Paper002Drive, EstimateAngleIsUnwrapped)
+{
+#if MC_FIXED
+    GTEST_SKIP() << "float only";
+#endif
+    static paper002_drive_t d;
+    const paper002_config_t cfg = config(P002_SOSMC, true);
+    ASSERT_TRUE(paper002_drive_init(&d, &cfg));
+    drive_t h{&paper002_drive_ops, &d};
+    Truth tr;
+    std::mt19937_64 rng(7);
+    double err = 0.0, prev = 0.0, step_max = 0.0, dist_max = 0.0, turn_err_max = 0.0;
+    for (int k = 0; k < 5000; ++k) {
+        ASSERT_TRUE(loop_step(&d, &tr, &rng, k * kTs, &err)) << k;
+        mc_estimate_t e{};
+        drive_estimate(&h, &e);
+        const double th = mc_to_double(e.theta_rad);
+        if (k > 0) step_max = std::max(step_max, std::fabs(th - prev));
+        prev = th;
+        // loop_step has advanced the plant by the sample: back to the sampled angle
+        dist_max = std::max(dist_max, std::fabs(th - (tr.th - tr.w * kTs)));
+        const double turns = (th - mc_to_double(d.last.theta_hat_rad)) / (2 * kPi);
+        turn_err_max = std::max(turn_err_max, std::fabs(turns - std::round(turns)));
+    }
+    std::printf("estimate: %.3f rad at the end (plant %.3f), largest step %.4f rad, largest distance %.4f rad\n",
+                prev, tr.th, step_max, dist_max);
+    EXPECT_GT(tr.th, 3 * 2 * kPi) << "over three turns";
+    EXPECT_LT(step_max, 0.02);  // 100 rad/s x 1e-4 s = 0.01 rad
+    EXPECT_LT(dist_max, 0.005);
+    EXPECT_LT(turn_err_max, 1e-5);
+}

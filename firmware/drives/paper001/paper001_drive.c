@@ -17,6 +17,8 @@
  */
 #include "drives/paper001/paper001_drive.h"
 
+#include <stddef.h>
+
 #include "mc_version.h"
 #include "supervisor/guard.h"
 
@@ -80,19 +82,50 @@ static bool p001_finish(paper001_drive_t *d, const hal_sample_t *in, hal_command
     return true;
 }
 
-static bool p001_config_ok(const paper001_config_t *c)
+/* The first inconsistency of c, named by its field (a string literal), or
+ * NULL when c is consistent: the fields, then the blocks whose own init
+ * checks their configuration (the profile, the dead-time compensation,
+ * the resistance tracker), each asked on a scratch copy. */
+const char *paper001_config_problem(const paper001_config_t *c)
 {
     const motor_model_t *m = &c->model;
-    return (c->n_phases == 2u || c->n_phases == 3u) && m->n_p >= 1 && m->fs_hz > 0 && mc_ge(m->R_ohm, MC_ZERO) &&
-           mc_gt(m->L_H, MC_ZERO) && mc_gt(m->K_V_s, MC_ZERO) && mc_gt(c->limits.i_trip_A, MC_ZERO) && mc_gt(c->ctrl.r_ohm, MC_ZERO) &&
-           mc_gt(c->ctrl.i_max_A, MC_ZERO) && mc_gt(c->flux.Phi_fs_V, MC_ZERO) && mc_gt(c->flux.rho_gain, MC_ZERO) &&
-           mc_ge(c->flux.gPhi3_V, MC_ZERO) && mc_ge(c->speed.k_omega, MC_ZERO) && mc_ge(c->speed.k_load_Nm_s, MC_ZERO) &&
-           mc_ge(c->sup.blend_decay, MC_ZERO) && mc_lt(c->sup.blend_decay, MC_ONE) && c->fit.decim >= 1 &&
-           mc_gt(c->fit.det_min, MC_ZERO) && mc_gt(c->v_bus_min_V, MC_ZERO) && mc_ge(c->compute_delay, MC_ZERO) &&
-           mc_le(c->compute_delay, MC_ONE) &&
-           (c->estimator == P001_ESTIMATOR_FLUX ||
-            (c->estimator == P001_ESTIMATOR_BACK_EMF && mc_gt(c->omega_lim_rad_s, MC_ZERO) &&
-             mc_gt(c->emf_torque_model.K_V_s, MC_ZERO) && c->emf.pos.n_p == m->n_p));
+    if (c->n_phases != 2u && c->n_phases != 3u) return "n_phases: must be 2 or 3";
+    if (m->n_p < 1) return "model.n_p: must be >= 1";
+    if (m->fs_hz <= 0) return "model.fs_hz: must be > 0";
+    if (!mc_ge(m->R_ohm, MC_ZERO)) return "model.R_ohm: must be >= 0";
+    if (!mc_gt(m->L_H, MC_ZERO)) return "model.L_H: must be > 0 (in the numeric type)";
+    if (!mc_gt(m->K_V_s, MC_ZERO)) return "model.K_V_s: must be > 0 (in the numeric type)";
+    if (!mc_gt(c->limits.i_trip_A, MC_ZERO)) return "limits.i_trip_A: must be > 0";
+    if (!mc_gt(c->ctrl.r_ohm, MC_ZERO)) return "ctrl.r_ohm: must be > 0";
+    if (!mc_gt(c->ctrl.i_max_A, MC_ZERO)) return "ctrl.i_max_A: must be > 0";
+    if (!mc_gt(c->flux.Phi_fs_V, MC_ZERO)) return "flux.Phi_fs_V: must be > 0";
+    if (!mc_gt(c->flux.rho_gain, MC_ZERO)) return "flux.rho_gain: must be > 0";
+    if (!mc_ge(c->flux.gPhi3_V, MC_ZERO)) return "flux.gPhi3_V: must be >= 0";
+    if (!mc_ge(c->speed.k_omega, MC_ZERO)) return "speed.k_omega: must be >= 0";
+    if (!mc_ge(c->speed.k_load_Nm_s, MC_ZERO)) return "speed.k_load_Nm_s: must be >= 0";
+    if (!mc_ge(c->sup.blend_decay, MC_ZERO) || !mc_lt(c->sup.blend_decay, MC_ONE))
+        return "sup.blend_decay: must be in [0, 1)";
+    if (c->fit.decim < 1) return "fit.decim: must be >= 1";
+    if (!mc_gt(c->fit.det_min, MC_ZERO)) return "fit.det_min: must be > 0";
+    if (!mc_gt(c->v_bus_min_V, MC_ZERO)) return "v_bus_min_V: must be > 0";
+    if (!mc_ge(c->compute_delay, MC_ZERO) || !mc_le(c->compute_delay, MC_ONE))
+        return "compute_delay: must be in [0, 1]";
+    if (c->estimator != P001_ESTIMATOR_FLUX && c->estimator != P001_ESTIMATOR_BACK_EMF)
+        return "estimator: must be FLUX or BACK_EMF";
+    if (c->estimator == P001_ESTIMATOR_BACK_EMF) {
+        if (!mc_gt(c->omega_lim_rad_s, MC_ZERO)) return "omega_lim_rad_s: must be > 0 (estimator BACK_EMF)";
+        if (!mc_gt(c->emf_torque_model.K_V_s, MC_ZERO))
+            return "emf_torque_model.K_V_s: must be > 0 (estimator BACK_EMF)";
+        if (c->emf.pos.n_p != m->n_p) return "emf.pos.n_p: must be model.n_p (estimator BACK_EMF)";
+    }
+    speed_profile_t profile;
+    if (!speed_profile_init(&profile, &c->profile))
+        return "profile: 1 .. SPEED_PROFILE_MAX_POINTS points, t_tick from 0 strictly increasing, fs_hz > 0";
+    deadtime_comp_t dtc;
+    if (!deadtime_comp_init(&dtc, &c->deadtime)) return "deadtime: its coefficients must be >= 0";
+    resistance_tracker_t rtrack;
+    if (!resistance_tracker_init(&rtrack, &c->rtrack)) return "rtrack: enabled with a coefficient out of range";
+    return NULL;
 }
 
 bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
@@ -121,11 +154,11 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     d->ol_theta0_rad = MC_ZERO;
     d->ol_origin_mech_rad = MC_ZERO;
     fg_estimator_init(&d->emf, &cfg->emf);
-    const bool dtc_ok = deadtime_comp_init(&d->dtc, &cfg->deadtime);
-    const bool rtrack_ok = resistance_tracker_init(&d->rtrack, &cfg->rtrack);
+    (void)deadtime_comp_init(&d->dtc, &cfg->deadtime); /* refused: paper001_config_problem says so */
+    (void)resistance_tracker_init(&d->rtrack, &cfg->rtrack);
     speed_load_observer_init(&d->speed, &cfg->speed, angle0, MC_ZERO, MC_ZERO);
     ida_pbc_init(&d->ctrl);
-    const bool profile_ok = speed_profile_init(&d->profile, &cfg->profile);
+    (void)speed_profile_init(&d->profile, &cfg->profile);
     supervisor_init(&d->sup, &cfg->sup, false, false);
     fault_monitor_init(&d->mon, &cfg->faults);
     flight_recorder_init(&d->rec);
@@ -144,7 +177,7 @@ bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg)
     for (uint32_t k = 0; k + 1u < cfg->profile.n_points && k < SPEED_PROFILE_MAX_POINTS; ++k) {
         d->stop_ramp_rad_s2 = mc_max(d->stop_ramp_rad_s2, mc_abs(cfg->profile.slope_rad_s2[k]));
     }
-    if (!p001_config_ok(cfg) || !profile_ok || !dtc_ok || !rtrack_ok) {
+    if (paper001_config_problem(cfg) != NULL) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
     }

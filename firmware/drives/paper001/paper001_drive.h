@@ -239,8 +239,12 @@ typedef struct {
 extern const drive_ops_t paper001_drive_ops;
 
 /* Validates cfg, copies it and resets every state. Returns false (drive in
- * FAULT, outputs 0 V) if cfg is inconsistent. */
+ * FAULT, outputs 0 V) if cfg is inconsistent; paper001_config_problem says why. */
 bool paper001_drive_init(paper001_drive_t *d, const paper001_config_t *cfg);
+
+/* NULL if cfg is consistent, else its first problem: a literal naming the
+ * field ("limits.i_trip_A: must be > 0"). */
+const char *paper001_config_problem(const paper001_config_t *cfg);
 
 /* One sample: phase currents and bus voltage in, phase voltages out.
  * Always fills *out (0 V in FAULT). Returns false in FAULT. */

@@ -8,6 +8,11 @@
 #include "drives/paper001/paper001_drive.h"
 #include "comm/generated/drive_can.h"
 
+static const char *p001_config_problem(const void *cfg)
+{
+    return paper001_config_problem((const paper001_config_t *)cfg);
+}
+
 static bool p001_init(void *self, const void *cfg)
 {
     return paper001_drive_init((paper001_drive_t *)self, (const paper001_config_t *)cfg);
@@ -95,7 +100,7 @@ const drive_ops_t paper001_drive_ops = {
     .can_kind = (uint8_t)DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER001_SPEED_CHOICE, /* the DBC's DriveKind */
     .state_bytes = (uint32_t)sizeof(paper001_drive_t),
     .config_bytes = (uint32_t)sizeof(paper001_config_t),
-    .config_problem = 0,
+    .config_problem = p001_config_problem,
     .init = p001_init,
     .step = p001_step,
     .command = p001_command,

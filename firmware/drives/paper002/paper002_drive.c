@@ -6,6 +6,8 @@
  */
 #include "drives/paper002/paper002_drive.h"
 
+#include <stddef.h>
+
 #include "control/delay_comp.h"
 #include "supervisor/guard.h"
 
@@ -25,16 +27,70 @@ static void p002_angle_config(const paper002_config_t *c, rotor_angle_config_t *
     a->theta0_rad = c->flux_theta0_rad;
     a->flux = c->flux;
     a->hfi = c->hfi;
-    a->blend_lo_rad_s = c->hfi_blend_lo_rad_s;
-    a->blend_hi_rad_s = c->hfi_blend_hi_rad_s;
-    a->off_rad_s = c->hfi_off_rad_s;
-    a->on_rad_s = c->hfi_on_rad_s;
-    a->hold_gain_per_s = c->hfi_hold_gain_per_s;
-    a->find_angle = c->hfi_find_angle;
-    a->lock_ticks = c->hfi_lock_ticks;
-    a->lock_window = c->hfi_lock_window;
-    a->lock_amp_min = c->hfi_lock_amp_min;
+    a->hfi_blend_lo_rad_s = c->hfi_blend_lo_rad_s;
+    a->hfi_blend_hi_rad_s = c->hfi_blend_hi_rad_s;
+    a->hfi_off_rad_s = c->hfi_off_rad_s;
+    a->hfi_on_rad_s = c->hfi_on_rad_s;
+    a->hfi_hold_gain_per_s = c->hfi_hold_gain_per_s;
+    a->hfi_find_angle = c->hfi_find_angle;
+    a->hfi_lock_ticks = c->hfi_lock_ticks;
+    a->hfi_lock_window = c->hfi_lock_window;
+    a->hfi_lock_amp_min = c->hfi_lock_amp_min;
     a->magpol = c->magpol;
+}
+
+/* The motor model the blocks start from: the configured one, with
+ * cfg.iron saturating the unsaturated iron's L_d, L_q and psi, as at
+ * power-up (a re-init after a run gets the configuration with the last
+ * secant values). */
+static void p002_start_model(const paper002_config_t *cfg, motor_model_t *m)
+{
+    *m = cfg->model;
+    if (iron_model_saturates(&cfg->iron)) {
+        m->Ld_H = cfg->iron.Ld0_H;
+        m->Lq_H = cfg->iron.Lq0_H;
+        m->psi_Wb = cfg->iron.psi_Wb;
+    }
+}
+
+const char *paper002_config_problem(const paper002_config_t *c)
+{
+    motor_model_t m;
+    p002_start_model(c, &m);
+    /* the blocks whose own init checks their configuration, each asked
+     * on scratch state (paper002_drive_init inits the drive's own) */
+    union {
+        ekf_ipmsm_t ekf;
+        sosmc_t sosmc;
+        htsmc_t htsmc;
+        ibcc_t ibcc;
+        deadtime_comp_t dtc;
+    } scratch;
+    if (!ekf_ipmsm_init(&scratch.ekf, &c->ekf, &m))
+        return "ekf.q, ekf.r, ekf.p0: must be > 0; or model: R_ohm, Ld_H, Lq_H, J_kgm2, ts_s > 0, psi_Wb, fv_Nm_s >= 0, "
+               "n_p >= 1";
+    if (!sosmc_init(&scratch.sosmc, &c->sosmc, &m))
+        return "sosmc: alpha_0, alpha_I, eps, M_max_Nm must be > 0, eta >= 0";
+    if (!htsmc_init(&scratch.htsmc, &c->htsmc, &m))
+        return "htsmc: alpha_I, alpha_m, lambda, s0, nu_max, eps, M_max_Nm must be > 0, alpha_M > alpha_m, rho in "
+               "(0, 1/2]";
+    if (!ibcc_init(&scratch.ibcc, &c->ibcc, &m))
+        return "ibcc: lambda_per_s in (0, IBCC_LAMBDA_TS_MAX model.fs_hz], ref_alpha in (0, 1]; or model.fs_hz: must be > 0";
+    if (!mc_gt(c->i_trip_A, MC_ZERO)) return "i_trip_A: must be > 0";
+    if (!mc_gt(c->los_theta_rad, MC_ZERO)) return "los_theta_rad: must be > 0";
+    if (c->los_ticks < 1) return "los_ticks: must be >= 1";
+    if (!mc_ge(c->stall_tol, MC_ZERO)) return "stall_tol: must be >= 0";
+    if (!mc_gt(c->stall_floor_rad_s, MC_ZERO)) return "stall_floor_rad_s: must be > 0";
+    if (c->stall_ticks < 1) return "stall_ticks: must be >= 1";
+    if (!mc_ge(c->compute_delay, MC_ZERO) || !mc_le(c->compute_delay, MC_ONE))
+        return "compute_delay: must be in [0, 1]";
+    if (!deadtime_comp_init(&scratch.dtc, &c->deadtime)) return "deadtime: its coefficients must be >= 0";
+    /* the angle's estimator: its number, then its own configuration */
+    const estimator_ops_t *e = estimator_find(EST_FAMILY_ROTOR_ANGLE, (uint32_t)c->angle_source);
+    if (e == NULL) return "angle_source: no rotor-angle estimator of that number (0 encoder, 1 flux, 2 hfi)";
+    rotor_angle_config_t ac;
+    p002_angle_config(c, &ac);
+    return e->config_problem ? e->config_problem(&ac) : NULL;
 }
 
 /* Step 0 with cfg.iron saturating (model/iron_model.h), at the EKF's (a
@@ -52,7 +108,7 @@ static void p002_angle_config(const paper002_config_t *c, rotor_angle_config_t *
  * and the incremental values at speed lost synchronism:
  * docs/hf_injection.md). Returns L_qs / L_q0 for a model-based estimator;
  * linear: the configured model, untouched, and 0. */
-static mc_t p002_iron_step(paper002_drive_t *d)
+static mc_t p002_iron_step(paper002_drive_t *d, const estimator_ops_t *e)
 {
     const paper002_config_t *c = &d->cfg;
     if (!iron_model_saturates(&c->iron)) {
@@ -63,12 +119,12 @@ static mc_t p002_iron_step(paper002_drive_t *d)
     const mc_t i_q = d->ekf.x[EKF_IQ];
     iron_model_point_t pt;
     iron_model_at(&c->iron, i_d, i_q, &pt);
-    const mc_t w = d->est->model_weight ? d->est->model_weight(&d->est_state) : MC_ONE;
+    const mc_t w = e->model_weight ? e->model_weight(&d->est_state) : MC_ONE;
     m->Ld_H = mc_mac(pt.Ldi_H, w, mc_sub(pt.Lds_H, pt.Ldi_H));
     m->Lq_H = mc_mac(pt.Lqi_H, w, mc_sub(pt.Lqs_H, pt.Lqi_H));
     m->psi_Wb = mc_mac(pt.psi_s_Wb, mc_sub(pt.Lds_H, m->Ld_H), i_d);
     d->iron_Lqs_H = pt.Lqs_H;
-    return d->est->model_based ? mc_div(d->iron_Lqs_H, c->iron.Lq0_H) : MC_ZERO;
+    return e->model_based ? mc_div(d->iron_Lqs_H, c->iron.Lq0_H) : MC_ZERO;
 }
 
 /* A model-based estimator's flux radius: the active flux's, psi + (L_d -
@@ -86,16 +142,22 @@ static mc_t p002_active_flux(const paper002_drive_t *d)
     return mc_add(MC_ONE, mc_div(mc_mul(mc_sub(m->Ld_H, m->Lq_H), d->ekf.x[EKF_ID]), m->psi_Wb));
 }
 
+/* The EKF's angle is kept in [-pi, pi) (estimators/ekf_ipmsm.h); the
+ * estimate's is unwrapped: a step of the angle beyond pi is a wrap, a
+ * turn (|w| Ts < pi, far above any speed the drive runs at). */
+static void p002_count_turns(paper002_drive_t *d, mc_t theta_rad)
+{
+    const mc_t step = mc_sub(theta_rad, d->theta_prev_rad);
+    if (mc_gt(mc_abs(step), MC_PI)) {
+        d->theta_turns += mc_lt(step, MC_ZERO) ? 1 : -1;
+    }
+    d->theta_prev_rad = theta_rad;
+}
+
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
 {
     d->cfg = *cfg;
-    if (iron_model_saturates(&cfg->iron)) {
-        /* the unsaturated model, as at power-up (a re-init after a run
-         * gets the configuration with the last secant values) */
-        d->cfg.model.Ld_H = cfg->iron.Ld0_H;
-        d->cfg.model.Lq_H = cfg->iron.Lq0_H;
-        d->cfg.model.psi_Wb = cfg->iron.psi_Wb;
-    }
+    p002_start_model(cfg, &d->cfg.model);
     d->iron_Lqs_H = d->cfg.model.Lq_H;
     guard_start_closed_loop(&d->sup);
     flight_recorder_init(&d->rec);
@@ -113,22 +175,25 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     d->stop_ramp_rad_s2 = mc_div(mc_mul(mc_mul_i(mc_mul(MC_C(1.5), m->psi_Wb), m->n_p), cfg->mtpa.i_max_A),
                                  mc_mul_i(m->J_kgm2, 4));
     fault_monitor_init(&d->mon, &cfg->faults);
-    const bool ok = ekf_ipmsm_init(&d->ekf, &cfg->ekf, m) && sosmc_init(&d->sosmc, &cfg->sosmc, m) &&
-                    htsmc_init(&d->htsmc, &cfg->htsmc, m) && ibcc_init(&d->ibcc, &cfg->ibcc, m) &&
-                    mc_gt(cfg->i_trip_A, MC_ZERO) && mc_gt(cfg->los_theta_rad, MC_ZERO) && cfg->los_ticks >= 1 &&
-                    mc_ge(cfg->stall_tol, MC_ZERO) && mc_gt(cfg->stall_floor_rad_s, MC_ZERO) && cfg->stall_ticks >= 1 &&
-                    mc_ge(cfg->compute_delay, MC_ZERO) && mc_le(cfg->compute_delay, MC_ONE) &&
-                    deadtime_comp_init(&d->dtc, &cfg->deadtime);
+    /* every block's state; whether cfg is consistent: paper002_config_problem, below */
+    (void)ekf_ipmsm_init(&d->ekf, &cfg->ekf, m);
+    (void)sosmc_init(&d->sosmc, &cfg->sosmc, m);
+    (void)htsmc_init(&d->htsmc, &cfg->htsmc, m);
+    (void)ibcc_init(&d->ibcc, &cfg->ibcc, m);
+    (void)deadtime_comp_init(&d->dtc, &cfg->deadtime);
+    d->theta_prev_rad = d->ekf.x[EKF_THETA];
+    d->theta_turns = 0;
     /* the angle's estimator, found by the number the configuration holds */
     d->est = estimator_find(EST_FAMILY_ROTOR_ANGLE, (uint32_t)cfg->angle_source);
     rotor_angle_config_t ac;
     p002_angle_config(cfg, &ac);
     const bool ok_est = d->est != 0 && d->est->init(&d->est_state, &ac);
     d->starting = ok_est && d->est->starting && d->est->starting(&d->est_state);
-    if (!ok || !ok_est) {
+    if (!ok_est || paper002_config_problem(cfg) != NULL) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
+        return false;
     }
-    return ok && ok_est;
+    return true;
 }
 
 static bool p002_zero(paper002_drive_t *d, hal_command_t *out)
@@ -169,6 +234,8 @@ static void p002_start_at(paper002_drive_t *d, mc_t e)
     ekf_ipmsm_config_t ec = c->ekf;
     ec.x0[EKF_THETA] = mc_div_i(e, m->n_p);
     (void)ekf_ipmsm_init(&d->ekf, &ec, m); /* the same configuration init accepted, one angle changed */
+    /* the estimate's angle starts again there: no turn */
+    d->theta_prev_rad = d->ekf.x[EKF_THETA];
     d->los.run = 0;
     d->stall.run = 0;
     lock_monitor_init(&d->lock, &c->lock);
@@ -216,15 +283,15 @@ static bool p002_start_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t
  * measured: the EKF's innovation checks it. Float only, as the drive (the
  * fixed-point build refuses paper 002's design, docs/paper002.md). False:
  * the drive went to FAULT (0 V out). */
-static bool p002_estimate_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t i_ab, estimator_out_t *eo,
+static bool p002_estimate_step(paper002_drive_t *d, const estimator_ops_t *e, const hal_sample_t *in, mc_ab_t i_ab,
+                               estimator_out_t *eo,
                                mc_t *w_d, mc_t *dw_d, hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
-    const estimator_ops_t *e = d->est;
     estimator_in_t ei;
     ei.sample = in;
     ei.omega_hint_rad_s = d->ekf.x[EKF_OMEGA];
-    ei.L_ratio = p002_iron_step(d);
+    ei.L_ratio = p002_iron_step(d, e);
     ei.flux_ratio = e->model_based ? p002_active_flux(d) : MC_ONE;
     const mc_rot_t rot_e = e->update(&d->est_state, &ei, &i_ab, eo);
     mc_t i_d, i_q;
@@ -256,6 +323,7 @@ static bool p002_estimate_step(paper002_drive_t *d, const hal_sample_t *in, mc_a
     d->last.i_d_hat_A = x[EKF_ID];
     d->last.i_q_hat_A = x[EKF_IQ];
     d->last.theta_hat_rad = x[EKF_THETA];
+    p002_count_turns(d, x[EKF_THETA]);
     d->last.w_hat_rad_s = x[EKF_OMEGA];
     d->last.M0_hat_Nm = x[EKF_M0];
     return true;
@@ -268,7 +336,8 @@ static bool p002_estimate_step(paper002_drive_t *d, const hal_sample_t *in, mc_a
  * motor sees over the coming sample (and the estimator's): this command,
  * or with a delay the mean (1 - d) u + d u_prev, brought into the frame of
  * the sample's middle. */
-static void p002_output(paper002_drive_t *d, const hal_sample_t *in, mc_t u_d, mc_t u_q, hal_command_t *out)
+static void p002_output(paper002_drive_t *d, const estimator_ops_t *e, const hal_sample_t *in, mc_t u_d, mc_t u_q,
+                        hal_command_t *out)
 {
     const paper002_config_t *c = &d->cfg;
     const motor_model_t *m = &c->model;
@@ -279,10 +348,10 @@ static void p002_output(paper002_drive_t *d, const hal_sample_t *in, mc_t u_d, m
     const mc_rot_t rot_out = mc_rot_from_angle(th_el); /* also the compensation's way back */
     mc_ab_t u_ab;
     mc_rot_inv(rot_out, u_d, u_q, &u_ab.alpha, &u_ab.beta);
-    if (d->est->injection) {
+    if (e->injection) {
         /* the estimator's injection on top of the command; the estimators
          * see the command alone */
-        const mc_ab_t u_h = d->est->injection(&d->est_state);
+        const mc_ab_t u_h = e->injection(&d->est_state);
         const mc_ab_t u_out = {mc_add(u_ab.alpha, u_h.alpha), mc_add(u_ab.beta, u_h.beta)};
         phase_adapter_voltages(3u, u_out, out);
     } else {
@@ -297,7 +366,6 @@ static void p002_output(paper002_drive_t *d, const hal_sample_t *in, mc_t u_d, m
         u_ab.beta = mc_add(u_ab.beta, clamped.beta);
         mc_rot_fwd(rot_out, u_ab.alpha, u_ab.beta, &u_d_est, &u_q_est);
     }
-    const estimator_ops_t *e = d->est;
     if (mc_eq(c->compute_delay, MC_ZERO)) {
         if (e->hold) {
             e->hold(&d->est_state, u_ab, u_ab);
@@ -320,11 +388,16 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
 {
     const paper002_config_t *c = &d->cfg;
     const motor_model_t *m = &c->model;
-    if (d->sup.state == SUP_STATE_FAULT || d->disabled) {
+    if (d->sup.state == SUP_STATE_FAULT) {
         return p002_zero(d, out);
     }
+    if (d->disabled) {
+        (void)p002_zero(d, out); /* 0 V, the sample counted; not a fault (drives/drive.h) */
+        return true;
+    }
     d->v_bus_V = in->v_bus_V;
-    if (!phase_adapter_accepts(in, 3u) || (d->est->needs_angle && !in->has_angle)) {
+    const estimator_ops_t *const e = d->est;
+    if (!phase_adapter_accepts(in, 3u) || (e->needs_angle && !in->has_angle)) {
         return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
     }
     const drive_fault_t f_in = fault_monitor_sample(&d->mon, in, 3u);
@@ -341,13 +414,13 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 0.-2. the angle, the EKF's correction, the reference, the checks */
     estimator_out_t eo;
     mc_t w_d, dw_d;
-    if (!p002_estimate_step(d, in, i_ab, &eo, &w_d, &dw_d, out)) {
+    if (!p002_estimate_step(d, e, in, i_ab, &eo, &w_d, &dw_d, out)) {
         return false;
     }
     const mc_t *x = d->ekf.x;
     /* 3. reference and torque demand; the estimator's correction of the
      * speed reference (an angle hold) */
-    const mc_t w_c = d->est->reference ? d->est->reference(&d->est_state, w_d, x[EKF_THETA]) : w_d;
+    const mc_t w_c = e->reference ? e->reference(&d->est_state, w_d, x[EKF_THETA]) : w_d;
     const mc_t M_d = (c->controller == P002_SOSMC)
                          ? sosmc_step(&d->sosmc, &c->sosmc, m, w_c, dw_d, x[EKF_OMEGA], ekf_ipmsm_accel(&d->ekf, m),
                                       x[EKF_M0])
@@ -358,13 +431,13 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     /* 5. current control on the EKF's currents and speed, within the bus
      * less an injection's share (0 when off) */
     mc_t u_max = mc_mul(in->v_bus_V, P002_INV_SQRT3);
-    if (d->est->injection) {
+    if (e->injection) {
         u_max = mc_max(MC_ZERO, mc_sub(u_max, eo.u_reserve_V));
     }
     ibcc_out_t u_dq;
     ibcc_step(&d->ibcc, &c->ibcc, m, ref.i_d_A, ref.i_q_A, x[EKF_ID], x[EKF_IQ], x[EKF_OMEGA], u_max, &u_dq);
     /* 6.-7. output and prediction */
-    p002_output(d, in, u_dq.u_d_V, u_dq.u_q_V, out);
+    p002_output(d, e, in, u_dq.u_d_V, u_dq.u_q_V, out);
     d->last.w_d_rad_s = w_d;
     d->last.M_d_Nm = M_d;
     d->last.i_dd_A = ref.i_d_A;

@@ -210,6 +210,9 @@ typedef struct {
     htsmc_t htsmc;
     ibcc_t ibcc;
     deadtime_comp_t dtc;           /* cfg.deadtime */
+    mc_t theta_prev_rad;           /* the EKF's angle (in [-pi, pi)) of the last step, or its start ... */
+    int32_t theta_turns;           /* ... and its whole turns since: the estimate's unwrapped angle
+                                    * theta_prev_rad + 2 pi theta_turns (estimators/estimate.h) */
     fault_monitor_t mon;
     fault_persist_t los, stall;
     lock_monitor_t lock;           /* a model-based angle (FLUX; HFI with the injection off) */
@@ -239,9 +242,16 @@ typedef struct {
 /* The drive's operations (drives/drive.h), paper002_ops.c. */
 extern const drive_ops_t paper002_drive_ops;
 
+/* Validates cfg, copies it and resets every state. Returns false (drive in
+ * FAULT, outputs 0 V) if cfg is inconsistent; paper002_config_problem says why. */
 bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg);
 
-/* One sample; false (0 V out) in FAULT or disabled. */
+/* NULL if cfg is consistent, else its first problem: a literal naming the
+ * field ("i_trip_A: must be > 0"). */
+const char *paper002_config_problem(const paper002_config_t *cfg);
+
+/* One sample: always fills *out (0 V in FAULT or disabled, the sample
+ * counted); false in FAULT only. */
 bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_command_t *out);
 
 /* Commands (through the drive interface: paper002_ops.c), between steps; false: refused, nothing

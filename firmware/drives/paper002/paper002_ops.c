@@ -13,6 +13,11 @@
 #include "drives/paper002/paper002_drive.h"
 #include "comm/generated/drive_can.h"
 
+static const char *p002_config_problem(const void *cfg)
+{
+    return paper002_config_problem((const paper002_config_t *)cfg);
+}
+
 static bool p002_init(void *self, const void *cfg)
 {
     return paper002_drive_init((paper002_drive_t *)self, (const paper002_config_t *)cfg);
@@ -81,11 +86,14 @@ static void p002_status(const void *self, drive_status_t *s)
     s->v2_V = d->last.u_q_V;
 }
 
-/* The EKF's a posteriori estimate of the last step (the angle wrapped). */
+/* The EKF's a posteriori estimate of the last step, its angle unwrapped
+ * (estimators/estimate.h: mechanical, continuous over turns; from its
+ * start angle before the first step, and again from the angle the
+ * hfi_find_angle start found). */
 static void p002_estimate(const void *self, mc_estimate_t *e)
 {
     const paper002_drive_t *d = (const paper002_drive_t *)self;
-    e->theta_rad = d->last.theta_hat_rad;
+    e->theta_rad = mc_add(d->theta_prev_rad, mc_mul_i(MC_TWO_PI, d->theta_turns));
     e->omega_rad_s = d->last.w_hat_rad_s;
     e->accel_rad_s2 = ekf_ipmsm_accel(&d->ekf, &d->cfg.model);
     e->load_Nm = d->last.M0_hat_Nm;
@@ -104,7 +112,7 @@ const drive_ops_t paper002_drive_ops = {
     .can_kind = (uint8_t)DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER002_SPEED_CHOICE, /* the DBC's DriveKind */
     .state_bytes = (uint32_t)sizeof(paper002_drive_t),
     .config_bytes = (uint32_t)sizeof(paper002_config_t),
-    .config_problem = 0,
+    .config_problem = p002_config_problem,
     .init = p002_init,
     .step = p002_step,
     .command = p002_command,

@@ -26,8 +26,8 @@
 #define ADC_SMP_15_CYCLES 1u
 
 typedef struct {
-    uint8_t n;            /* conversions, 1..4 */
-    uint8_t channel[4];   /* ADC_INx channel numbers, 0..18 */
+    uint8_t n;          /* conversions, 1..4 */
+    uint8_t channel[4]; /* ADC_INx channel numbers, 0..18 */
 } adc_sequence_t;
 
 /* Configures adc for seq, triggered by TIM1 TRGO (trigger) or by software

@@ -35,8 +35,8 @@ bool bxcan_timing(uint32_t pclk_hz, uint32_t bitrate, uint32_t sample_permille, 
         }
     }
     if (found) {
-        t->btr = CAN_BTR_BRP(t->brp - 1u) | CAN_BTR_TS1(t->bs1 - 1u) | CAN_BTR_TS2(t->bs2 - 1u) |
-                 CAN_BTR_SJW(t->sjw - 1u);
+        t->btr =
+            CAN_BTR_BRP(t->brp - 1u) | CAN_BTR_TS1(t->bs1 - 1u) | CAN_BTR_TS2(t->bs2 - 1u) | CAN_BTR_SJW(t->sjw - 1u);
     }
     return found;
 }

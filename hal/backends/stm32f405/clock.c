@@ -59,8 +59,8 @@ stm32_status_t clock_init(rcc_regs_t *rcc, flash_regs_t *flash, const clock_plan
         return clock_fail(rcc, STM32_FAULT_HSE_TIMEOUT);
     }
     rcc->CR &= ~RCC_CR_PLLON;
-    rcc->PLLCFGR = RCC_PLLCFGR_M(p->pll_m) | RCC_PLLCFGR_N(p->pll_n) | RCC_PLLCFGR_P(p->pll_p) |
-                   RCC_PLLCFGR_SRC_HSE | RCC_PLLCFGR_Q(p->pll_q);
+    rcc->PLLCFGR = RCC_PLLCFGR_M(p->pll_m) | RCC_PLLCFGR_N(p->pll_n) | RCC_PLLCFGR_P(p->pll_p) | RCC_PLLCFGR_SRC_HSE |
+                   RCC_PLLCFGR_Q(p->pll_q);
     rcc->CR |= RCC_CR_PLLON;
     if (!wait_for(&rcc->CR, RCC_CR_PLLRDY, RCC_CR_PLLRDY, timeout_polls)) {
         return clock_fail(rcc, STM32_FAULT_PLL_TIMEOUT);

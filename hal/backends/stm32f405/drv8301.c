@@ -166,8 +166,7 @@ static bool read_back(drv8301_bus_t *b, const drv8301_chip_t *c, uint32_t addr, 
     return true;
 }
 
-bool drv8301_configure(drv8301_bus_t *b, const drv8301_chip_t *c, uint16_t ctrl1, uint16_t ctrl2,
-                       uint16_t *ctrl2_read)
+bool drv8301_configure(drv8301_bus_t *b, const drv8301_chip_t *c, uint16_t ctrl1, uint16_t ctrl2, uint16_t *ctrl2_read)
 {
     err_clear(b);
     uint16_t r1 = 0u, r2 = 0u;

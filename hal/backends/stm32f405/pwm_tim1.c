@@ -54,7 +54,7 @@ bool pwm_plan(uint32_t f_tim_hz, uint32_t f_pwm_hz, uint32_t f_ctrl_hz, uint32_t
 
 void pwm_init(tim_regs_t *t, const pwm_plan_t *p, pwm_topology_t topo, bool break_enable, bool break_active_high)
 {
-    t->CR1 = 0; /* stopped */
+    t->CR1 = 0;  /* stopped */
     t->BDTR = 0; /* MOE = 0 */
     t->PSC = 0;
     t->ARR = p->arr;

@@ -44,7 +44,7 @@ typedef struct {
     tim_regs_t *tim5;     /* the step/dir input's counter (step_dir.h) */
     exti_regs_t *exti;    /* the DIR pin's line */
     syscfg_regs_t *syscfg;
-    spi_regs_t *spi3;     /* the gate drivers' SPI (drv8301.h) */
+    spi_regs_t *spi3; /* the gate drivers' SPI (drv8301.h) */
 } stm32_periph_t;
 
 extern const stm32_periph_t stm32_hw;
