@@ -29,6 +29,15 @@
  * vectors) keeps |8 p|^3 <= 4096, below the Q14.17 limit of 16384. */
 #define P001_PROBE_POINT_SCALE 8
 
+/* The step's parts are functions for the reader, one sample's flow in the
+ * step; GCC 12 left some of them calls (PIL M4F float 699.4 -> 705.6
+ * instructions per step on average), so they are kept in line. */
+#if defined(__GNUC__)
+#define P001_IN_LINE inline __attribute__((always_inline))
+#else
+#define P001_IN_LINE inline
+#endif
+
 static void p001_zero_output(paper001_drive_t *d, hal_command_t *out)
 {
     guard_zero(out, d->cfg.n_phases);
@@ -309,44 +318,48 @@ static void p001_step_back_emf(paper001_drive_t *d, const hal_sample_t *in, mc_a
     d->last.v_ab_V = v_ab;
 }
 
-bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
+/* Step 0, the supervisor: a latched fault or a disabled drive outputs 0 V
+ * (the step returns false in FAULT, true disabled); a sample of the wrong
+ * phase count or below the bus's least latches BAD_INPUT; the generic
+ * checks of the sample (supervisor/fault_monitor.h) go through the
+ * reaction table. Returns P001_GO_ON when the sample goes on, else the
+ * step's result (0 false, 1 true). */
+#define P001_GO_ON (-1)
+static P001_IN_LINE int p001_prologue(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const paper001_config_t *c = &d->cfg;
-    d->last.tick = d->tick;
-    /* 0. supervisor */
     if (d->sup.state == SUP_STATE_FAULT) {
         p001_zero_output(d, out);
-        return false;
+        return 0;
     }
     if (d->disabled) {
         p001_zero_output(d, out);
-        return true;
+        return 1;
     }
     if (!phase_adapter_accepts(in, c->n_phases) || !mc_gt(in->v_bus_V, c->v_bus_min_V)) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         p001_zero_output(d, out);
-        return false;
+        return 0;
     }
     d->v_bus_V = in->v_bus_V;
-    {
-        const drive_fault_t f = fault_monitor_sample(&d->mon, in, c->n_phases);
-        if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
-            p001_zero_output(d, out);
-            return false;
-        }
+    const drive_fault_t f = fault_monitor_sample(&d->mon, in, c->n_phases);
+    if (f != DRIVE_FAULT_NONE && p001_react(d, f)) {
+        p001_zero_output(d, out);
+        return 0;
     }
-    /* 1. currents and reference */
-    mc_t i_zero_A;
-    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
-    (void)i_zero_A; /* star without neutral: the measurement's offset, unused here */
-    speed_profile_eval(&d->profile, d->tick, &d->ref);
-    if (c->estimator == P001_ESTIMATOR_BACK_EMF && !d->probing) {
-        p001_step_back_emf(d, in, i_ab, (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V, out);
-        return p001_finish(d, in, out);
-    }
+    return P001_GO_ON;
+}
 
-    /* 2. flux observer; the R it subtracts tracked from the q-axis voltage
-     * balance of the sample it just integrated (closed loop only) */
+/* Steps 2-4 with the flux estimator (and the probe of either): the flux
+ * observer (12)-(14), the R it subtracts tracked from the q-axis voltage
+ * balance of the sample it just integrated (closed loop only); in open
+ * loop the probe, the circle fit and the switch to closed loop; the
+ * current in the estimated dq frame rho (its q component is the i^T Jm rho
+ * of the I&I observer) and the speed and load observer (15)-(16). Returns
+ * whether the loop closed in this sample; *probing: the probe ran. */
+static P001_IN_LINE bool p001_flux_estimate(paper001_drive_t *d, mc_ab_t i_ab, bool *probing, mc_t *i_d, mc_t *i_q)
+{
+    const paper001_config_t *c = &d->cfg;
     const mc_ab_t v_held = d->flux.v_prev_V;
     flux_observer_step(&d->flux, i_ab);
     if (d->rtrack.cfg.enabled) {
@@ -355,11 +368,9 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         flux_observer_set_R(&d->flux, d->rtrack.R_ohm);
         flux_observer_set_target(&d->flux, mc_mul(d->rtrack.Phi_rel, d->rtrack.Phi_rel)); /* |eta| -> Phi_hat */
     }
-
-    /* 3. open loop: the probe, the circle fit, then the switch to closed loop */
     bool switched = false;
-    const bool probing = d->probing && d->sup.state == SUP_STATE_OPEN_LOOP;
-    if (probing) {
+    *probing = d->probing && d->sup.state == SUP_STATE_OPEN_LOOP;
+    if (*probing) {
         p001_probe(d);
     } else if (d->sup.state == SUP_STATE_OPEN_LOOP) {
         flux_circle_fit_add(&d->fit, d->flux.rho);
@@ -376,25 +387,35 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
         (void)supervisor_dispatch(&d->sup, SUP_EV_IDENTIFIED);
     }
     const mc_rot_t rho = d->flux.unit;
-    /* the current in the estimated dq frame (for the law, 5.); its q
-     * component is the i^T Jm rho of the I&I observer */
-    mc_t i_d, i_q;
-    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, &i_d, &i_q);
-    /* 4. speed and load observer (15)-(16) */
-    speed_load_observer_step_iq(&d->speed, rho, i_q);
-    const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    mc_rot_fwd(rho, i_ab.alpha, i_ab.beta, i_d, i_q);
+    speed_load_observer_step_iq(&d->speed, rho, *i_q);
+    return switched;
+}
 
-    /* 5. the law, in the estimated dq frame */
+/* Steps 5-6 with the flux estimator: the law in the estimated dq frame,
+ * IDA-PBC (11) in closed loop, else the open-loop vector (68) along the
+ * reference angle (the probe's along alpha, then along the arc) expressed
+ * in that frame; the bumpless switch; to alpha-beta, v_ab = (rho_a I +
+ * rho_b Jm) v, (11), at the angle the rotor has on average while the
+ * voltage acts ((1/2 + d) of a sample ahead in closed loop); limited by the
+ * measured bus (a leg swings +-v_bus/2 about the midpoint with three
+ * phases, an H-bridge +-v_bus with two); the inverter's expected error
+ * added, and what the bus clamp takes of it in the voltage the observer
+ * integrates. */
+static P001_IN_LINE void p001_flux_output(paper001_drive_t *d, const hal_sample_t *in, bool probing, bool switched, mc_t i_d,
+                             mc_t i_q, hal_command_t *out)
+{
+    const paper001_config_t *c = &d->cfg;
+    const mc_rot_t rho = d->flux.unit;
+    const bool closed = d->sup.state == SUP_STATE_CLOSED_LOOP;
     mc_t v_d, v_q;
     if (closed) {
         ida_pbc_step(&d->ctrl, &c->ctrl, i_d, i_q, d->speed.omega_rad_s, d->speed.load_Nm, d->ref.omega_rad_s,
                      d->ref.accel_rad_s2, &v_d, &v_q); /* (11) */
     } else {
-        /* (68) along the reference angle, expressed in the estimated frame */
         mc_rot_t ol;
         mc_t v;
         if (probing) {
-            /* the probe: along alpha, then along the arc */
             v = c->probe_v_V;
             ol = d->probe_dir;
         } else {
@@ -405,19 +426,11 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     }
     supervisor_blend(&d->sup, switched, &v_d, &v_q);
     mc_ab_t v_ab;
-    /* v_ab = (rho_a I + rho_b Jm) v, (11), at the angle the rotor has on
-     * average while the voltage acts: (1/2 + d) of a sample ahead in closed
-     * loop (held over the sample, and d samples of computation delay) */
     const mc_rot_t rho_out = closed ? paper001_output_rot(c, rho, d->speed.omega_rad_s) : rho;
     mc_rot_inv(rho_out, v_d, v_q, &v_ab.alpha, &v_ab.beta);
-
-    /* 6. limited by the measured bus: a leg swings +-v_bus/2 about the
-     * midpoint (three phases), an H-bridge +-v_bus (two) */
     const mc_t v_max = (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V;
     (void)supervisor_limit_output(&d->sup, c->n_phases, v_max, &v_ab, &v_d, &v_q, out);
     if (d->dtc.cfg.enabled) {
-        /* the inverter's expected error added to the command; what the bus
-         * clamp takes of it is in the voltage the observer integrates */
         const mc_ab_t lost = deadtime_comp_step(&d->dtc, in->i_A, in->v_bus_V, out);
         v_ab.alpha = mc_add(v_ab.alpha, lost.alpha);
         v_ab.beta = mc_add(v_ab.beta, lost.beta);
@@ -426,6 +439,32 @@ bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.i_d_A = i_d;
     d->last.i_q_A = i_q;
     d->last.v_ab_V = v_ab;
+}
+
+bool paper001_drive_step(paper001_drive_t *d, const hal_sample_t *in, hal_command_t *out)
+{
+    const paper001_config_t *c = &d->cfg;
+    d->last.tick = d->tick;
+    /* 0. supervisor */
+    const int pre = p001_prologue(d, in, out);
+    if (pre != P001_GO_ON) {
+        return pre != 0;
+    }
+    /* 1. currents and reference */
+    mc_t i_zero_A;
+    const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero_A);
+    (void)i_zero_A; /* star without neutral: the measurement's offset, unused here */
+    speed_profile_eval(&d->profile, d->tick, &d->ref);
+    if (c->estimator == P001_ESTIMATOR_BACK_EMF && !d->probing) {
+        p001_step_back_emf(d, in, i_ab, (c->n_phases == 3u) ? mc_div_i(in->v_bus_V, 2) : in->v_bus_V, out);
+        return p001_finish(d, in, out);
+    }
+    /* 2.-4. flux observer, probe or fit or switch, speed and load observer */
+    bool probing;
+    mc_t i_d, i_q;
+    const bool switched = p001_flux_estimate(d, i_ab, &probing, &i_d, &i_q);
+    /* 5.-6. the law, to the phases, the observer told the applied voltage */
+    p001_flux_output(d, in, probing, switched, i_d, i_q, out);
     return p001_finish(d, in, out);
 }
 
