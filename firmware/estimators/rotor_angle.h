@@ -45,10 +45,7 @@ typedef struct {
 
 /* The problem every estimator of the family checks (estimator.h's
  * config_problem): NULL, or the literal naming the field. */
-static inline const char *rotor_angle_problem(const void *cfg)
-{
-    return (((const rotor_angle_config_t *)cfg)->n_p >= 1) ? 0 : "model.n_p: must be >= 1";
-}
+const char *rotor_angle_problem(const void *cfg);
 
 #ifdef __cplusplus
 }
