@@ -56,7 +56,7 @@ CommissionResult commission_pmsm(const Scenario& sc, const pmsm_id_config_t& cfg
     ctx.n_phases = static_cast<uint8_t>(sc.motor.n_phases());
     const deadtime_comp_config_t dtc = deadtime_comp_config(sc);
     (void)deadtime_comp_init(&ctx.dtc, &dtc);  // the design's coefficients are >= 0
-    Scenario unloaded = sc;  // commissioning runs without the run's load
+    Scenario unloaded = sc;                    // commissioning runs without the run's load
     unloaded.load.clear();
     Rig rig(unloaded);
     attach_rig(rig, unloaded);  // the same bench as the run's, its board included

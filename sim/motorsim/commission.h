@@ -19,7 +19,7 @@ namespace mcsim {
 
 struct CommissionResult {
     bool ok = false;
-    std::string why;        // reason of a rejection
+    std::string why;  // reason of a rejection
     double R_ohm = 0.0, L_H = 0.0, Phi_Wb = 0.0;
     double duration_s = 0.0;  // simulated time the commissioning took
 };

@@ -18,9 +18,8 @@ constexpr double kRmseSkip_s = 0.05;
 }  // namespace
 
 const char* const kEkfSpeedColumnNames[kEsNumColumns] = {
-    "t_s",           "mode",    "fault",     "saturated", "omega_d_rad_s", "omega_rad_s", "omega_est_rad_s",
-    "theta_rad",     "theta_est_rad", "M0_Nm", "M0_est_Nm", "i_d_A",       "i_q_A",       "v_a_V",
-    "v_b_V",         "v_c_V"};
+    "t_s",           "mode",  "fault",     "saturated", "omega_d_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_rad",
+    "theta_est_rad", "M0_Nm", "M0_est_Nm", "i_d_A",     "i_q_A",         "v_a_V",       "v_b_V",           "v_c_V"};
 
 EkfSpeedRecorder::EkfSpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, bool record_rows)
     : RunRecorder(sc, plant, drive, kEkfSpeedColumnNames, kEsNumColumns, record_rows),
@@ -112,9 +111,22 @@ std::int64_t EkfSpeedRecorder::on_period(const hal_sw_plant_period_t& p, double*
         fault_ = static_cast<std::int64_t>(l.fault_code);
     }
     if (r != nullptr) {  // in kEkfSpeedColumnNames' order
-        const double row[kEsNumColumns] = {t, static_cast<double>(l.mode), static_cast<double>(l.fault_code),
-                                           l.saturated ? 1.0 : 0.0, w_d, w, w_hat, wrap_pi(plant_.theta_rad()),
-                                           th_hat, M0, M0_hat, i_d, i_q, p.v_a_V, p.v_b_V, p.v_c_V};
+        const double row[kEsNumColumns] = {t,
+                                           static_cast<double>(l.mode),
+                                           static_cast<double>(l.fault_code),
+                                           l.saturated ? 1.0 : 0.0,
+                                           w_d,
+                                           w,
+                                           w_hat,
+                                           wrap_pi(plant_.theta_rad()),
+                                           th_hat,
+                                           M0,
+                                           M0_hat,
+                                           i_d,
+                                           i_q,
+                                           p.v_a_V,
+                                           p.v_b_V,
+                                           p.v_c_V};
         std::copy(row, row + kEsNumColumns, r);
     }
     return fault_;
@@ -210,8 +222,8 @@ MetricList EkfSpeedRecorder::metrics(double wall_loop_s) const
     }
     // the EKF's Q and R diagonals it ran with (the design's or [paper002]
     // ekf_q, ekf_r), per sample
-    for (const char* k : {"ekf_q_id", "ekf_q_iq", "ekf_q_theta", "ekf_q_omega", "ekf_q_M0", "ekf_r_id", "ekf_r_iq",
-                          "ekf_r_theta"}) {
+    for (const char* k :
+         {"ekf_q_id", "ekf_q_iq", "ekf_q_theta", "ekf_q_omega", "ekf_q_M0", "ekf_r_id", "ekf_r_iq", "ekf_r_theta"}) {
         sg.append_metric(&m, k, k);
     }
     m.emplace_back("voltage_saturated_fraction", n > 0 ? static_cast<double>(n_sat_) / n : 0.0);

@@ -124,7 +124,8 @@ private:
     bool has_p_ = false;                 // all of them
 
     std::uint64_t n_rmse_ = 0, n_rmse50_ = 0, n_sat_ = 0;
-    double ss_ = 0.0, ss50_ = 0.0, err_max_ = 0.0, est_ss_ = 0.0, m0_ss_ = 0.0, i_max_ = 0.0, th_ss_ = 0.0, thm_ss_ = 0.0;
+    double ss_ = 0.0, ss50_ = 0.0, err_max_ = 0.0, est_ss_ = 0.0, m0_ss_ = 0.0, i_max_ = 0.0, th_ss_ = 0.0,
+           thm_ss_ = 0.0;
     double p_min_eig_ = 1e300, p_asym_ = 0.0;
     bool spd_ok_ = true;
     // the HF injection's metrics (a drive with signal hfi_on only; metrics() lists them then)

@@ -92,9 +92,9 @@ private:
 
     double drive_theta_ref_last_ = 0.0;
 
-    const Reference ref_;       // the scenario's [trajectory], from 0 rad
+    const Reference ref_;  // the scenario's [trajectory], from 0 rad
     double n_p_;
-    double K_;                  // true plant, for e_f, e_g of eq. (23)
+    double K_;  // true plant, for e_f, e_g of eq. (23)
     double omega_lim_rad_s_;
     int sig_if_est_, sig_ig_est_;  // the drive's current observer (-1: none)
 

@@ -88,8 +88,7 @@ void RunRecorder::write_csv(const std::string& path) const
                            rows_.empty() ? nullptr : rows_.data(), rows());
 }
 
-std::unique_ptr<RunRecorder> make_recorder(const Scenario& sc, const PmPlant& plant, const drive_t& d,
-                                           bool record_rows)
+std::unique_ptr<RunRecorder> make_recorder(const Scenario& sc, const PmPlant& plant, const drive_t& d, bool record_rows)
 {
     const HostDrive* host = host_drive_find(d.ops->name);
     const std::string scoring = (host != nullptr && host->scoring != nullptr)
