@@ -6,7 +6,8 @@
  * sample at the PWM rate (the HAL sample in, the HAL command out), carry
  * out a command of the CAN command set (tools/can/drive.dbc) or name why
  * not, report what the telemetry carries, give the estimate, name the
- * first fault through the flight recorder. A program (motorsim, the CAN
+ * first fault through the flight recorder, list and read the signals it
+ * shows beyond the status (drive_signal_t). A program (motorsim, the CAN
  * node, an MCU image) finds a drive by name in the registry
  * (drives/registry.h) and never names one itself; a drive is added with a
  * folder of its own and one line in the registry. Configurations differ
@@ -88,6 +89,42 @@ typedef struct {
                               * (paper 001's flux observer: |rho_hat|^2; 1 where none) */
 } drive_status_t;
 
+/* What a drive shows beyond drive_status_t: its own frame's quantities
+ * (paper 000's (f-g) frame, a PMSM drive's d-q currents and voltages), its
+ * observers' states (an EKF's covariance, an injection's voltage), its
+ * figures (the model it identified, a start's test result). A drive lists
+ * them (signals: static, fixed-size) and reads their values (read_signals,
+ * one mc_t each, in the list's order); the programs take them by name
+ * (motorsim's CSV columns and the metrics that need a drive's quantity,
+ * the plots through the CSV) and never look into the drive's state.
+ * Names are stable (they are CSV columns and metric inputs): letters,
+ * digits and _, a letter first, the SI unit as the suffix where there is
+ * one (i_d_meas_A, ekf_P_00), unique in the list, and what the
+ * quantity is to the drive: _meas its measurement, _est its estimate, _ref
+ * its reference (a name without them is the drive's own quantity, e.g. a
+ * command or a state). A value is SI in mc_t; an integer one (a count, a
+ * code, a state: DRIVE_SIGNAL_INTEGER) is exact in mc_t up to 2^14 in
+ * magnitude (Q14.17). A setting (DRIVE_SIGNAL_SETTING) is constant after
+ * init (a configuration's figure): the programs read it once, not per
+ * sample (motorsim reports it as a metric where a scoring asks for it,
+ * never as a column). */
+enum {
+    DRIVE_SIGNAL_INTEGER = 1u << 0, /* a whole number: printed without decimals */
+    DRIVE_SIGNAL_SETTING = 1u << 1  /* constant after init: not a column */
+};
+
+typedef struct {
+    const char *name;        /* "ekf_P_00": a CSV column, never NULL */
+    const char *unit;        /* SI: "A", "V", "rad", "rad/s", "N m", "ohm", "H", "V s", "A^2";
+                              * "1" when dimensionless (counts and codes too); never "" */
+    const char *description; /* one line for the docs and the CSV's readers */
+    uint8_t flags;           /* DRIVE_SIGNAL_* */
+} drive_signal_t;
+
+/* The most signals a drive lists: a reader's fixed buffer (mc_t
+ * values[DRIVE_SIGNALS_MAX]) holds any drive's. */
+#define DRIVE_SIGNALS_MAX 48u
+
 /* The operations of one drive. self is the drive's own state struct
  * (state_bytes long); cfg its own config type. */
 typedef struct drive_ops {
@@ -109,6 +146,14 @@ typedef struct drive_ops {
     void (*estimate)(const void *self, mc_estimate_t *e);
     /* the first fault's code, tick and the samples before it */
     const flight_recorder_t *(*recorder)(const void *self);
+    /* its signals (static storage) and their number in *count (at most
+     * DRIVE_SIGNALS_MAX); after init the list may depend on the
+     * configuration (an estimator's signals only where it runs), and
+     * stays the same until the next init */
+    const drive_signal_t *(*signals)(const void *self, uint32_t *count);
+    /* the values of that list after the last step (or init), values[0 ..
+     * count); reads only, allocates nothing */
+    void (*read_signals)(const void *self, mc_t *values);
 } drive_ops_t;
 
 /* A drive as the programs hold it: its operations and its state. */
@@ -129,6 +174,11 @@ static inline drive_refusal_t drive_command(drive_t *d, const drive_cmd_t *cmd)
 static inline void drive_status(const drive_t *d, drive_status_t *s) { d->ops->status(d->self, s); }
 static inline void drive_estimate(const drive_t *d, mc_estimate_t *e) { d->ops->estimate(d->self, e); }
 static inline const flight_recorder_t *drive_recorder(const drive_t *d) { return d->ops->recorder(d->self); }
+static inline const drive_signal_t *drive_signals(const drive_t *d, uint32_t *count)
+{
+    return d->ops->signals(d->self, count);
+}
+static inline void drive_read_signals(const drive_t *d, mc_t *values) { d->ops->read_signals(d->self, values); }
 
 #ifdef __cplusplus
 }

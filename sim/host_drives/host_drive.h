@@ -5,7 +5,8 @@
 // toml_view.h, errors naming file and key), the design of its
 // configuration from the scenario, and its answers to the programs'
 // per-drive questions (its estimators and which one a configuration runs,
-// its reference's peak demand, how a replay tells it the applied voltage). The programs look drives up here
+// its reference's peak demand, how a replay tells it the applied voltage,
+// how motorsim scores its runs, its commissioning). The programs look drives up here
 // and never name one; a drive is added with its file in sim/host_drives/ and
 // one line in host_registry.cpp.
 #ifndef MCSIM_DRIVES_HOST_DRIVE_H
@@ -19,6 +20,7 @@
 
 extern "C" {
 #include "drives/registry.h"
+#include "startup/pmsm_identification.h"
 }
 
 namespace mcsim {
@@ -81,6 +83,18 @@ struct HostDrive {
     // estimator), for the tools' records (mc_pil_gen's source line of its
     // vectors and of a board's configuration).
     const char* (*estimator_name)(const drive_config_storage_t* cfg);
+    // How motorsim scores its runs (motorsim/run_recorder.h: "position",
+    // "speed", "ekf_speed"; nullptr: by the drive's kind, "position" or
+    // "speed").
+    const char* scoring;
+    // The commissioning run before the design (nullptr: the drive has
+    // none): false when the scenario asks for none; else the PMSM
+    // identification's configuration (firmware/startup/pmsm_identification.h)
+    // in *cfg and its nominal length in *duration_s, which motorsim runs on
+    // the scenario's plant and whose R, L and Phi replace sc.drive_model's
+    // (motorsim/commission.h). Throws ScenarioError when it cannot be
+    // designed.
+    bool (*pmsm_identification)(const Scenario& sc, pmsm_id_config_t* cfg, double* duration_s);
 };
 
 // The drive of that name, or nullptr.

@@ -352,6 +352,7 @@ void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
 
 extern const HostDrive kPaper000Host;
 const HostDrive kPaper000Host = {kName, "trajectory", false, &p000_parse, &p000_design, &p000_keys, &p000_extra_keys,
-                                 &p000_parse_extra, nullptr, &p000_peak_demand, &p000_set_applied_voltage, nullptr};
+                                 &p000_parse_extra, nullptr, &p000_peak_demand, &p000_set_applied_voltage, nullptr,
+                                 nullptr, nullptr};
 
 }  // namespace mcsim

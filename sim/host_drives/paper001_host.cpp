@@ -132,8 +132,30 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
     }
 }
 
+namespace {
+
+// [speed] identify = true: the PMSM commissioning before the design
+// (HostDrive::pmsm_identification; motorsim/commission.h runs it): R, L and
+// Phi measured by the firmware on the same plant replace the drive model's.
+bool p001_identification(const Scenario& sc, pmsm_id_config_t* cfg, double* duration_s)
+{
+    if (!sc.speed_gains.identify) {
+        return false;
+    }
+    p001_design_input_t in;
+    make_speed_design_input(sc, &in);
+    char err[256] = {0};
+    if (!p001_identification_design(&in, cfg, duration_s, err, sizeof(err))) {
+        throw ScenarioError(sc.path + ": identification design: " + err);
+    }
+    return true;
+}
+
+}  // namespace
+
 extern const HostDrive kPaper001Host;
 const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, nullptr, nullptr,
-                                 &p001_select_estimator, nullptr, nullptr, &p001_estimator_name};
+                                 &p001_select_estimator, nullptr, nullptr, &p001_estimator_name, nullptr,
+                                 &p001_identification};
 
 }  // namespace mcsim

@@ -1,6 +1,5 @@
 // paper001_host.h - paper 001's speed drive designed from a scenario, for
-// the host code of that drive outside its host part: its commissioning
-// run (sim/motorsim/drive_runs/paper001_commission.cpp) and its tests.
+// the host code of that drive outside its host part: its tests.
 // Defined in paper001_host.cpp, with the drive's table [speed].
 #ifndef MCSIM_HOST_DRIVES_PAPER001_HOST_H
 #define MCSIM_HOST_DRIVES_PAPER001_HOST_H

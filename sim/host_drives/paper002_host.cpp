@@ -178,6 +178,7 @@ void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 
 extern const HostDrive kPaper002Host;
 const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, nullptr, nullptr,
-                                 &p002_select_estimator, &p002_peak_demand, nullptr, &p002_estimator_name};
+                                 &p002_select_estimator, &p002_peak_demand, nullptr, &p002_estimator_name,
+                                 "ekf_speed", nullptr};
 
 }  // namespace mcsim

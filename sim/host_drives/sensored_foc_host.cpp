@@ -84,6 +84,6 @@ void sfoc_design_from(Scenario& sc, drive_config_storage_t* out)
 
 extern const HostDrive kSensoredFocHost;
 const HostDrive kSensoredFocHost = {"sensored_foc", "sensored_foc", true, &sfoc_parse, &sfoc_design_from, &sfoc_keys,
-                                    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+                                    nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
 
 }  // namespace mcsim

@@ -1,5 +1,5 @@
 // spectrum.h - how much of a sampled signal lies above a frequency: the
-// chattering measure of paper 002's study (motorsim/paper002_recorder.h).
+// chattering measure of paper 002's study (motorsim/ekf_speed_recorder.h).
 // Eigen's FFT (unsupported/Eigen/FFT, kissfft inside) does the transform.
 #ifndef MCSIM_MODEL_SPECTRUM_H
 #define MCSIM_MODEL_SPECTRUM_H

@@ -4,7 +4,8 @@
 // scenario has ([trajectory]: paper 000, [speed]: paper 001, [paper002]);
 // it is designed by its host part (sim/host_drives/), run through the drive
 // interface (firmware/drives/drive.h) and recorded by the one recorder with
-// its probe (run_recorder.h). Nothing here names a drive.
+// its scoring and the drive's signals (run_recorder.h). Nothing here names a
+// drive.
 //
 //   motorsim --scenario FILE [--out DIR] [--metrics-out FILE.json]
 //            [--seed N] [--no-plot] [--no-csv] [--quiet]
@@ -47,7 +48,7 @@
 
 #include "drives/registry.h"
 #include "host_drives/host_drive.h"
-#include "motorsim/drive_runs/drive_runs.h"
+#include "motorsim/commission.h"
 #include "motorsim/run_recorder.h"
 #include "motorsim/run_watch.h"
 #include "hal/hal.h"
@@ -426,17 +427,14 @@ int run(const Options& opt)
         sc.expect.clear();
     }
 
-    // A commissioning run before the design (the drive's part in
-    // motorsim/drive_runs/: paper 001's [speed] identify measures R, L and
-    // Phi on the same plant), then the design by the drive's host part,
-    // which also says what the run starts with: the samples before t = 0
-    // (paper 000's rotor alignment, sc.pre_ticks), which the rig's start
-    // time and the run's length take from it.
-    const mcsim::DriveRun* drive_run = mcsim::drive_run_find(sc.drive_kind);
+    // A commissioning run before the design (its host part's, when the
+    // scenario asks for it: paper 001's [speed] identify measures R, L and
+    // Phi on the same plant; motorsim/commission.h), then the design by the
+    // drive's host part, which also says what the run starts with: the
+    // samples before t = 0 (paper 000's rotor alignment, sc.pre_ticks),
+    // which the rig's start time and the run's length take from it.
     mcsim::MetricList commission_metrics;
-    if (drive_run != nullptr && drive_run->commission != nullptr) {
-        drive_run->commission(&sc, &commission_metrics);
-    }
+    mcsim::commission_drive(*host, &sc, &commission_metrics);
     // a few kB: heap, not stack
     auto storage = std::make_unique<drive_storage_t>();
     auto cfg = std::make_unique<drive_config_storage_t>();
@@ -482,9 +480,8 @@ int run(const Options& opt)
         hal_sw_plant_set_faults(&injector);
     }
 
-    // The log: the one recorder with the drive's probe
-    // (motorsim/run_recorder.h; a drive's own in motorsim/drive_runs/, else
-    // the speed probe)
+    // The log: the one recorder with the drive's scoring and its signals
+    // (motorsim/run_recorder.h)
     const std::unique_ptr<mcsim::RunRecorder> rec = mcsim::make_recorder(sc, plant, drive, /*record_rows=*/write_csv);
     hal_sw_plant_set_monitor(&mcsim::RunRecorder::monitor, rec.get());
     // The reference against the supply and the current limit: a warning
@@ -502,7 +499,7 @@ int run(const Options& opt)
         can_ctx->t_start_s = sc.t_start_s();
         can_ctx->log = opt.quiet ? nullptr : stderr;
         mcsim::can_glue_init(can_ctx.get(), opt.can_node, hal_control_rate_hz());
-        rec->score_against_drive_reference(true);  // paper 002's probe always does
+        rec->score_against_drive_reference(true);  // the ekf_speed scoring always does
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
     } else {

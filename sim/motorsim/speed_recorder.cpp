@@ -16,13 +16,13 @@ constexpr double kLockHold_s = 0.05;
 }  // namespace
 
 const char* const kSpeedColumnNames[kSpNumColumns] = {
-    "t_s",        "mode",        "omega_ref_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_e_rad",
-    "theta_e_est_rad", "theta_e_err_rad", "load_Nm", "load_est_Nm", "i_a_A", "i_b_A",
-    "i_c_A",      "i_d_A",       "i_q_A",        "i_q_ref_A",   "v_alpha_V",    "v_beta_V",
-    "v_a_V",      "v_b_V",       "v_c_V",        "rho2",        "estimate_valid", "fault"};
+    "t_s",         "mode",        "omega_ref_rad_s", "omega_rad_s", "omega_est_rad_s", "theta_e_rad",
+    "theta_e_est_rad", "theta_e_err_rad", "load_Nm", "load_est_Nm", "i_a_A",       "i_b_A",
+    "i_c_A",       "v_alpha_V",   "v_beta_V",        "v_a_V",       "v_b_V",           "v_c_V",
+    "estimate_quality", "estimate_valid", "fault"};
 
 SpeedRecorder::SpeedRecorder(const Scenario& sc, const PmPlant& plant, const drive_t& drive, bool record_rows)
-    : RunRecorder(sc, plant, kSpeedColumnNames, kSpNumColumns, record_rows), drive_(drive)
+    : RunRecorder(sc, plant, drive, kSpeedColumnNames, kSpNumColumns, record_rows)
 {
     for (const auto& p : sc.speed_points) {
         events_.push_back(p.first);
@@ -55,7 +55,7 @@ double SpeedRecorder::omega_ref(double t_s, double* slope) const
 std::int64_t SpeedRecorder::on_period(const hal_sw_plant_period_t& p, double* r)
 {
     drive_status_t tm;
-    drive_status(&drive_, &tm);
+    drive_status(&drive(), &tm);
     const double t = p.t_s;
     double slope = 0.0;
     double w_ref = omega_ref(t, &slope);
@@ -72,49 +72,8 @@ std::int64_t SpeedRecorder::on_period(const hal_sw_plant_period_t& p, double* r)
     const double load_est = to_double(tm.load_est_Nm);
     const bool valid = tm.estimate_valid && p.control_called;
 
-    // time since the last corner or load change, and the segment type
-    const auto it = std::upper_bound(events_.begin(), events_.end(), t + 1e-12);
-    const double since = (it == events_.begin()) ? t : t - *(it - 1);
-    const bool settled_time = since >= kSettleAfter_s - 1e-12;
-    err_max_ = std::max(err_max_, err_rpm);
-    err_ss_ += err_rpm * err_rpm;
-    if (settled_time) {
-        if (slope == 0.0) {
-            settled_max_ = std::max(settled_max_, err_rpm);
-            if (w_ref != 0.0) {
-                settled_moving_max_ = std::max(settled_moving_max_, err_rpm);
-            }
-            load_settled_max_ = std::max(load_settled_max_, std::fabs(load_est - load));
-        }
-    }
-    // ramps: from 0.5 s after the start of the ramp (corners only)
-    if (slope != 0.0) {
-        double ramp_start = 0.0;
-        for (const auto& c : sc_.speed_points) {
-            if (c.first <= t) {
-                ramp_start = c.first;
-            }
-        }
-        if (t - ramp_start >= kSettleAfter_s - 1e-12) {
-            ramp_max_ = std::max(ramp_max_, err_rpm);
-        }
-    }
-    // lock and the angle error after it
-    if (lock_t_ < 0.0) {
-        if (valid && std::fabs(th_err) < kLockTol_rad) {
-            if (lock_run_ == 0) {
-                lock_run_start_ = t;
-            }
-            lock_run_ += 1;
-            if (static_cast<double>(lock_run_) * sc_.ts_s >= kLockHold_s - 1e-12) {
-                lock_t_ = lock_run_start_;
-            }
-        } else {
-            lock_run_ = 0;
-        }
-    } else {
-        theta_max_deg_ = std::max(theta_max_deg_, std::fabs(th_err) * 180.0 / kPi);
-    }
+    score_speed_error(t, w_ref, slope, err_rpm, std::fabs(load_est - load));
+    score_lock(t, valid, th_err);
     double i_ph[3] = {0.0, 0.0, 0.0};
     plant_.phase_currents(i_ph);
     for (int k = 0; k < plant_.n_phases(); ++k) {
@@ -130,33 +89,87 @@ std::int64_t SpeedRecorder::on_period(const hal_sw_plant_period_t& p, double* r)
     if (tm.fault_code != DRIVE_FAULT_NONE) {
         fault_ = static_cast<std::int64_t>(tm.fault_code);
     }
-    if (r != nullptr) {
-        r[kSpT] = t;
-        r[kSpMode] = static_cast<double>(tm.mode);
-        r[kSpOmegaRef] = w_ref;
-        r[kSpOmega] = w;
-        r[kSpOmegaEst] = to_double(tm.omega_est_rad_s);
-        r[kSpThetaE] = th_e;
-        r[kSpThetaEEst] = th_e_est;
-        r[kSpThetaErrE] = th_err;
-        r[kSpLoad] = load;
-        r[kSpLoadEst] = load_est;
-        r[kSpIa] = i_ph[0];
-        r[kSpIb] = i_ph[1];
-        r[kSpIc] = i_ph[2];
-        r[kSpId] = to_double(tm.i1_A);
-        r[kSpIq] = to_double(tm.i2_A);
-        r[kSpIqRef] = to_double(tm.i2_ref_A);
-        r[kSpValpha] = to_double(tm.v_alpha_V);
-        r[kSpVbeta] = to_double(tm.v_beta_V);
-        r[kSpVa] = p.v_a_V;
-        r[kSpVb] = p.v_b_V;
-        r[kSpVc] = p.v_c_V;
-        r[kSpRho2] = to_double(tm.estimate_quality);
-        r[kSpValid] = valid ? 1.0 : 0.0;
-        r[kSpFault] = static_cast<double>(tm.fault_code);
+    if (r != nullptr) {  // in kSpeedColumnNames' order
+        const double row[kSpNumColumns] = {t,
+                                           static_cast<double>(tm.mode),
+                                           w_ref,
+                                           w,
+                                           to_double(tm.omega_est_rad_s),
+                                           th_e,
+                                           th_e_est,
+                                           th_err,
+                                           load,
+                                           load_est,
+                                           i_ph[0],
+                                           i_ph[1],
+                                           i_ph[2],
+                                           to_double(tm.v_alpha_V),
+                                           to_double(tm.v_beta_V),
+                                           p.v_a_V,
+                                           p.v_b_V,
+                                           p.v_c_V,
+                                           to_double(tm.estimate_quality),
+                                           valid ? 1.0 : 0.0,
+                                           static_cast<double>(tm.fault_code)};
+        std::copy(row, row + kSpNumColumns, r);
     }
     return static_cast<std::int64_t>(tm.fault_code);
+}
+
+// The speed error err_rpm at t against w_ref (its slope), the load
+// estimate's error load_err: the settled windows (from kSettleAfter_s after
+// each corner or load change), the ramps (from kSettleAfter_s after their
+// start), the whole run.
+void SpeedRecorder::score_speed_error(double t, double w_ref, double slope, double err_rpm, double load_err)
+{
+    // time since the last corner or load change, and the segment type
+    const auto it = std::upper_bound(events_.begin(), events_.end(), t + 1e-12);
+    const double since = (it == events_.begin()) ? t : t - *(it - 1);
+    const bool settled_time = since >= kSettleAfter_s - 1e-12;
+    err_max_ = std::max(err_max_, err_rpm);
+    err_ss_ += err_rpm * err_rpm;
+    if (settled_time) {
+        if (slope == 0.0) {
+            settled_max_ = std::max(settled_max_, err_rpm);
+            if (w_ref != 0.0) {
+                settled_moving_max_ = std::max(settled_moving_max_, err_rpm);
+            }
+            load_settled_max_ = std::max(load_settled_max_, load_err);
+        }
+    }
+    // ramps: from 0.5 s after the start of the ramp (corners only)
+    if (slope != 0.0) {
+        double ramp_start = 0.0;
+        for (const auto& c : sc_.speed_points) {
+            if (c.first <= t) {
+                ramp_start = c.first;
+            }
+        }
+        if (t - ramp_start >= kSettleAfter_s - 1e-12) {
+            ramp_max_ = std::max(ramp_max_, err_rpm);
+        }
+    }
+}
+
+// The lock (a run of kLockHold_s with the estimate valid and the angle
+// error below kLockTol_rad) and the angle error after it.
+void SpeedRecorder::score_lock(double t, bool valid, double th_err)
+{
+    if (lock_t_ < 0.0) {
+        if (valid && std::fabs(th_err) < kLockTol_rad) {
+            if (lock_run_ == 0) {
+                lock_run_start_ = t;
+            }
+            lock_run_ += 1;
+            if (static_cast<double>(lock_run_) * sc_.ts_s >= kLockHold_s - 1e-12) {
+                lock_t_ = lock_run_start_;
+            }
+        } else {
+            lock_run_ = 0;
+        }
+    } else {
+        theta_max_deg_ = std::max(theta_max_deg_, std::fabs(th_err) * 180.0 / kPi);
+    }
 }
 
 MetricList SpeedRecorder::metrics(double wall_loop_s) const
@@ -179,7 +192,7 @@ MetricList SpeedRecorder::metrics(double wall_loop_s) const
     m.emplace_back("i_max_A", sc_.i_max_A);
     m.emplace_back("final_omega_rad_s", plant_.omega_rad_s());
     m.emplace_back("fault", fault_);
-    const flight_recorder_t* fr = drive_recorder(&drive_);
+    const flight_recorder_t* fr = drive_recorder(&drive());
     if (fr != nullptr) {
         m.emplace_back("fault_first", static_cast<std::int64_t>(fr->fault));
         m.emplace_back("fault_first_t_s", fr->frozen ? static_cast<double>(fr->fault_tick) * sc_.ts_s : -1.0);

@@ -1,9 +1,19 @@
-// speed_recorder.h - the speed drives' probe of the one recorder
+// speed_recorder.h - the "speed" scoring of the one recorder
 // (run_recorder.h): per-sample log and metrics of a speed-drive run
-// (paper 001's benchmark, section 5.1): the true plant against the drive's
-// reference and estimates, one preallocated row per period. Any speed
-// drive: it reads the drive through its operations (drives/drive.h:
-// status and flight recorder).
+// against the scenario's speed profile (paper 001's benchmark, section
+// 5.1): the true plant against the reference and the drive's estimates,
+// one preallocated row per period. Any speed drive: it reads the drive
+// through its operations (drives/drive.h: status and flight recorder).
+//
+// Columns (then the drive's signals, e.g. its d-q currents i_d_meas_A,
+// i_q_meas_A, i_q_ref_A): t_s, mode, the reference omega_ref_rad_s (the
+// scenario's, or the drive's over CAN), the true omega_rad_s and the
+// estimate, the true electrical angle theta_e_rad, the estimate and the
+// error (wrapped), the true load torque load_Nm (load + friction) and the
+// estimate, the true phase currents i_a_A, i_b_A, i_c_A, the command
+// v_alpha_V, v_beta_V, the applied phase voltages v_a_V, v_b_V, v_c_V, the
+// estimator's estimate_quality (drive_status_t: 1 when consistent),
+// estimate_valid, fault.
 //
 // Metrics (keys checked by tests/sim and by checks outside them):
 //   speed_err_settled_max_rpm   max |w - w*| where w* is constant, from 0.5 s
@@ -50,15 +60,12 @@ enum SpeedColumn : int {
     kSpIa,
     kSpIb,
     kSpIc,
-    kSpId,
-    kSpIq,
-    kSpIqRef,
     kSpValpha,
     kSpVbeta,
     kSpVa,
     kSpVb,
     kSpVc,
-    kSpRho2,
+    kSpQuality,
     kSpValid,
     kSpFault,
     kSpNumColumns
@@ -75,8 +82,9 @@ public:
 
 private:
     std::int64_t on_period(const hal_sw_plant_period_t& p, double* row) override;
+    void score_speed_error(double t, double w_ref, double slope, double err_rpm, double load_err);
+    void score_lock(double t, bool valid, double th_err);
 
-    const drive_t drive_;
     std::vector<double> events_;  // reference corners and load changes, sorted
 
     std::uint64_t n_closed_ = 0, lock_run_ = 0;

@@ -5,8 +5,8 @@
 // by sample without the closed loop making the two runs drift apart
 // (tools/checks/compare_builds.py).
 //   drive_replay SCENARIO.toml CURRENTS.csv OUT.csv
-// CURRENTS.csv is a motorsim CSV of a two-phase run (columns i_a_meas,
-// i_b_meas, v_a, v_b); OUT.csv has t_s, mode, theta_est, omega_est, v_a, v_b.
+// CURRENTS.csv is a motorsim CSV of a two-phase run (columns i_a_meas_A,
+// i_b_meas_A, v_a_V, v_b_V); OUT.csv has t_s, mode, theta_est, omega_est, v_a, v_b.
 //
 // Drive-neutral, like motorsim: the scenario's drive is designed by its
 // host part and run through the drive interface (drives/drive.h: step,
@@ -50,13 +50,13 @@ std::vector<Sample> read_currents(const std::string& path)
     }
     int ia = -1, ib = -1, va = -1, vb = -1;
     for (std::size_t k = 0; k < head.size(); ++k) {
-        if (head[k] == "i_a_meas") ia = static_cast<int>(k);
-        if (head[k] == "i_b_meas") ib = static_cast<int>(k);
-        if (head[k] == "v_a") va = static_cast<int>(k);
-        if (head[k] == "v_b") vb = static_cast<int>(k);
+        if (head[k] == "i_a_meas_A") ia = static_cast<int>(k);
+        if (head[k] == "i_b_meas_A") ib = static_cast<int>(k);
+        if (head[k] == "v_a_V") va = static_cast<int>(k);
+        if (head[k] == "v_b_V") vb = static_cast<int>(k);
     }
     if (ia < 0 || ib < 0 || va < 0 || vb < 0) {
-        throw std::runtime_error(path + ": needs columns i_a_meas, i_b_meas, v_a, v_b");
+        throw std::runtime_error(path + ": needs columns i_a_meas_A, i_b_meas_A, v_a_V, v_b_V");
     }
     std::vector<Sample> out;
     while (std::getline(in, line)) {

@@ -4,7 +4,7 @@
 usage: check_outputs.py MOTORSIM SCENARIO WORKDIR
 
 Checks: exit 0; stdout is `key value` lines matching the metrics JSON (a
-flat object); the CSV has every documented column and one row per sample;
+flat object); the CSV has the documented columns in order and one row per sample;
 the PNG exists (needs the venv's matplotlib); no temporary files are left;
 with a missing python the run still succeeds, warns, and writes no PNG.
 Metrics only (--metrics-out without --out): exactly one file written, no
@@ -22,10 +22,15 @@ import subprocess
 import sys
 from pathlib import Path
 
-COLUMNS = ["t_s", "mode", "theta_ref", "omega_ref", "accel_ref", "theta", "theta_est", "omega",
-           "omega_est", "accel", "accel_est", "load_true_Nm", "load_est_Nm", "i_a", "i_b", "i_a_meas",
-           "i_b_meas", "i_f", "i_g", "i_f_hat", "i_g_hat", "d_f", "d_g", "d_f_hat", "d_g_hat", "v_a",
-           "v_b", "v_f", "v_g", "delta_theta_est", "jump_count"]
+# the position scoring's columns (sim/motorsim/position_recorder.h), then
+# paper 000's signals (firmware/drives/paper000/paper000_ops.c), in order
+COLUMNS = ["t_s", "mode", "theta_ref_rad", "omega_ref_rad_s", "accel_ref_rad_s2", "theta_rad", "theta_est_rad",
+           "omega_rad_s", "omega_est_rad_s", "accel_rad_s2", "accel_est_rad_s2", "load_Nm", "load_est_Nm", "i_a_A",
+           "i_b_A", "i_a_meas_A", "i_b_meas_A", "i_f_A", "i_g_A", "e_f_V", "e_g_V", "v_a_V", "v_b_V",
+           "delta_theta_rad", "fault",
+           "i_f_meas_A", "i_g_meas_A", "i_f_ref_A", "i_g_ref_A", "i_f_est_A", "i_g_est_A", "e_f_est_V", "e_g_est_V",
+           "v_f_V", "v_g_V", "delta_theta_est_rad", "jump_count", "model_R_ohm", "model_L_H", "model_K_V_s",
+           "rl_id_state", "k_id_state", "relocks"]
 METRICS = ["theta_track_max_rad", "theta_est_max_rad", "current_obs_max_a", "omega_est_peak_max_rad_s",
            "final_theta_err_rad", "closed_loop_fraction", "realtime_factor", "n_samples", "seed",
            "wall_time_s", "max_abs_current_A", "max_abs_voltage_V"]
@@ -55,9 +60,8 @@ def main() -> int:
     with (out / f"{stem}.csv").open() as f:
         rows = list(csv.reader(f))
     header = rows[0]
-    for c in COLUMNS:
-        if c not in header:
-            errors.append(f"CSV lacks column {c}")
+    if header != COLUMNS:
+        errors.append(f"CSV columns {header}, want {COLUMNS}")
     if len(rows) - 1 != metrics.get("n_samples"):
         errors.append(f"CSV has {len(rows) - 1} rows, n_samples = {metrics.get('n_samples')}")
     if any(len(row) != len(header) for row in rows):

@@ -19,16 +19,21 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 PLOT = ROOT / "tools" / "plot" / "plot_run.py"
 
-COLUMNS = ("t_s,mode,theta_ref,omega_ref,accel_ref,theta,theta_est,omega,omega_est,accel,accel_est,"
-           "load_true_Nm,load_est_Nm,i_a,i_b,i_a_meas,i_b_meas,i_f,i_g,i_f_hat,i_g_hat,d_f,d_g,"
-           "d_f_hat,d_g_hat,v_a,v_b,v_f,v_g,delta_theta_est,jump_count,delta_theta,i_f_ref,i_g_ref,"
-           "fault").split(",")
+# sim/motorsim/position_recorder.cpp, kPositionColumnNames, then paper 000's
+# signals (firmware/drives/paper000/paper000_ops.c)
+COLUMNS = ("t_s,mode,theta_ref_rad,omega_ref_rad_s,accel_ref_rad_s2,theta_rad,theta_est_rad,omega_rad_s,"
+           "omega_est_rad_s,accel_rad_s2,accel_est_rad_s2,load_Nm,load_est_Nm,i_a_A,i_b_A,i_a_meas_A,i_b_meas_A,"
+           "i_f_A,i_g_A,e_f_V,e_g_V,v_a_V,v_b_V,delta_theta_rad,fault,i_f_meas_A,i_g_meas_A,i_f_ref_A,i_g_ref_A,"
+           "i_f_est_A,i_g_est_A,e_f_est_V,e_g_est_V,v_f_V,v_g_V,delta_theta_est_rad,jump_count,model_R_ohm,"
+           "model_L_H,model_K_V_s,rl_id_state,k_id_state,relocks").split(",")
 
 
-# sim/motorsim/speed_recorder.cpp, kSpeedColumnNames
+# sim/motorsim/speed_recorder.cpp, kSpeedColumnNames, then the d-q signals
+# of paper 001's drive (firmware/drives/paper001/paper001_ops.c)
 SPEED_COLUMNS = ("t_s,mode,omega_ref_rad_s,omega_rad_s,omega_est_rad_s,theta_e_rad,theta_e_est_rad,"
-                 "theta_e_err_rad,load_Nm,load_est_Nm,i_a_A,i_b_A,i_c_A,i_d_A,i_q_A,i_q_ref_A,v_alpha_V,"
-                 "v_beta_V,v_a_V,v_b_V,v_c_V,rho2,estimate_valid,fault").split(",")
+                 "theta_e_err_rad,load_Nm,load_est_Nm,i_a_A,i_b_A,i_c_A,v_alpha_V,v_beta_V,v_a_V,v_b_V,v_c_V,"
+                 "estimate_quality,estimate_valid,fault,i_d_meas_A,i_q_meas_A,i_q_ref_A,v_d_V,v_q_V,"
+                 "R_obs_ohm").split(",")
 
 
 def write_csv(path: Path, n: int = 400, drop: str | None = None, fault_at: int | None = None) -> None:
@@ -40,7 +45,7 @@ def write_csv(path: Path, n: int = 400, drop: str | None = None, fault_at: int |
         t = k * 1e-3
         w = 10 * math.sin(math.pi * t / (n * 1e-3))
         row = {c: 0.01 * math.sin(k * 0.1 + i) for i, c in enumerate(COLUMNS)}
-        row.update(t_s=t, omega_ref=w, omega=w, omega_est=w + 0.1, mode=1 if abs(w) >= 3 else 0,
+        row.update(t_s=t, omega_ref_rad_s=w, omega_rad_s=w, omega_est_rad_s=w + 0.1, mode=1 if abs(w) >= 3 else 0,
                    fault=0, jump_count=0)
         if fault_at is not None and k >= fault_at:
             row.update(mode=2, fault=1)
@@ -85,11 +90,26 @@ def test_writes_png_with_metrics_title(tmp_path):
 
 def test_missing_column_is_named(tmp_path):
     csv = tmp_path / "run.csv"
-    write_csv(csv, drop="d_f_hat")
+    write_csv(csv, drop="mode")  # one every plot needs
     r = plot(str(csv), str(tmp_path / "x.png"))
     assert r.returncode == 2
-    assert "d_f_hat" in r.stderr
+    assert "mode" in r.stderr
     assert not (tmp_path / "x.png").exists()
+
+
+def test_panel_of_a_missing_signal(tmp_path):
+    """A drive without a signal a default panel needs: that panel is left
+    out (named); asked for by --panels, it is an error naming the column."""
+    csv = tmp_path / "run.csv"
+    write_csv(csv, drop="e_f_est_V")
+    r = plot(str(csv), str(tmp_path / "x.png"))
+    assert r.returncode == 0, r.stderr
+    assert "disturbance (e_f_est_V)" in r.stderr
+    assert (tmp_path / "x.png").is_file()
+    r = plot("--panels", "position,disturbance", str(csv), str(tmp_path / "y.png"))
+    assert r.returncode == 2
+    assert "e_f_est_V" in r.stderr
+    assert not (tmp_path / "y.png").exists()
 
 
 def test_missing_csv(tmp_path):
@@ -146,11 +166,11 @@ def test_long_run_decimated_and_laid_out(tmp_path, monkeypatch):
     col = {c: i for i, c in enumerate(COLUMNS)}
     w = 20 * np.sin(np.pi * t / t[-1])
     data[:, col["t_s"]] = t
-    data[:, col["omega_ref"]] = w
-    data[:, col["omega"]] = w
+    data[:, col["omega_ref_rad_s"]] = w
+    data[:, col["omega_rad_s"]] = w
     data[:, col["mode"]] = (np.abs(w) >= 3).astype(float)
-    data[:, col["d_f"]] = 12345.678 * np.sin(t)  # wide tick labels must not be clipped
-    data[:, col["v_b"]] = -1e-7 * np.cos(t)  # an offset / scientific tick label
+    data[:, col["e_f_V"]] = 12345.678 * np.sin(t)  # wide tick labels must not be clipped
+    data[:, col["v_b_V"]] = -1e-7 * np.cos(t)  # an offset / scientific tick label
     csv = tmp_path / "long.csv"
     np.savetxt(csv, data, delimiter=",", header=",".join(COLUMNS), comments="", fmt="%.9g")
 
@@ -291,7 +311,7 @@ def test_not_a_run_csv(tmp_path):
     csv.write_text("a,b\n1,2\n")
     r = plot(str(csv), str(tmp_path / "x.png"))
     assert r.returncode == 2
-    assert "not a motorsim run CSV" in r.stderr and "theta_ref" in r.stderr
+    assert "not a motorsim run CSV" in r.stderr and "theta_ref_rad" in r.stderr
 
 
 # --------------------------------------------------------------------- faults --

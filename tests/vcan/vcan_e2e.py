@@ -263,12 +263,13 @@ def position_commander(d, sent_bad):
 
 def position_checks(metrics, cols, rows, frames, sent_bad):
     mapping = {
-        "Position": [("ThetaRef", "theta_ref", 1e-5), ("ThetaEst", "theta_est", 1e-5)],
-        "Velocity": [("OmegaRef", "omega_ref", 0.01), ("OmegaEst", "omega_est", 0.01),
-                     ("AccelEst", "accel_est", 1.0), ("LoadEst", "load_est_Nm", 1e-4)],
-        "Currents": [("I1", "i_f", 1e-3), ("I2", "i_g", 1e-3), ("I1Ref", "i_f_ref", 1e-3), ("I2Ref", "i_g_ref", 1e-3)],
-        "Observer": [("I1Est", "i_f_hat", 1e-3), ("I2Est", "i_g_hat", 1e-3)],
-        "Voltages": [("V1", "v_f", 2e-3), ("V2", "v_g", 2e-3)],
+        "Position": [("ThetaRef", "theta_ref_rad", 1e-5), ("ThetaEst", "theta_est_rad", 1e-5)],
+        "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
+                     ("AccelEst", "accel_est_rad_s2", 1.0), ("LoadEst", "load_est_Nm", 1e-4)],
+        "Currents": [("I1", "i_f_meas_A", 1e-3), ("I2", "i_g_meas_A", 1e-3), ("I1Ref", "i_f_ref_A", 1e-3),
+                     ("I2Ref", "i_g_ref_A", 1e-3)],
+        "Observer": [("I1Est", "i_f_est_A", 1e-3), ("I2Est", "i_g_est_A", 1e-3)],
+        "Voltages": [("V1", "v_f_V", 2e-3), ("V2", "v_g_V", 2e-3)],
         "Heartbeat": [("Mode", "mode", 1.0)],
     }
     compare(frames, cols, rows, mapping, "position")
@@ -287,13 +288,13 @@ def position_checks(metrics, cols, rows, frames, sent_bad):
           f"position: motorsim counted {metrics.get('can_commands_accepted')} accepted, "
           f"{metrics.get('can_commands_refused')} refused (1 and {len(sent_bad)} expected)")
     # the reference: 18 until the accepted CmdMove, then a move to 6
-    th = [r[cols["theta_ref"]] for r in rows]
+    th = [r[cols["theta_ref_rad"]] for r in rows]
     k18 = next((k for k, x in enumerate(th) if abs(x - 18.0) < 1e-6), None)
     k_move = next((k for k in range(k18 or 0, len(th)) if abs(th[k] - 18.0) > 1e-6), None) if k18 else None
     check(k18 is not None and k_move is not None and all(abs(x - 18.0) < 1e-6 for x in th[k18:k_move]),
           "position: the CSV's reference held at 18 rad through the bad frames until the CmdMove")
     check(abs(th[-1] - 6.0) < 1e-5, f"position: the CSV's final reference {th[-1]:.6f} rad is the commanded 6 rad")
-    theta_end = rows[-1][cols["theta"]]
+    theta_end = rows[-1][cols["theta_rad"]]
     check(abs(theta_end - 6.0) < 0.02, f"position: the rotor ended at {theta_end:.4f} rad (6 +- 0.02)")
     check(metrics.get("theta_track_max_rad", 1.0) < 0.02 and metrics.get("fault") == 0,
           f"position: tracking of the commanded move max {metrics.get('theta_track_max_rad'):.4f} rad < 0.02, no fault")
@@ -302,7 +303,7 @@ def position_checks(metrics, cols, rows, frames, sent_bad):
 SPEED_MAPPING = {
     "Velocity": [("OmegaRef", "omega_ref_rad_s", 0.01), ("OmegaEst", "omega_est_rad_s", 0.01),
                  ("LoadEst", "load_est_Nm", 1e-4)],
-    "Currents": [("I1", "i_d_A", 1e-3), ("I2", "i_q_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
+    "Currents": [("I1", "i_d_meas_A", 1e-3), ("I2", "i_q_meas_A", 1e-3), ("I2Ref", "i_q_ref_A", 1e-3)],
     "Heartbeat": [("Mode", "mode", 1.0)],
 }
 

@@ -225,8 +225,12 @@ def common_keys(p, run, args, bdir, elf, vec, drive, machine):
         res[p + "_transition_periods"] = sum(1 for i in range(1, len(states)) if states[i] != states[i - 1])
         res[p + "_final_state"] = {"0": "identify", "1": "open_loop", "2": "closed_loop", "3": "fault"}.get(
             states[-1:], states[-1:])
-    res[p + "_bit_exact_vs_host"] = (info.get("mismatches") == "0" and ok_run)
+    # the commands and the drive's signals after each step (pil_image.c)
+    res[p + "_bit_exact_vs_host"] = (info.get("mismatches") == "0" and info.get("signal_mismatches") == "0"
+                                     and ok_run)
     res[p + "_mismatches"] = int(info.get("mismatches", "-1"))
+    res[p + "_signals"] = int(info.get("signals", "-1"))
+    res[p + "_signal_mismatches"] = int(info.get("signal_mismatches", "-1"))
     res[p + "_image_ok"] = ok_run
     res[p + "_step_call"] = "interface (drive_step)" if info.get("step_via_interface") == "1" else \
         "direct (%s_drive_step)" % drive
@@ -237,8 +241,9 @@ def common_keys(p, run, args, bdir, elf, vec, drive, machine):
     res[p + "_lib_ram_static_bytes"] = sz_lib["data"] + sz_lib["bss"]
     res[p + "_drive_state_ram_bytes"] = int(info["state_bytes"]) if "state_bytes" in info else None
     res[p + "_drive_config_bytes"] = int(info["cfg_bytes"]) if "cfg_bytes" in info else None
-    # the image without the vectors: the rows of pil_rows counted separately
-    vec_bytes = n * vectors_row_words(vec) * 4
+    # the image without the vectors: the rows of pil_rows and the signals'
+    # hash of each period counted separately
+    vec_bytes = n * (vectors_row_words(vec) + 1) * 4
     res[p + "_pil_image_flash_bytes"] = sz_img["text"] + sz_img["data"]
     res[p + "_pil_image_flash_bytes_without_vectors"] = sz_img["text"] + sz_img["data"] - vec_bytes
     res[p + "_pil_image_ram_bytes"] = sz_img["data"] + sz_img["bss"]

@@ -10,9 +10,13 @@
 //   - for every period: the fields of the hal_sample_t the drive got and of
 //     the hal_command_t it returned, as raw words; a field that is the same
 //     in every period is written once.
+//   - after every period's step, the drive's signals (drives/drive.h: the
+//     columns of its signal list, read_signals) as one hash of their bits
+//     (pil_signal_hash_of, pil_vectors.h), their names in a comment.
 // The bare-metal image (hal/backends/mcu/pil_image.c, built for the same
 // drive with CMake MC_DRIVE) replays the samples through the drive's step
-// and compares its commands with these bits.
+// and compares its commands with these bits, and its signals with these
+// hashes.
 //
 // The configuration comes from the drive's host part (sim/host_drives/):
 // the design motorsim runs for the scenario's drive ([drive] kind, or the
@@ -49,6 +53,7 @@
 
 extern "C" {
 #include "drives/registry.h"
+#include "pil_vectors.h"
 }
 
 namespace {
@@ -121,6 +126,8 @@ struct Rec {
     drive_t drive{};
     std::vector<std::array<std::uint32_t, kInFields>> in;
     std::vector<std::array<std::uint32_t, kOutFields>> out;
+    std::vector<std::uint32_t> signal_hash;  // the drive's signals after each step
+    std::uint32_t n_signals = 0;
     std::uint32_t max_samples = 0;
     bool faulted = false;
     std::string bad_sample;  // why a sample cannot be rebuilt on the target
@@ -140,6 +147,11 @@ void callback(void* ctx, const hal_sample_t* in, hal_command_t* out)
                          static_cast<std::uint32_t>(in->n_phases) | (in->has_angle ? kMetaHasAngle : 0u), in->status});
         r->out.push_back({bits(out->v_V[0]), bits(out->v_V[1]), bits(out->v_V[2]),
                           static_cast<std::uint32_t>(out->n_phases)});
+        std::array<mc_t, DRIVE_SIGNALS_MAX> v{};
+        std::array<std::uint32_t, DRIVE_SIGNALS_MAX> w{};
+        drive_read_signals(&r->drive, v.data());
+        for (std::uint32_t j = 0; j < r->n_signals; ++j) w[j] = bits(v[j]);
+        r->signal_hash.push_back(pil_signal_hash_of(w.data(), r->n_signals));
     }
     if (!ok) {
         r->faulted = true;
@@ -195,6 +207,8 @@ int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const cha
                                  (why != nullptr ? std::string(": ") + why : std::string()));
     }
     rec.max_samples = sample_limit(sc, max_arg);
+    const drive_signal_t* signals = drive_signals(&rec.drive, &rec.n_signals);
+    if (rec.n_signals > DRIVE_SIGNALS_MAX) throw std::runtime_error(name + ": more signals than DRIVE_SIGNALS_MAX");
 
     // the bench as motorsim builds it (rig, delay, encoder, injected faults)
     mcsim::Rig rig(sc);
@@ -255,6 +269,12 @@ int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const cha
     }
     if (words == 0) std::fprintf(f, "0u\n");
     std::fprintf(f, "};\n");
+    std::fprintf(f, "/* the drive's signals, hashed in this order:");
+    for (std::uint32_t j = 0; j < rec.n_signals; ++j) std::fprintf(f, "%s %s", j ? "," : "", signals[j].name);
+    std::fprintf(f, " */\nconst uint32_t pil_signal_count = %uu;\n", static_cast<unsigned>(rec.n_signals));
+    std::fprintf(f, "const uint32_t pil_signal_hash[%zu] = {", n);
+    for (std::size_t i = 0; i < n; ++i) std::fprintf(f, "%s0x%08" PRIx32 "u,", (i % 8) ? "" : "\n  ", rec.signal_hash[i]);
+    std::fprintf(f, "\n};\n");
     if (std::fclose(f) != 0) throw std::runtime_error(std::string("cannot write ") + out_c);
     std::fprintf(stderr, "mc_pil_gen: %zu periods of %s (%s%s, %s)%s, %d words a period -> %s\n", n, sc.stem.c_str(),
                  name.c_str(), note.c_str(), MC_FIXED ? "fixed" : "float", rec.faulted ? " [drive faulted]" : "",

@@ -13,10 +13,9 @@ tools/ names one (`paper001_...`, `P001_...`, `p001_...`, `sensored_foc...`,
   firmware/drives/registry.{h,c}   the firmware registry
   design/<name>_design.{h,c}       its host-side design (file named after it)
   sim/host_drives/<name>_host.{cpp,h}  its host part (the header for that
-                                   drive's other host code), and
-                                   host_registry.cpp
-  sim/motorsim/drive_runs/<name>_*  its part of motorsim's run (its probe of
-                                   the recorder), and drive_runs/registry.cpp
+                                   drive's other host code; what motorsim does
+                                   for it beyond the interface: its scoring,
+                                   its commissioning), and host_registry.cpp
   tools/**/<name>_*                a tool about that drive alone, named after
                                    it (tools/bench/pil_probes/<name>_probe.c,
                                    tools/tables/<name>_tables.py)
@@ -114,12 +113,11 @@ def patterns(names: list[str]) -> re.Pattern:
 
 def allowed(rel: str, names: list[str]) -> bool:
     if rel in ("firmware/drives/registry.h", "firmware/drives/registry.c", "sim/host_drives/host_registry.cpp",
-               "sim/host_drives/host_drive.h", "sim/motorsim/drive_runs/registry.cpp"):
+               "sim/host_drives/host_drive.h"):
         return True
     for n in names:
         if rel.startswith(f"firmware/drives/{n}/") or rel.startswith(f"design/{n}_design.") or \
-                rel in (f"sim/host_drives/{n}_host.cpp", f"sim/host_drives/{n}_host.h") or \
-                rel.startswith(f"sim/motorsim/drive_runs/{n}_"):
+                rel in (f"sim/host_drives/{n}_host.cpp", f"sim/host_drives/{n}_host.h"):
             return True
         if rel.startswith("tools/") and rel.rsplit("/", 1)[-1].startswith(f"{n}_"):
             return True  # a tool about that drive alone, named after it

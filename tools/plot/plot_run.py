@@ -7,10 +7,10 @@ The kind of run is told from the CSV header (each drive's facts file,
 firmware/drives/<name>/tools.toml, names the kind its runs are, `plot`:
 the drives of each kind are named in the title and in --help):
 
-* position run (paper 000's drive, column theta_ref), like Figs. 4-8 of
-  paper 000. Panels: position (reference, true, estimated), position
+* position run (paper 000's drive, column theta_ref_rad), like Figs. 4-8
+  of paper 000. Panels: position (reference, true, estimated), position
   errors, velocity with the estimation error, currents in the (f-g) frame
-  with the observer error, back-EMF disturbances d_f, d_g and their
+  with the observer error, back-EMFs e_f = L d_f, e_g = L d_g and their
   estimates, load torque (true: Coulomb friction + load; estimated), phase
   voltages. Estimates are drawn in closed loop only (where the drive uses
   them; in open loop it reports the reference). The (f-g) frame is the
@@ -29,6 +29,15 @@ the drives of each kind are named in the title and in --help):
   disturbance M_0 (load + friction) with the EKF's estimate and the torque
   demand, d-q currents (encoder frame) with the MTPA references, d-q
   voltages.
+
+A CSV's columns are motorsim's scoring's (time, the plant's truth, the
+reference, the drive's status) and then the drive's signals, under the names
+its signal list gives them (firmware/drives/drive.h, drive_signal_t; each
+drive's list in docs/motorsim.md): the observer's currents and back-EMFs of
+the position panels and the d-q currents of the speed and EKF panels are
+signals. A default panel that needs a column the CSV lacks (a drive without
+that signal) is left out and named on stderr; one asked for by --panels is
+an error.
 
 Markings, all in the legend under the title: green background, drive in
 closed loop (mode 1); magenta lines, open/closed-loop switches; blue band at
@@ -119,20 +128,20 @@ class InputError(Exception):
 KINDS = {
     "position": {
         "title": "position run",
-        "key": "theta_ref",
+        "key": "theta_ref_rad",
         # the metrics of a faulted run against what is plotted
         "fault_note": "metrics of the whole run, against the scenario's reference "
                       "(the drive's reference plotted here freezes at the fault):",
         "base": ["t_s", "mode", "fault"],
         "panels": {
-            "position": ("θ_ref, θ, θ_est [rad]", ["theta_ref", "theta", "theta_est"]),
-            "position_error": ("θ - θ_ref, θ - θ_est [rad]", ["theta", "theta_ref", "theta_est"]),
-            "velocity": ("ω_ref, ω, ω_est; ω - ω_est [rad/s]", ["omega_ref", "omega", "omega_est"]),
-            "current": ("(f-g) currents and observer error [A]", ["i_f", "i_g", "i_f_hat", "i_g_hat"]),
-            "disturbance": ("(f-g) back-EMF disturbances d_f, d_g and estimates [A/s]",
-                            ["d_f", "d_g", "d_f_hat", "d_g_hat"]),
-            "load": ("load torque, true and estimated [N m]", ["load_true_Nm", "load_est_Nm"]),
-            "voltage": ("phase voltages v_a, v_b [V]", ["v_a", "v_b"]),
+            "position": ("θ_ref, θ, θ_est [rad]", ["theta_ref_rad", "theta_rad", "theta_est_rad"]),
+            "position_error": ("θ - θ_ref, θ - θ_est [rad]", ["theta_rad", "theta_ref_rad", "theta_est_rad"]),
+            "velocity": ("ω_ref, ω, ω_est; ω - ω_est [rad/s]", ["omega_ref_rad_s", "omega_rad_s", "omega_est_rad_s"]),
+            "current": ("(f-g) currents and observer error [A]", ["i_f_A", "i_g_A", "i_f_est_A", "i_g_est_A"]),
+            "disturbance": ("(f-g) back-EMFs e_f = L d_f, e_g = L d_g and estimates [V]",
+                            ["e_f_V", "e_g_V", "e_f_est_V", "e_g_est_V"]),
+            "load": ("load torque, true and estimated [N m]", ["load_Nm", "load_est_Nm"]),
+            "voltage": ("phase voltages v_a, v_b [V]", ["v_a_V", "v_b_V"]),
         },
         "metrics": [
             ("theta_track_max_rad", "max|θ-θ_ref|", "rad"),
@@ -152,7 +161,7 @@ KINDS = {
             "speed_error": ("ω - ω*, ω - ω_est [rpm]", ["omega_ref_rad_s", "omega_rad_s", "omega_est_rad_s"]),
             "angle_error": ("electrical angle error θ_e,est - θ_e [° el.]", ["theta_e_err_rad"]),
             "load": ("load torque, true and estimated [N m]", ["load_Nm", "load_est_Nm"]),
-            "current": ("d-q currents and the i_q reference [A]", ["i_d_A", "i_q_A", "i_q_ref_A"]),
+            "current": ("d-q currents and the i_q reference [A]", ["i_d_meas_A", "i_q_meas_A", "i_q_ref_A"]),
             "voltage": ("phase voltages v_a, v_b, v_c [V]", ["v_a_V", "v_b_V", "v_c_V"]),
         },
         "metrics": [
@@ -500,65 +509,66 @@ def arrange(fig, header, axes, twins) -> None:
 
 def pos_position(a, c):
     d = c.d
-    c.plot(a, d["theta_ref"], "r", lw=1.2, label="θ_ref")
-    c.plot(a, d["theta"], "b", lw=1.0, label="θ (true)")
-    c.plot(a, c.est(d["theta_est"]), "g--", lw=1.0, label="θ_est")
+    c.plot(a, d["theta_ref_rad"], "r", lw=1.2, label="θ_ref")
+    c.plot(a, d["theta_rad"], "b", lw=1.0, label="θ (true)")
+    c.plot(a, c.est(d["theta_est_rad"]), "g--", lw=1.0, label="θ_est")
     a.set_ylabel("position [rad]")
 
 
 def pos_position_error(a, c):
     d = c.d
-    c.plot(a, c.est(d["theta"] - d["theta_ref"]), "b", lw=0.8, label="θ - θ_ref (tracking)")
-    c.plot(a, c.est(d["theta"] - d["theta_est"]), "g", lw=0.8, label="θ - θ_est (observation)")
+    c.plot(a, c.est(d["theta_rad"] - d["theta_ref_rad"]), "b", lw=0.8, label="θ - θ_ref (tracking)")
+    c.plot(a, c.est(d["theta_rad"] - d["theta_est_rad"]), "g", lw=0.8, label="θ - θ_est (observation)")
     a.set_ylabel("position error [rad]")
 
 
 def pos_velocity(a, c):
     d = c.d
-    c.plot(a, d["omega_ref"], "r", lw=1.2, label="ω_ref")
-    c.plot(a, d["omega"], "b", lw=0.8, label="ω (true)")
-    c.plot(a, c.est(d["omega_est"]), "g", lw=0.6, label="ω_est")
+    c.plot(a, d["omega_ref_rad_s"], "r", lw=1.2, label="ω_ref")
+    c.plot(a, d["omega_rad_s"], "b", lw=0.8, label="ω (true)")
+    c.plot(a, c.est(d["omega_est_rad_s"]), "g", lw=0.6, label="ω_est")
     a.set_ylabel("velocity [rad/s]")
     b = twin(a)
-    c.plot(b, c.est(d["omega"] - d["omega_est"]), "-", color="0.5", lw=0.5, label="ω - ω_est (right axis)")
+    c.plot(b, c.est(d["omega_rad_s"] - d["omega_est_rad_s"]), "-", color="0.5", lw=0.5,
+           label="ω - ω_est (right axis)")
     b.set_ylabel("ω - ω_est [rad/s]", color="0.4")
     return b
 
 
 def pos_current(a, c):
     d = c.d
-    c.plot(a, d["i_f"], "b", lw=0.6, label="i_f")
-    c.plot(a, d["i_g"], "c", lw=0.6, label="i_g")
-    c.plot(a, d["i_f_hat"], "m:", lw=0.8, label="i_f est.")
-    c.plot(a, d["i_g_hat"], "y:", lw=0.8, label="i_g est.")
+    c.plot(a, d["i_f_A"], "b", lw=0.6, label="i_f")
+    c.plot(a, d["i_g_A"], "c", lw=0.6, label="i_g")
+    c.plot(a, d["i_f_est_A"], "m:", lw=0.8, label="i_f est.")
+    c.plot(a, d["i_g_est_A"], "y:", lw=0.8, label="i_g est.")
     a.set_ylabel("(f-g) current [A]\nframe at n_p θ_ref")
     b = twin(a)
-    c.plot(b, c.est(d["i_f"] - d["i_f_hat"]), "-", color="0.3", lw=0.4, label="i_f - i_f est. (right axis)")
-    c.plot(b, c.est(d["i_g"] - d["i_g_hat"]), "-", color="0.6", lw=0.4, label="i_g - i_g est. (right axis)")
+    c.plot(b, c.est(d["i_f_A"] - d["i_f_est_A"]), "-", color="0.3", lw=0.4, label="i_f - i_f est. (right axis)")
+    c.plot(b, c.est(d["i_g_A"] - d["i_g_est_A"]), "-", color="0.6", lw=0.4, label="i_g - i_g est. (right axis)")
     b.set_ylabel("observer error [A]", color="0.4")
     return b
 
 
 def pos_disturbance(a, c):
     d = c.d
-    c.plot(a, d["d_f"], "b", lw=0.8, label="d_f = K/L ω sin(n_p Δθ)")
-    c.plot(a, d["d_g"], "c", lw=0.8, label="d_g = -K/L ω cos(n_p Δθ)")
-    c.plot(a, d["d_f_hat"], "m:", lw=0.8, label="d_f est.")
-    c.plot(a, d["d_g_hat"], "y:", lw=0.8, label="d_g est.")
-    a.set_ylabel("(f-g) back-EMF dist. [A/s]\nframe at n_p θ_ref")
+    c.plot(a, d["e_f_V"], "b", lw=0.8, label="e_f = K ω sin(n_p Δθ)")
+    c.plot(a, d["e_g_V"], "c", lw=0.8, label="e_g = -K ω cos(n_p Δθ)")
+    c.plot(a, d["e_f_est_V"], "m:", lw=0.8, label="e_f est.")
+    c.plot(a, d["e_g_est_V"], "y:", lw=0.8, label="e_g est.")
+    a.set_ylabel("(f-g) back-EMF [V]\nframe at n_p θ_ref")
 
 
 def pos_load(a, c):
     d = c.d
-    c.plot(a, d["load_true_Nm"], "b", lw=1.0, label="C_r true (Coulomb friction + load)")
+    c.plot(a, d["load_Nm"], "b", lw=1.0, label="C_r true (Coulomb friction + load)")
     c.plot(a, c.est(d["load_est_Nm"]), "g", lw=0.8, label="C_r est. (mech. observer (33)-(37))", zorder=EST_Z)
     a.set_ylabel("load torque [N m]")
 
 
 def pos_voltage(a, c):
     d = c.d
-    c.plot(a, d["v_a"], "b", lw=0.4, label="v_a")
-    c.plot(a, d["v_b"], "c", lw=0.4, label="v_b")
+    c.plot(a, d["v_a_V"], "b", lw=0.4, label="v_a")
+    c.plot(a, d["v_b_V"], "c", lw=0.4, label="v_b")
     a.set_ylabel("phase voltage [V]")
 
 
@@ -594,8 +604,8 @@ def spd_load(a, c):
 
 def spd_current(a, c):
     d = c.d
-    c.plot(a, d["i_d_A"], "-", color="tab:blue", lw=0.6, label="i_d")
-    c.plot(a, d["i_q_A"], "-", color="tab:orange", lw=0.6, label="i_q")
+    c.plot(a, d["i_d_meas_A"], "-", color="tab:blue", lw=0.6, label="i_d")
+    c.plot(a, d["i_q_meas_A"], "-", color="tab:orange", lw=0.6, label="i_q")
     c.plot(a, d["i_q_ref_A"], "k", lw=0.9, label="i_q reference", zorder=EST_Z)
     a.set_ylabel("d-q current [A]\n(frame at θ_e,est)")
 
@@ -713,6 +723,13 @@ def make_figure(csv: Path, t_start: float | None = None, t_end: float | None = N
     kind = detect_kind(header)
     names = parse_panels(panels, kind)
     spec = KINDS[kind]
+    if panels is None:  # the default panels the drive's signals allow
+        lacking = {p: [c for c in spec["panels"][p][1] if c not in header] for p in names}
+        skipped = [p for p in names if lacking[p]]
+        if skipped and len(skipped) < len(names):
+            print("plot_run.py: panel(s) left out, their columns not in the CSV (signals the drive does not "
+                  "have): " + "; ".join(f"{p} ({', '.join(lacking[p])})" for p in skipped), file=sys.stderr)
+            names = [p for p in names if not lacking[p]]
     needed = list(dict.fromkeys(spec["base"] + [c for p in names for c in spec["panels"][p][1]]))
     missing = [c for c in needed if c not in header]
     if missing:

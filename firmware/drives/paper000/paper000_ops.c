@@ -102,6 +102,67 @@ static const flight_recorder_t *p000_recorder(const void *self)
     return paper000_drive_flight_recorder((const paper000_drive_t *)self);
 }
 
+/* What the drive shows beyond its status: the (f-g) frame at the
+ * reference's electrical angle n_p theta_r (eq. (6)), its observers and the
+ * model it runs on (paper000_telemetry_t). */
+static const drive_signal_t p000_signal_list[] = {
+    {"i_f_meas_A", "A", "measured current along f, (f-g) frame at n_p theta_r, eq. (6)", 0u},
+    {"i_g_meas_A", "A", "measured current along g", 0u},
+    {"i_f_ref_A", "A", "current reference along f, eqs. (38)-(39) (the open-loop start's i_max)", 0u},
+    {"i_g_ref_A", "A", "current reference along g", 0u},
+    {"i_f_est_A", "A", "the back-EMF observer's current along f, eq. (25)", 0u},
+    {"i_g_est_A", "A", "the back-EMF observer's current along g", 0u},
+    {"e_f_est_V", "V", "the observer's back-EMF along f, L d_f, eq. (28)", 0u},
+    {"e_g_est_V", "V", "the observer's back-EMF along g, L d_g", 0u},
+    {"v_f_V", "V", "voltage command along f after the limit (0 in FAULT)", 0u},
+    {"v_g_V", "V", "voltage command along g after the limit", 0u},
+    {"delta_theta_est_rad", "rad", "load angle estimate theta - theta_r, eq. (29), in (-pi/n_p, pi/n_p]", 0u},
+    {"jump_count", "1", "the position estimator's branch k, eq. (71)", DRIVE_SIGNAL_INTEGER},
+    {"model_R_ohm", "ohm", "resistance in use: the configured one or the standstill measurement", 0u},
+    {"model_L_H", "H", "inductance in use", 0u},
+    {"model_K_V_s", "V s", "back-EMF constant in use (configured or identified)", 0u},
+    {"rl_id_state", "1", "R, L identification's state (rl_id_state_t)", DRIVE_SIGNAL_INTEGER},
+    {"k_id_state", "1", "K identification's state (k_id_state_t)", DRIVE_SIGNAL_INTEGER},
+    {"relocks", "1", "RELOCK reactions taken since init", DRIVE_SIGNAL_INTEGER},
+};
+#define P000_N_SIGNALS ((uint32_t)(sizeof p000_signal_list / sizeof p000_signal_list[0]))
+_Static_assert(P000_N_SIGNALS <= DRIVE_SIGNALS_MAX, "more signals than DRIVE_SIGNALS_MAX");
+
+static const drive_signal_t *p000_signals(const void *self, uint32_t *count)
+{
+    (void)self;
+    *count = P000_N_SIGNALS;
+    return p000_signal_list;
+}
+
+static void p000_read_signals(const void *self, mc_t *v)
+{
+    paper000_telemetry_t x;
+    paper000_drive_get_telemetry((const paper000_drive_t *)self, &x);
+    const mc_t list[] = {x.i_f_A,
+                         x.i_g_A,
+                         x.i_f_ref_A,
+                         x.i_g_ref_A,
+                         x.i_f_hat_A,
+                         x.i_g_hat_A,
+                         x.e_f_hat_V,
+                         x.e_g_hat_V,
+                         x.v_f_V,
+                         x.v_g_V,
+                         x.delta_theta_est_rad,
+                         mc_from_i(x.jump_count),
+                         x.R_model_ohm,
+                         x.L_model_H,
+                         x.K_model_V_s,
+                         mc_from_i((int32_t)x.rl_id_state),
+                         mc_from_i((int32_t)x.k_id_state),
+                         mc_from_i(x.relocks)};
+    _Static_assert(sizeof list / sizeof list[0] == P000_N_SIGNALS, "one value per signal");
+    for (uint32_t k = 0; k < P000_N_SIGNALS; ++k) {
+        v[k] = list[k];
+    }
+}
+
 const drive_ops_t paper000_drive_ops = {
     .name = "paper000",
     .title = "paper 000: sensorless position drive of a two-phase stepper (super-twisting observer, twisting control)",
@@ -116,4 +177,6 @@ const drive_ops_t paper000_drive_ops = {
     .status = p000_status,
     .estimate = p000_estimate,
     .recorder = p000_recorder,
+    .signals = p000_signals,
+    .read_signals = p000_read_signals,
 };

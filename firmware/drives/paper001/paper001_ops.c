@@ -93,6 +93,39 @@ static const flight_recorder_t *p001_recorder(const void *self)
     return paper001_flight_recorder((const paper001_drive_t *)self);
 }
 
+/* What the drive shows beyond its status: the estimated d-q frame's
+ * currents and voltages (paper001_telemetry_t), the R its flux observer
+ * subtracts. */
+static const drive_signal_t p001_signal_list[] = {
+    {"i_d_meas_A", "A", "measured current along d of the estimated angle", 0u},
+    {"i_q_meas_A", "A", "measured current along q", 0u},
+    {"i_q_ref_A", "A", "the speed law's i_q* (i_d* = 0, non-salient)", 0u},
+    {"v_d_V", "V", "voltage command along d, eq. (11)", 0u},
+    {"v_q_V", "V", "voltage command along q", 0u},
+    {"R_obs_ohm", "ohm", "the resistance the flux observer subtracts: the model's, or tracked", 0u},
+};
+#define P001_N_SIGNALS ((uint32_t)(sizeof p001_signal_list / sizeof p001_signal_list[0]))
+_Static_assert(P001_N_SIGNALS <= DRIVE_SIGNALS_MAX, "more signals than DRIVE_SIGNALS_MAX");
+
+static const drive_signal_t *p001_signals(const void *self, uint32_t *count)
+{
+    (void)self;
+    *count = P001_N_SIGNALS;
+    return p001_signal_list;
+}
+
+static void p001_read_signals(const void *self, mc_t *v)
+{
+    paper001_telemetry_t x;
+    paper001_drive_get_telemetry((const paper001_drive_t *)self, &x);
+    v[0] = x.i_d_A;
+    v[1] = x.i_q_A;
+    v[2] = x.i_q_ref_A;
+    v[3] = x.v_d_V;
+    v[4] = x.v_q_V;
+    v[5] = x.R_obs_ohm;
+}
+
 const drive_ops_t paper001_drive_ops = {
     .name = "paper001",
     .title = "paper 001: sensorless speed drive of a PMSM or a stepper (gradient flux and I&I observers, IDA-PBC)",
@@ -107,4 +140,6 @@ const drive_ops_t paper001_drive_ops = {
     .status = p001_status,
     .estimate = p001_estimate,
     .recorder = p001_recorder,
+    .signals = p001_signals,
+    .read_signals = p001_read_signals,
 };

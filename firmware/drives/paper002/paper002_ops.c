@@ -105,6 +105,130 @@ static const flight_recorder_t *p002_recorder(const void *self)
     return &((const paper002_drive_t *)self)->rec;
 }
 
+/* What the drive shows beyond its status: the d-q frame of the angle it
+ * runs on, the EKF's covariance (its lower triangle: P is symmetric by
+ * construction, estimators/ekf_ipmsm.c) and its settings; with the HF
+ * injection (estimators/hfi_angle.h) the injection's state, and with its
+ * own start (hfi_find_angle) the start's figures. The list is that prefix
+ * of p002_signal_list. */
+#define P002_P(i, j, unit) \
+    {"ekf_P_" #i #j, unit, "the EKF's covariance P(" #i ", " #j "); states 0 i_d, 1 i_q, 2 theta, 3 omega, 4 M0", 0u}
+static const drive_signal_t p002_signal_list[] = {
+    {"i_d_meas_A", "A", "measured current along d of the angle the drive runs on", 0u},
+    {"i_q_meas_A", "A", "measured current along q", 0u},
+    {"i_d_est_A", "A", "the EKF's current along d (a posteriori)", 0u},
+    {"i_q_est_A", "A", "the EKF's current along q", 0u},
+    {"i_d_ref_A", "A", "current reference along d (MTPA)", 0u},
+    {"i_q_ref_A", "A", "current reference along q", 0u},
+    {"u_d_V", "V", "voltage command along d (inversion-based current control)", 0u},
+    {"u_q_V", "V", "voltage command along q", 0u},
+    {"M_d_Nm", "N m", "torque demand of the speed law (SOSMC or HTSMC)", 0u},
+    {"theta_meas_rad", "rad", "the angle the EKF was given (the encoder's or the estimator's), mechanical", 0u},
+    P002_P(0, 0, "A^2"),
+    P002_P(1, 0, "A^2"),
+    P002_P(1, 1, "A^2"),
+    P002_P(2, 0, "A rad"),
+    P002_P(2, 1, "A rad"),
+    P002_P(2, 2, "rad^2"),
+    P002_P(3, 0, "A rad/s"),
+    P002_P(3, 1, "A rad/s"),
+    P002_P(3, 2, "rad^2/s"),
+    P002_P(3, 3, "rad^2/s^2"),
+    P002_P(4, 0, "A N m"),
+    P002_P(4, 1, "A N m"),
+    P002_P(4, 2, "rad N m"),
+    P002_P(4, 3, "N m rad/s"),
+    P002_P(4, 4, "N^2 m^2"),
+    {"ekf_P_asym", "1", "the largest |P_ij - P_ji|, each in its entry's unit (0: P is symmetric)", 0u},
+    {"ekf_spd_ok", "1", "1 while every correction found S positive definite (false stays false)", DRIVE_SIGNAL_INTEGER},
+    {"angle_source", "1", "the angle's estimator (p002_angle_source_t: 0 encoder, 1 flux, 2 hfi)",
+     DRIVE_SIGNAL_INTEGER | DRIVE_SIGNAL_SETTING},
+    {"ekf_q_id", "A^2", "the EKF's Q_KF diagonal (39), per sample: i_d", DRIVE_SIGNAL_SETTING},
+    {"ekf_q_iq", "A^2", "Q_KF: i_q", DRIVE_SIGNAL_SETTING},
+    {"ekf_q_theta", "rad^2", "Q_KF: theta", DRIVE_SIGNAL_SETTING},
+    {"ekf_q_omega", "rad^2/s^2", "Q_KF: omega", DRIVE_SIGNAL_SETTING},
+    {"ekf_q_M0", "N^2 m^2", "Q_KF: M0", DRIVE_SIGNAL_SETTING},
+    {"ekf_r_id", "A^2", "the EKF's R_KF diagonal (41): i_d", DRIVE_SIGNAL_SETTING},
+    {"ekf_r_iq", "A^2", "R_KF: i_q", DRIVE_SIGNAL_SETTING},
+    {"ekf_r_theta", "rad^2", "R_KF: theta", DRIVE_SIGNAL_SETTING},
+    /* with the HF injection */
+    {"hfi_on", "1", "the injection is on (injecting and demodulating)", DRIVE_SIGNAL_INTEGER},
+    {"hfi_u_alpha_V", "V", "the injection's voltage for the coming sample, alpha", 0u},
+    {"hfi_u_beta_V", "V", "the injection's voltage, beta", 0u},
+    {"hfi_weight", "1", "the blend's weight of the flux observer, 0 injection .. 1 flux observer", 0u},
+    /* with its own start (hfi_find_angle) */
+    {"hfi_start_polarity", "1", "the start's polarity test: +1 kept, -1 flipped by pi, 0 undecided or not run",
+     DRIVE_SIGNAL_INTEGER},
+    {"hfi_start_polarity_diff_A", "A", "the polarity test's i_pos - i_neg (0 until it is done)", 0u},
+    {"hfi_start_lock_amp", "1", "the lock's mean (H1) amplitude over its window (the running sum until the "
+                                "lock ends): 1 on the d axis, L_d/L_q across it", 0u},
+};
+#undef P002_P
+#define P002_N_BASE 36u /* up to ekf_r_theta */
+#define P002_N_HFI 40u  /* up to hfi_weight */
+#define P002_N_SIGNALS ((uint32_t)(sizeof p002_signal_list / sizeof p002_signal_list[0]))
+_Static_assert(P002_N_SIGNALS <= DRIVE_SIGNALS_MAX, "more signals than DRIVE_SIGNALS_MAX");
+_Static_assert(P002_N_SIGNALS == P002_N_HFI + 3u, "the prefixes: base, injection, its start");
+
+static uint32_t p002_signal_count(const paper002_drive_t *d)
+{
+    if (d->est != &hfi_angle_ops) {
+        return P002_N_BASE;
+    }
+    return d->cfg.hfi_find_angle ? P002_N_SIGNALS : P002_N_HFI;
+}
+
+static const drive_signal_t *p002_signals(const void *self, uint32_t *count)
+{
+    *count = p002_signal_count((const paper002_drive_t *)self);
+    return p002_signal_list;
+}
+
+static void p002_read_signals(const void *self, mc_t *v)
+{
+    const paper002_drive_t *d = (const paper002_drive_t *)self;
+    uint32_t k = 0u;
+    v[k++] = d->last.i_d_A;
+    v[k++] = d->last.i_q_A;
+    v[k++] = d->last.i_d_hat_A;
+    v[k++] = d->last.i_q_hat_A;
+    v[k++] = d->last.i_dd_A;
+    v[k++] = d->last.i_qd_A;
+    v[k++] = d->last.u_d_V;
+    v[k++] = d->last.u_q_V;
+    v[k++] = d->last.M_d_Nm;
+    v[k++] = d->last.theta_meas_rad;
+    mc_t asym = MC_ZERO;
+    for (int i = 0; i < EKF_N; ++i) {
+        for (int j = 0; j <= i; ++j) {
+            v[k++] = d->ekf.P[i][j];
+            asym = mc_max(asym, mc_abs(mc_sub(d->ekf.P[i][j], d->ekf.P[j][i])));
+        }
+    }
+    v[k++] = asym;
+    v[k++] = d->ekf.spd_ok ? MC_ONE : MC_ZERO;
+    v[k++] = mc_from_i((int32_t)d->cfg.angle_source);
+    for (int i = 0; i < EKF_N; ++i) {
+        v[k++] = d->cfg.ekf.q[i];
+    }
+    for (int i = 0; i < EKF_M; ++i) {
+        v[k++] = d->cfg.ekf.r[i];
+    }
+    const uint32_t n = p002_signal_count(d);
+    if (n > P002_N_BASE) {
+        const hfi_angle_t *h = &d->est_state.hfi;
+        v[k++] = h->hfi.on ? MC_ONE : MC_ZERO;
+        v[k++] = h->hfi.u_h_V.alpha;
+        v[k++] = h->hfi.u_h_V.beta;
+        v[k++] = h->weight;
+        if (n > P002_N_HFI) {
+            v[k++] = mc_from_i(h->polarity);
+            v[k++] = h->magpol.diff_A;
+            v[k++] = h->lock_amp;
+        }
+    }
+}
+
 const drive_ops_t paper002_drive_ops = {
     .name = "paper002",
     .title = "paper 002: IPMSM speed drive (EKF with lumped disturbance, MTPA, SOSMC/HTSMC, encoder or flux observer)",
@@ -119,4 +243,6 @@ const drive_ops_t paper002_drive_ops = {
     .status = p002_status,
     .estimate = p002_estimate,
     .recorder = p002_recorder,
+    .signals = p002_signals,
+    .read_signals = p002_read_signals,
 };

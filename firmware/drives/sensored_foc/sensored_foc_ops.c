@@ -95,6 +95,37 @@ static const flight_recorder_t *sfoc_op_recorder(const void *self)
     return &((const sensored_foc_drive_t *)self)->rec;
 }
 
+/* What the drive shows beyond its status: the encoder's d-q frame's
+ * currents, references and voltages. */
+static const drive_signal_t sfoc_signal_list[] = {
+    {"i_d_meas_A", "A", "measured current along d of the encoder's angle", 0u},
+    {"i_q_meas_A", "A", "measured current along q", 0u},
+    {"i_d_ref_A", "A", "the d loop's reference", 0u},
+    {"i_q_ref_A", "A", "the q loop's reference (the speed loop's output)", 0u},
+    {"v_d_V", "V", "voltage command along d (PI + decoupling)", 0u},
+    {"v_q_V", "V", "voltage command along q", 0u},
+};
+#define SFOC_N_SIGNALS ((uint32_t)(sizeof sfoc_signal_list / sizeof sfoc_signal_list[0]))
+_Static_assert(SFOC_N_SIGNALS <= DRIVE_SIGNALS_MAX, "more signals than DRIVE_SIGNALS_MAX");
+
+static const drive_signal_t *sfoc_op_signals(const void *self, uint32_t *count)
+{
+    (void)self;
+    *count = SFOC_N_SIGNALS;
+    return sfoc_signal_list;
+}
+
+static void sfoc_op_read_signals(const void *self, mc_t *v)
+{
+    const sensored_foc_drive_t *d = (const sensored_foc_drive_t *)self;
+    v[0] = d->last.i_d_A;
+    v[1] = d->last.i_q_A;
+    v[2] = d->last.i_d_ref_A;
+    v[3] = d->last.i_q_ref_A;
+    v[4] = d->last.v_d_V;
+    v[5] = d->last.v_q_V;
+}
+
 const drive_ops_t sensored_foc_drive_ops = {
     .name = "sensored_foc",
     .title = "sensored FOC: encoder, PI current loops with decoupling, speed and position loops (the baseline)",
@@ -109,4 +140,6 @@ const drive_ops_t sensored_foc_drive_ops = {
     .status = sfoc_op_status,
     .estimate = sfoc_op_estimate,
     .recorder = sfoc_op_recorder,
+    .signals = sfoc_op_signals,
+    .read_signals = sfoc_op_read_signals,
 };

@@ -13,6 +13,8 @@
  * i_a, i_b, i_c (and v_bus, the angle if they vary), v_a, v_b, v_c, and the
  * image rebuilds every field whichever way it was stored. The sample's tick
  * is the period's index (pil_gen refuses a recording where it is not).
+ * Beside them, the drive's signals after each step as one hash a period
+ * (pil_signal_hash).
  */
 #ifndef MCU_PIL_VECTORS_H
 #define MCU_PIL_VECTORS_H
@@ -51,5 +53,26 @@ extern const uint32_t pil_in_const[PIL_IN_FIELDS];     /* the value of each fiel
 extern const uint32_t pil_out_const[PIL_OUT_FIELDS];
 extern const uint32_t pil_row_words;     /* columns of pil_rows: popcount of both masks */
 extern const uint32_t pil_rows[];        /* pil_n rows of pil_row_words words */
+
+/* The drive's signals (drives/drive.h: signals, read_signals) after each
+ * recorded step, the columns of its list: their count as recorded, and
+ * per period one hash of their values' words (pil_signal_hash_of), which
+ * the image compares with its own after the same step. */
+extern const uint32_t pil_signal_count;
+extern const uint32_t pil_signal_hash[]; /* pil_n hashes */
+
+/* FNV-1a (32 bits) over the n words, each little-endian: the same on the
+ * host and the target. */
+static inline uint32_t pil_signal_hash_of(const uint32_t *w, uint32_t n)
+{
+    uint32_t h = 2166136261u;
+    for (uint32_t k = 0; k < n; ++k) {
+        for (uint32_t b = 0; b < 4u; ++b) {
+            h ^= (w[k] >> (8u * b)) & 0xFFu;
+            h *= 16777619u;
+        }
+    }
+    return h;
+}
 
 #endif

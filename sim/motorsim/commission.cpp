@@ -1,10 +1,9 @@
-#include "motorsim/drive_runs/paper001_commission.h"
+#include "motorsim/commission.h"
 
 #include <cstring>
 #include <stdexcept>
 
 #include "hal_sw_plant.h"
-#include "host_drives/paper001_host.h"
 #include "scenario/design_input.h"
 #include "scenario/rig.h"
 #include "scenario/rig_hal.h"
@@ -12,7 +11,6 @@
 extern "C" {
 #include "adapter/phase_adapter.h"
 #include "control/deadtime_comp.h"
-#include "design/paper001_design.h"
 #include "hal/hal.h"
 #include "math/mc_convert.h"
 #include "startup/pmsm_identification.h"
@@ -47,17 +45,9 @@ void commission_callback(void* vctx, const hal_sample_t* in, hal_command_t* out)
 
 }  // namespace
 
-CommissionResult commission_pmsm(const Scenario& sc)
+CommissionResult commission_pmsm(const Scenario& sc, const pmsm_id_config_t& cfg, double duration_s)
 {
-    p001_design_input_t in;
-    make_speed_design_input(sc, &in);
     Ctx ctx{};
-    pmsm_id_config_t cfg;
-    double duration_s = 0.0;
-    char err[256] = {0};
-    if (!p001_identification_design(&in, &cfg, &duration_s, err, sizeof(err))) {
-        throw ScenarioError(sc.path + ": identification design: " + err);
-    }
     CommissionResult r;
     if (!pmsm_id_init(&ctx.id, &cfg)) {
         r.why = std::string("configuration rejected: ") + ctx.id.why;
@@ -66,7 +56,7 @@ CommissionResult commission_pmsm(const Scenario& sc)
     ctx.n_phases = static_cast<uint8_t>(sc.motor.n_phases());
     const deadtime_comp_config_t dtc = deadtime_comp_config(sc);
     (void)deadtime_comp_init(&ctx.dtc, &dtc);  // the design's coefficients are >= 0
-    Scenario unloaded = sc;  // commissioning runs without the run's load
+    Scenario unloaded = sc;                    // commissioning runs without the run's load
     unloaded.load.clear();
     Rig rig(unloaded);
     attach_rig(rig, unloaded);  // the same bench as the run's, its board included
@@ -93,6 +83,31 @@ CommissionResult commission_pmsm(const Scenario& sc)
     r.L_H = mc_to_double(ctx.id.L_fs_ohm) * sc.ts_s;
     r.Phi_Wb = mc_to_double(ctx.id.Phi_Wb);
     return r;
+}
+
+void commission_drive(const HostDrive& host, Scenario* sc, MetricList* metrics)
+{
+    pmsm_id_config_t cfg;
+    double duration_s = 0.0;
+    if (host.pmsm_identification == nullptr || !host.pmsm_identification(*sc, &cfg, &duration_s)) {
+        return;
+    }
+    const CommissionResult c = commission_pmsm(*sc, cfg, duration_s);
+    if (!c.ok) {
+        throw std::runtime_error(sc->path + ": identification failed after " + std::to_string(c.duration_s) +
+                                 " s: " + c.why);
+    }
+    sc->drive_model.R_ohm = c.R_ohm;
+    sc->drive_model.L_H = c.L_H;
+    sc->drive_model.L_q_H = c.L_H;
+    sc->drive_model.K_Nm_per_A = c.Phi_Wb * static_cast<double>(sc->drive_model.n_p);
+    metrics->emplace_back("id_R_ohm", c.R_ohm);
+    metrics->emplace_back("id_L_H", c.L_H);
+    metrics->emplace_back("id_Phi_Wb", c.Phi_Wb);
+    metrics->emplace_back("id_R_err_pct", 100.0 * (c.R_ohm / sc->motor.R_ohm - 1.0));
+    metrics->emplace_back("id_L_err_pct", 100.0 * (c.L_H / sc->motor.L_H - 1.0));
+    metrics->emplace_back("id_Phi_err_pct", 100.0 * (c.Phi_Wb / sc->motor.Phi_Wb() - 1.0));
+    metrics->emplace_back("id_time_s", c.duration_s);
 }
 
 }  // namespace mcsim
