@@ -458,6 +458,23 @@ MUTANTS = [
       ("    (void)supervisor_dispatch(sup, SUP_EV_ESTIMATE_TRUSTED);\n", "")),
     m("guard_record_loses_voltage", "supervisor/guard.h", "the flight recorder keeps the currents as the voltages",
       ("        r->v_V[k] = out->v_V[k];", "        (void)out;\n        r->v_V[k] = in->i_A[k];")),
+    # ---- the shell of every drive's step (supervisor/guard.h, guard.c)
+    m("guard_accepts_unasked", "supervisor/guard.h", "the drive's own checks of a sample never asked (an encoder's angle, the bus)",
+      ("(g->accepts != 0 && !g->accepts(drive, in))", "(g->accepts != 0 && false)")),
+    m("guard_check_unasked", "supervisor/guard.h", "the drive's own last checks never asked (a non-finite estimate runs on)",
+      ("        f = g->check(drive);\n", "")),
+    m("guard_end_reacts_before_count", "supervisor/guard.h",
+      "a fault of the last checks recorded at the sample's own tick by the drives counting the samples that ran",
+      ("        *tick = k + 1u;\n        return f == DRIVE_FAULT_NONE ? GUARD_GO_ON : guard_fault(g, drive, f, out);",
+       "        const guard_action_t r = f == DRIVE_FAULT_NONE ? GUARD_GO_ON : guard_fault(g, drive, f, out);\n"
+       "        *tick = k + 1u;\n        return r;")),
+    m("guard_stop_uncounted", "supervisor/guard.c", "paper 002's 0 V steps not counted (its tick counts every step)",
+      ("    if (g->ticks == GUARD_TICK_EVERY) {\n        *GUARD_MEMBER", "    if (false) {\n        *GUARD_MEMBER")),
+    m("guard_stop_keeps_last_voltage", "supervisor/guard.c", "a 0 V stop leaves the drive's last voltage in its telemetry",
+      ("        g->stopped(drive);\n", "")),
+    m("guard_relock_never_asked", "supervisor/guard.c", "RELOCK never asks the drive's re-lock: every loss latched",
+      ("react == (uint8_t)FAULT_REACT_RELOCK && relock != 0 && relock(drive)",
+       "react == (uint8_t)FAULT_REACT_RELOCK && relock != 0 && drive == 0")),
     # ---- paper 001's drive
     m("p001_los_speed_no_abs", "drives/paper001/paper001_drive.c", "loss-of-sync speed band from w_ref, not |w_ref|",
       ("mc_mac(c->los_speed_floor_rad_s, c->los_speed_tol, mc_abs(w_ref))", "mc_mac(c->los_speed_floor_rad_s, c->los_speed_tol, w_ref)")),
