@@ -514,7 +514,7 @@ MUTANTS = [
       ("const mc_t th_out = mc_elec_angle(mc_mac(in->angle_rad, lead_s, d->obs.omega_rad_s), c->model.n_p);",
        "const mc_t th_out = th_e;\n    (void)lead_s;")),
     m("sfoc_angle_unchecked", "drives/sensored_foc/sensored_foc_drive.c", "a sample without the encoder accepted",
-      ("|| !in->has_angle ||", "|| false ||")),
+      ("return in->has_angle && mc_gt(in->v_bus_V", "return mc_gt(in->v_bus_V")),
     m("sfoc_move_during_move", "drives/sensored_foc/sensored_foc_drive.c", "a move accepted during a move",
       ("    if (d->mode == SFOC_MODE_POSITION && d->tick - d->move.t0_tick < d->move.n_ticks) {\n        return false; /* a move in progress */\n    }\n    const mc_t start",
        "    const mc_t start")),
