@@ -345,9 +345,6 @@ MUTANTS = [
        "mc_elec_angle(mc_mac(x[EKF_THETA], lead, mc_abs(x[EKF_OMEGA])), m->n_p)")),
     m("p002_set_speed_no_abs", "drives/paper002/paper002_drive.c", "speed command: the back-EMF limit on positive speeds only",
       ("mc_gt(mc_mul(k_e, mc_abs(omega_rad_s)),", "mc_gt(mc_mul(k_e, omega_rad_s),")),
-    m("p002_fault_not_latched", "drives/paper002/paper002_drive.c", "a fault is not latched: the next sample runs again",
-      ("    if (d->sup.state == SUP_STATE_FAULT) {\n        return p002_zero(d, out);\n    }\n    if (d->disabled) {",
-       "    if (d->disabled) {")),
     m("p002_clear_without_fault", "drives/paper002/paper002_drive.c", "clear-faults restarts a running drive",
       ("    if (d->sup.state != SUP_STATE_FAULT) {\n        return false;\n    }\n    const paper002_config_t cfg = d->cfg;\n    return paper002_drive_init",
        "    const paper002_config_t cfg = d->cfg;\n    return paper002_drive_init")),
@@ -445,7 +442,7 @@ MUTANTS = [
     m("lock_design_innov_no_up", "design/lock_monitor_design.c", "the count's limit without its step up: a glitch of 50 / 20 samples trips",
       ("cfg->innov_limit = (int32_t)(up * glitch_n);", "cfg->innov_limit = (int32_t)glitch_n;")),
     m("p002_lock_raised_as_sync", "drives/paper002/paper002_drive.c", "a loss of lock raised as LOSS_OF_SYNC (fault 5, not 12)",
-      ("p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)", "p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)")),
+      ("guard_fault(&p002_shell, d, DRIVE_FAULT_LOSS_OF_LOCK, out)", "guard_fault(&p002_shell, d, DRIVE_FAULT_LOSS_OF_SYNC, out)")),
     # ---- the guard every drive runs under (supervisor/guard.c, .h)
     m("guard_relock_ignores_budget", "supervisor/guard.c", "RELOCK answered where the drive cannot re-lock (budget spent)",
       ("if (react == (uint8_t)FAULT_REACT_RELOCK && can_relock) {", "if (react == (uint8_t)FAULT_REACT_RELOCK && (can_relock || !can_relock)) {")),
@@ -458,7 +455,12 @@ MUTANTS = [
       ("    (void)supervisor_dispatch(sup, SUP_EV_ESTIMATE_TRUSTED);\n", "")),
     m("guard_record_loses_voltage", "supervisor/guard.h", "the flight recorder keeps the currents as the voltages",
       ("        r->v_V[k] = out->v_V[k];", "        (void)out;\n        r->v_V[k] = in->i_A[k];")),
-    # ---- the shell of every drive's step (supervisor/guard.h, guard.c)
+    # ---- the shell of every drive's step (supervisor/guard.h, guard.c); the
+    # latch mutants keep their ids from when each drive had its own prologue
+    m("p002_fault_not_latched", "supervisor/guard.h",
+      "a fault is not latched by the drive counting every step (paper 002): the next sample runs again",
+      ("if (GUARD_MEMBER(drive, g->sup, supervisor_t)->state == SUP_STATE_FAULT) {",
+       "if (GUARD_MEMBER(drive, g->sup, supervisor_t)->state == SUP_STATE_FAULT && g->ticks == GUARD_TICK_RUN) {")),
     m("guard_accepts_unasked", "supervisor/guard.h", "the drive's own checks of a sample never asked (an encoder's angle, the bus)",
       ("(g->accepts != 0 && !g->accepts(drive, in))", "(g->accepts != 0 && false)")),
     m("guard_check_unasked", "supervisor/guard.h", "the drive's own last checks never asked (a non-finite estimate runs on)",
