@@ -189,11 +189,7 @@ MUTANTS = [
       ("((d->tick % P000_FRAME_RESYNC) == 0u)", "((d->tick % P000_FRAME_RESYNC) == 1u)")),
     m("drive_measured_rl_ignored", "drives/paper000/paper000_drive.c", "the standstill R/L measurement is never used",
       ("motor_model_set_rl(&d->model, d->rl_id.R_ohm, d->rl_id.L_fs_ohm);", "(void)0;")),
-    m("drive_phase_count_unchecked", "drives/paper000/paper000_drive.c", "a sample of any phase count is accepted",
-      ("if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {", "if (!phase_adapter_accepts(in, in->n_phases)) {")),
-    m("drive_fault_not_latched", "drives/paper000/paper000_drive.c", "the fault state is left after one sample",
-      ("if (d->sup.state == SUP_STATE_FAULT) {\n        p000_zero_output(d, out);",
-       "if (d->sup.state == SUP_STATE_FAULT && d->last.tick == 0u) {\n        p000_zero_output(d, out);")),
+    # (the phase-count check and the latch of the step's prologue: the shell's, supervisor/guard.h, below)
     # ---- gain design
     m("design_discrete_constant_alpha", "design/paper000_design.c",
       "discrete design: the back-EMF observer's alpha does not follow the reference speed",
@@ -455,8 +451,15 @@ MUTANTS = [
       ("    (void)supervisor_dispatch(sup, SUP_EV_ESTIMATE_TRUSTED);\n", "")),
     m("guard_record_loses_voltage", "supervisor/guard.h", "the flight recorder keeps the currents as the voltages",
       ("        r->v_V[k] = out->v_V[k];", "        (void)out;\n        r->v_V[k] = in->i_A[k];")),
-    # ---- the shell of every drive's step (supervisor/guard.h, guard.c); the
-    # latch mutants keep their ids from when each drive had its own prologue
+    # ---- the shell of every drive's step (supervisor/guard.h, guard.c): the
+    # phase-count and latch mutants keep their ids from when each drive had
+    # its own prologue
+    m("drive_phase_count_unchecked", "supervisor/guard.h", "a sample of any phase count is accepted (every drive)",
+      ("if (!phase_adapter_accepts(in, n_phases) ||", "if (!phase_adapter_accepts(in, in->n_phases) ||")),
+    m("drive_fault_not_latched", "supervisor/guard.h",
+      "the fault state is left after one sample by the drives counting the samples that ran (papers 000, 001, sensored)",
+      ("if (GUARD_MEMBER(drive, g->sup, supervisor_t)->state == SUP_STATE_FAULT) {",
+       "if (GUARD_MEMBER(drive, g->sup, supervisor_t)->state == SUP_STATE_FAULT && g->ticks == GUARD_TICK_EVERY) {")),
     m("p002_fault_not_latched", "supervisor/guard.h",
       "a fault is not latched by the drive counting every step (paper 002): the next sample runs again",
       ("if (GUARD_MEMBER(drive, g->sup, supervisor_t)->state == SUP_STATE_FAULT) {",
