@@ -4,8 +4,9 @@
  * Order inside one sample k (currents sampled at t_k, voltages held over
  * [t_k, t_k + Ts)), paper000_drive_step top to bottom, a function per
  * stage and per state:
- *   0. prologue (p000_prologue): latched fault, disabled, phase count,
- *      the fault monitor's criteria (over-current trip, ...);
+ *   0. prologue, the shell's (guard_begin, supervisor/guard.h): latched
+ *      fault, disabled, phase count, the fault monitor's criteria
+ *      (over-current trip, ...);
  *   1. measurement: reference theta_r[k], theta_r[k+1] (eq. 70) and the
  *      (f-g) frame (6)-(8) (p000_advance_reference); the adapter's
  *      alpha-beta currents turned into it; while aligning (ALIGN,
@@ -51,14 +52,14 @@
  * without a delay stays as it was (its instruction budget on a Cortex-M3
  * is nearly spent, and inlined they cost it 17 instructions a sample in
  * registers, measured with tools/bench/pil.py).
- * The step's stages and states (p000_prologue to p000_identify_rl) and
- * its output (p000_output) are functions for the reader and one function
- * for the compiler (P000_IN_LINE). Left to itself, GCC 12 kept the
- * supervisor's decision and the alignment out of line and split the step
- * across its operation: 64 instructions a sample more on the Cortex-M3
- * (1,570.6 instead of 1,506.3 on average); inlined, p000_output in each of
- * its two places (no call at the end of the sample), 1,498.4 (M4F float
- * 800.5 instead of 819.5). */
+ * The step's stages and states (p000_advance_reference to
+ * p000_identify_rl) and its output (p000_output) are functions for the
+ * reader and one function for the compiler (P000_IN_LINE). Left to
+ * itself, GCC 12 kept the supervisor's decision and the alignment out of
+ * line and split the step across its operation: 64 instructions a sample
+ * more on the Cortex-M3 (1,570.6 instead of 1,506.3 on average); inlined,
+ * p000_output in each of its two places (no call at the end of the
+ * sample), 1,498.4 (M4F float 800.5 instead of 819.5). */
 #if defined(__GNUC__)
 #define P000_OUT_OF_LINE __attribute__((noinline))
 #define P000_IN_LINE inline __attribute__((always_inline))
@@ -111,34 +112,61 @@ static P000_OUT_OF_LINE mc_ab_t p000_delay_output(paper000_drive_t *d, mc_rot_t 
     return v_ab;
 }
 
-static void p000_zero_output(paper000_drive_t *d, hal_command_t *out)
+/* The last voltage the telemetry reports: 0, with the shell's 0 V out
+ * (guard_shell_t.stopped) and at init. */
+static void p000_zero_last(void *self)
 {
-    guard_zero(out, (uint8_t)P000_N_PHASES);
+    paper000_drive_t *d = (paper000_drive_t *)self;
     d->last.v_a_V = MC_ZERO;
     d->last.v_b_V = MC_ZERO;
 }
 
-/* A fault was detected this sample: the guard records it and reacts as
- * configured (paper000_protection_config_t, supervisor/guard.h); RELOCK
- * is this drive's re-lock while its budget lasts and not in the
- * alignment. Returns true when the drive is now in FAULT (the caller
- * outputs 0 V), false when it goes on (RELOCK, REPORT). */
-static bool p000_react(paper000_drive_t *d, drive_fault_t f)
+/* This drive's re-lock (guard_shell_t.relock), asked when its reaction
+ * table (paper000_protection_config_t) answers a fault with RELOCK: while
+ * its budget lasts and not in the alignment, open loop from this sample on
+ * (p000_switch, bumpless), closed again after the hold if the estimate is
+ * trusted then. False: the fault is latched (SAFE). */
+static bool p000_relock_start(void *self)
 {
+    paper000_drive_t *d = (paper000_drive_t *)self;
     const paper000_protection_config_t *p = &d->cfg.prot;
-    const bool can_relock = d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN;
-    const guard_action_t a = guard_react(&d->sup, &d->rec, p->reaction, f, d->tick, can_relock);
-    if (a == GUARD_RELOCK) {
-        /* open loop from this sample on (p000_switch, bumpless),
-         * closed again after the hold if the estimate is trusted then */
-        d->relocks += 1;
-        d->relock_hold = p->relock_hold_ticks;
-        d->recovering = p->relock_hold_ticks + p->relock_confirm_ticks;
-        d->branch_kept = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    if (!(d->relocks < p->relock_max && d->sup.state != SUP_STATE_ALIGN)) {
         return false;
     }
-    return a == GUARD_SAFE;
+    d->relocks += 1;
+    d->relock_hold = p->relock_hold_ticks;
+    d->recovering = p->relock_hold_ticks + p->relock_confirm_ticks;
+    d->branch_kept = d->sup.state == SUP_STATE_CLOSED_LOOP;
+    return true;
 }
+
+/* The last check of a sample beyond the command's: the estimate the
+ * drive runs on, finite. */
+static drive_fault_t p000_check(void *self)
+{
+    const paper000_drive_t *d = (const paper000_drive_t *)self;
+    return (mc_is_finite(d->est.pos.theta_est_rad) && mc_is_finite(d->est.mech.omega_est_rad_s))
+               ? DRIVE_FAULT_NONE
+               : DRIVE_FAULT_NON_FINITE;
+}
+
+/* The shell of this drive's step (supervisor/guard.h): two windings (the
+ * phase count alone checked), its reaction table and re-lock, the samples
+ * that ran counted. */
+static const guard_shell_t p000_shell = {
+    .sup = offsetof(paper000_drive_t, sup),
+    .mon = offsetof(paper000_drive_t, mon),
+    .rec = offsetof(paper000_drive_t, rec),
+    .tick = offsetof(paper000_drive_t, tick),
+    .disabled = offsetof(paper000_drive_t, disabled),
+    .reaction = offsetof(paper000_drive_t, cfg.prot.reaction),
+    .n_phases = (uint8_t)P000_N_PHASES,
+    .accepts = NULL,
+    .check = p000_check,
+    .relock = p000_relock_start,
+    .stopped = p000_zero_last,
+    .ticks = GUARD_TICK_RUN,
+};
 
 /* A fault that no reaction but the safe state can answer. */
 static bool p000_react_final(paper000_drive_t *d, drive_fault_t f)
@@ -148,8 +176,9 @@ static bool p000_react_final(paper000_drive_t *d, drive_fault_t f)
 }
 
 /* The end of every sample that outputs a voltage: to the phases, the
- * command's checks, the flight recorder. Returns false if the command's
- * checks put the drive in FAULT (out is then 0 V). */
+ * command's and the estimate's checks, the shell's end (the flight
+ * recorder, the count, the reaction). Returns false if the checks put the
+ * drive in FAULT (out is then 0 V). */
 static P000_IN_LINE bool p000_output(paper000_drive_t *d, const hal_sample_t *in, mc_ab_t v_ab, mc_t i_f, mc_t i_g,
                                      hal_command_t *out)
 {
@@ -166,19 +195,8 @@ static P000_IN_LINE bool p000_output(paper000_drive_t *d, const hal_sample_t *in
     d->last.i_g_A = i_g;
     d->last.v_a_V = v_ab.alpha;
     d->last.v_b_V = v_ab.beta;
-    guard_record(&d->rec, d->tick, d->sup.state, in, out, d->ref.theta_rad,
-                 d->est.pos.theta_est_rad, d->est.mech.omega_est_rad_s);
-    drive_fault_t f = fault_monitor_command(&d->mon, out, d->sup.sat_prev);
-    if (f == DRIVE_FAULT_NONE &&
-        (!mc_is_finite(d->est.pos.theta_est_rad) || !mc_is_finite(d->est.mech.omega_est_rad_s))) {
-        f = DRIVE_FAULT_NON_FINITE;
-    }
-    d->tick += 1;
-    if (f != DRIVE_FAULT_NONE && p000_react(d, f)) {
-        p000_zero_output(d, out);
-        return false;
-    }
-    return true;
+    return guard_end(&p000_shell, d, in, out, d->sup.sat_prev, d->ref.theta_rad, d->est.pos.theta_est_rad,
+                     d->est.mech.omega_est_rad_s) != GUARD_SAFE;
 }
 
 /* Loss of synchronism (paper000_protection_config_t), in closed loop. */
@@ -321,8 +339,7 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     d->last.tick = 0;
     d->last.i_f_A = MC_ZERO;
     d->last.i_g_A = MC_ZERO;
-    hal_command_t unused;
-    p000_zero_output(d, &unused);
+    p000_zero_last(d);
     if (paper000_config_problem(cfg) != NULL || !traj_ok) {
         guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
         return false;
@@ -333,37 +350,6 @@ bool paper000_drive_init(paper000_drive_t *d, const paper000_config_t *cfg)
     d->rot_next = d->rot_k;
     d->rot_resync = d->rot_k; /* formed at sample P000_FRAME_RESYNC - 1 before its use */
     return true;
-}
-
-/* What the prologue lets through: the sample (GO_ON), or 0 V and the
- * step's return, true while disabled (IDLE), false in FAULT (HALT). */
-typedef enum { P000_GO_ON = 0, P000_IDLE = 1, P000_HALT = 2 } p000_verdict_t;
-
-/* 0. The prologue, before anything is computed: a latched fault, a
- * disabled drive, a sample of another phase count, the fault monitor's
- * criteria on the sample (over-current, ...). Fills *out with 0 V unless
- * the sample goes on. */
-static P000_IN_LINE p000_verdict_t p000_prologue(paper000_drive_t *d, const hal_sample_t *in, hal_command_t *out)
-{
-    if (d->sup.state == SUP_STATE_FAULT) {
-        p000_zero_output(d, out);
-        return P000_HALT;
-    }
-    if (d->disabled) {
-        p000_zero_output(d, out);
-        return P000_IDLE;
-    }
-    if (!phase_adapter_accepts(in, (uint8_t)P000_N_PHASES)) {
-        guard_latch(&d->sup, &d->rec, DRIVE_FAULT_BAD_INPUT, d->tick);
-        p000_zero_output(d, out);
-        return P000_HALT;
-    }
-    const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)P000_N_PHASES);
-    if (f != DRIVE_FAULT_NONE && p000_react(d, f)) {
-        p000_zero_output(d, out);
-        return P000_HALT;
-    }
-    return P000_GO_ON;
 }
 
 /* 1. The reference of this sample, eq. (70), and the frame's rotation
@@ -440,10 +426,11 @@ static P000_IN_LINE void p000_identify_K(paper000_drive_t *d)
 /* The watch over synchronism: the current observer's error (every state
  * but the alignment) and, in closed loop while the reference is fast, the
  * loss-of-synchronism criteria (p000_lost_sync); a loss is a
- * LOSS_OF_SYNC fault, reacted to as configured (p000_react: RELOCK starts
- * a re-lock). On the checks' samples, the estimate and reference kept for
- * the jump criterion, and K's measurement in closed loop. Returns false
- * when the drive is now in FAULT. */
+ * LOSS_OF_SYNC fault, reacted to as configured (guard_reaction: RELOCK
+ * starts a re-lock, p000_relock_start). On the checks' samples, the
+ * estimate and reference kept for the jump criterion, and K's measurement
+ * in closed loop. Returns false when the drive is now in FAULT (the step
+ * outputs 0 V, guard_stop). */
 static P000_IN_LINE bool p000_check_sync(paper000_drive_t *d, bool fast, bool observable)
 {
     const paper000_protection_config_t *p = &d->cfg.prot;
@@ -454,7 +441,7 @@ static P000_IN_LINE bool p000_check_sync(paper000_drive_t *d, bool fast, bool ob
                                           p->los_obs_err_A),
                                     p->los_ticks);
     const bool lost = d->sup.state == SUP_STATE_CLOSED_LOOP && fast && p000_lost_sync(d, observable);
-    if ((lost || obs_bad) && p000_react(d, DRIVE_FAULT_LOSS_OF_SYNC)) {
+    if ((lost || obs_bad) && guard_reaction(&p000_shell, d, DRIVE_FAULT_LOSS_OF_SYNC) == GUARD_SAFE) {
         return false;
     }
     if (lost || obs_bad) {
@@ -471,10 +458,10 @@ static P000_IN_LINE bool p000_check_sync(paper000_drive_t *d, bool fast, bool ob
     return true;
 }
 
-/* The re-lock (p000_react's RELOCK after a loss of synchronism): open
- * loop for relock_hold_ticks, then closed again if the estimate is
- * trusted; confirmed by relock_confirm_ticks of closed loop. Returns false
- * when the loss stands (the drive is now in FAULT). */
+/* The re-lock (started by p000_relock_start after a loss of
+ * synchronism): open loop for relock_hold_ticks, then closed again if the
+ * estimate is trusted; confirmed by relock_confirm_ticks of closed loop.
+ * Returns false when the loss stands (the drive is now in FAULT). */
 static P000_IN_LINE bool p000_relock(paper000_drive_t *d, bool fast, bool observable)
 {
     if (d->relock_hold > 0) {
@@ -650,10 +637,12 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
 {
     const paper000_config_t *c = &d->cfg;
     d->last.tick = d->tick;
-    /* 0. prologue: the supervisor's checks of the drive and the sample */
-    const p000_verdict_t verdict = p000_prologue(d, in, out);
-    if (verdict != P000_GO_ON) {
-        return verdict == P000_IDLE;
+    /* 0. prologue, the shell's (supervisor/guard.h): a latched fault, a
+     * disabled drive, a sample of another phase count, the fault monitor's
+     * criteria on the sample (over-current, ...; RELOCK starts a re-lock) */
+    const guard_action_t a = guard_begin(&p000_shell, d, in, out);
+    if (a == GUARD_SAFE || a == GUARD_IDLE) {
+        return a == GUARD_IDLE; /* 0 V out */
     }
 
     /* 1. measurement: the currents, the reference and the frame (6)-(8)
@@ -679,7 +668,7 @@ bool paper000_drive_step(paper000_drive_t *d, const hal_sample_t *in, hal_comman
     /* 3. supervisor: faults, the re-lock, open or closed loop */
     bool switched = false;
     if (!p000_supervise(d, &switched)) {
-        p000_zero_output(d, out);
+        (void)guard_stop(&p000_shell, d, GUARD_SAFE, out);
         return false;
     }
 

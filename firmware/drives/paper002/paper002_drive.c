@@ -196,31 +196,32 @@ bool paper002_drive_init(paper002_drive_t *d, const paper002_config_t *cfg)
     return true;
 }
 
-static bool p002_zero(paper002_drive_t *d, hal_command_t *out)
+/* A sample the drive runs on: with the angle its estimator needs (an
+ * encoder's; beyond the phase count, the shell's). */
+static bool p002_accepts(const void *self, const hal_sample_t *in)
 {
-    guard_zero(out, 3u);
-    d->tick += 1u;
-    return false;
+    const paper002_drive_t *d = (const paper002_drive_t *)self;
+    return !(d->est->needs_angle && !in->has_angle);
 }
 
-/* A fault only the safe state answers: latched with its sample, 0 V out. */
-static bool p002_trip(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
-{
-    guard_latch(&d->sup, &d->rec, f, d->tick);
-    return p002_zero(d, out);
-}
-
-/* A fault: recorded, then the reaction table (supervisor/guard.h; no
- * re-lock). True when the drive is now in FAULT (0 V out, the sample
- * counted); false: REPORT, the sample goes on. */
-static bool p002_fault(paper002_drive_t *d, drive_fault_t f, hal_command_t *out)
-{
-    if (guard_react(&d->sup, &d->rec, d->cfg.reaction, f, d->tick, false) != GUARD_SAFE) {
-        return false;
-    }
-    (void)p002_zero(d, out);
-    return true;
-}
+/* The shell of this drive's step (supervisor/guard.h): three phases, its
+ * own check of a sample, its reaction table, no re-lock (RELOCK acts as
+ * SAFE), every step counted (the 0 V ones too; a fault found by a sample's
+ * last checks recorded at that sample's tick). */
+static const guard_shell_t p002_shell = {
+    .sup = offsetof(paper002_drive_t, sup),
+    .mon = offsetof(paper002_drive_t, mon),
+    .rec = offsetof(paper002_drive_t, rec),
+    .tick = offsetof(paper002_drive_t, tick),
+    .disabled = offsetof(paper002_drive_t, disabled),
+    .reaction = offsetof(paper002_drive_t, cfg.reaction),
+    .n_phases = 3u,
+    .accepts = p002_accepts,
+    .check = NULL,
+    .relock = NULL,
+    .stopped = NULL,
+    .ticks = GUARD_TICK_EVERY,
+};
 
 /* The end of the estimator's start (hfi_find_angle): it, the EKF and the
  * drive's monitors restarted at the electrical angle e found, the
@@ -253,19 +254,14 @@ static bool p002_start_step(paper002_drive_t *d, const hal_sample_t *in, mc_ab_t
     mc_t e = MC_ZERO;
     const estimator_start_t s = d->est->start(&d->est_state, i_ab, &u, &e);
     if (s == EST_START_REFUSED) {
-        return p002_trip(d, DRIVE_FAULT_LOSS_OF_LOCK, out);
+        (void)guard_trip(&p002_shell, d, DRIVE_FAULT_LOSS_OF_LOCK, out);
+        return false;
     }
     if (s == EST_START_DONE) {
         p002_start_at(d, e);
     }
     phase_adapter_voltages(3u, u, out);
-    const drive_fault_t f_out = fault_monitor_command(&d->mon, out, false);
-    guard_record(&d->rec, d->tick, d->sup.state, in, out, MC_ZERO, d->ekf.x[EKF_THETA], d->ekf.x[EKF_OMEGA]);
-    if (f_out != DRIVE_FAULT_NONE && p002_fault(d, f_out, out)) {
-        return false;
-    }
-    d->tick += 1u;
-    return true;
+    return guard_end(&p002_shell, d, in, out, false, MC_ZERO, d->ekf.x[EKF_THETA], d->ekf.x[EKF_OMEGA]) != GUARD_SAFE;
 }
 
 /* Steps 0-2: the iron's inductances, the estimator's angle, the d-q
@@ -304,7 +300,7 @@ static bool p002_estimate_step(paper002_drive_t *d, const estimator_ops_t *e, co
     const mc_t stall_band = mc_mac(c->stall_floor_rad_s, c->stall_tol, mc_abs(*w_d));
     const bool stalled =
         fault_persist_step(&d->stall, !mc_le(mc_abs(mc_sub(d->ekf.x[EKF_OMEGA], *w_d)), stall_band), c->stall_ticks);
-    if ((!corrected || lost || stalled) && p002_fault(d, DRIVE_FAULT_LOSS_OF_SYNC, out)) {
+    if ((!corrected || lost || stalled) && guard_fault(&p002_shell, d, DRIVE_FAULT_LOSS_OF_SYNC, out) == GUARD_SAFE) {
         return false;
     }
     if (eo->lock_checkable) {
@@ -312,7 +308,8 @@ static bool p002_estimate_step(paper002_drive_t *d, const estimator_ops_t *e, co
             lock_monitor_step_flux(&d->lock, eo->rho2, eo->rho2_target, d->ekf.x[EKF_OMEGA], i_d, i_q);
         const lock_criterion_t by_innov =
             lock_monitor_step_innovation(&d->lock, d->ekf.innovation[EKF_THETA], s_theta_rad2, stall_band);
-        if ((by_flux != LOCK_CRIT_NONE || by_innov != LOCK_CRIT_NONE) && p002_fault(d, DRIVE_FAULT_LOSS_OF_LOCK, out)) {
+        if ((by_flux != LOCK_CRIT_NONE || by_innov != LOCK_CRIT_NONE) &&
+            guard_fault(&p002_shell, d, DRIVE_FAULT_LOSS_OF_LOCK, out) == GUARD_SAFE) {
             return false;
         }
     }
@@ -388,22 +385,15 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
 {
     const paper002_config_t *c = &d->cfg;
     const motor_model_t *m = &c->model;
-    if (d->sup.state == SUP_STATE_FAULT) {
-        return p002_zero(d, out);
+    /* 0. the shell: latch, enable, the sample's checks, the fault monitor;
+     * 0 V when it stops the sample: false in FAULT, true while disabled
+     * (drives/drive.h) */
+    const guard_action_t a = guard_begin(&p002_shell, d, in, out);
+    if (a == GUARD_SAFE || a == GUARD_IDLE) {
+        return a == GUARD_IDLE;
     }
-    if (d->disabled) {
-        (void)p002_zero(d, out); /* 0 V, the sample counted; not a fault (drives/drive.h) */
-        return true;
-    }
-    d->v_bus_V = in->v_bus_V;
+    d->v_bus_V = in->v_bus_V; /* of a sample the drive runs (the speed command's check) */
     const estimator_ops_t *const e = d->est;
-    if (!phase_adapter_accepts(in, 3u) || (e->needs_angle && !in->has_angle)) {
-        return p002_trip(d, DRIVE_FAULT_BAD_INPUT, out);
-    }
-    const drive_fault_t f_in = fault_monitor_sample(&d->mon, in, 3u);
-    if (f_in != DRIVE_FAULT_NONE && p002_fault(d, f_in, out)) {
-        return false;
-    }
     /* 1. alpha-beta currents; the estimator's own start first */
     mc_t i_zero;
     const mc_ab_t i_ab = phase_adapter_currents(in, &i_zero);
@@ -445,13 +435,7 @@ bool paper002_drive_step(paper002_drive_t *d, const hal_sample_t *in, hal_comman
     d->last.u_d_V = u_dq.u_d_V;
     d->last.u_q_V = u_dq.u_q_V;
     d->last.saturated = d->ibcc.saturated;
-    const drive_fault_t f_out = fault_monitor_command(&d->mon, out, d->ibcc.saturated);
-    guard_record(&d->rec, d->tick, d->sup.state, in, out, w_d, x[EKF_THETA], x[EKF_OMEGA]);
-    if (f_out != DRIVE_FAULT_NONE && p002_fault(d, f_out, out)) {
-        return false;
-    }
-    d->tick += 1u;
-    return true;
+    return guard_end(&p002_shell, d, in, out, d->ibcc.saturated, w_d, x[EKF_THETA], x[EKF_OMEGA]) != GUARD_SAFE;
 }
 
 bool paper002_drive_set_enabled(paper002_drive_t *d, bool on)

@@ -2,7 +2,8 @@
  * sensored_foc_drive.c - the sensored FOC drive as a recipe
  * (sensored_foc_drive.h). Order inside one sample k (currents and the
  * encoder's angle sampled at t_k, the voltage acting d Ts later):
- *   0. latch, enable, the sample's checks, the fault monitor;
+ *   0. the shell (supervisor/guard.h): latch, enable, the sample's
+ *      checks, the fault monitor;
  *   1. Clarke and Park at the encoder's electrical angle: i_d, i_q;
  *   2. the encoder observer with the torque K_t i_q: angle, speed, load;
  *   3. the reference: speed profile, or the move (and its position loop);
@@ -13,6 +14,8 @@
  */
 #include "drives/sensored_foc/sensored_foc_drive.h"
 
+#include <stddef.h>
+
 #include "control/delay_comp.h"
 #include "supervisor/guard.h"
 #include "trajectory/trajectory.h"
@@ -21,37 +24,51 @@
  * phase adapter adds (min-max injection): v_bus / sqrt(3). */
 #define SFOC_INV_SQRT3 MC_C(0.57735026918962576)
 
-static void sfoc_zero_output(sensored_foc_drive_t *d, hal_command_t *out)
+/* A sample the drive runs on: the encoder's angle, finite, and the bus
+ * above its minimum (beyond the phase count, the shell's). */
+static bool sfoc_accepts(const void *self, const hal_sample_t *in)
 {
-    out->n_phases = (uint8_t)SFOC_N_PHASES;
-    for (uint32_t k = 0; k < HAL_MAX_PHASES; ++k) {
-        out->v_V[k] = MC_ZERO;
-    }
+    const sensored_foc_drive_t *d = (const sensored_foc_drive_t *)self;
+    return in->has_angle && mc_gt(in->v_bus_V, d->cfg.v_bus_min_V) && mc_is_finite(in->angle_rad);
+}
+
+/* The last check of a sample beyond the command's: the estimate the
+ * drive runs on, finite. */
+static drive_fault_t sfoc_check(void *self)
+{
+    const sensored_foc_drive_t *d = (const sensored_foc_drive_t *)self;
+    return (mc_is_finite(d->obs.theta_rad) && mc_is_finite(d->obs.omega_rad_s)) ? DRIVE_FAULT_NONE
+                                                                                 : DRIVE_FAULT_NON_FINITE;
+}
+
+/* The last voltage the telemetry reports: 0, with the shell's 0 V out
+ * (guard_shell_t.stopped) and at init. */
+static void sfoc_zero_last(void *self)
+{
+    sensored_foc_drive_t *d = (sensored_foc_drive_t *)self;
     d->last.v_ab_V.alpha = MC_ZERO;
     d->last.v_ab_V.beta = MC_ZERO;
     d->last.v_d_V = MC_ZERO;
     d->last.v_q_V = MC_ZERO;
 }
 
-/* A fault only the safe state answers: latched, 0 V out. */
-static bool sfoc_trip(sensored_foc_drive_t *d, drive_fault_t f, hal_command_t *out)
-{
-    guard_latch(&d->sup, &d->rec, f, d->tick);
-    sfoc_zero_output(d, out);
-    return false;
-}
-
-/* A fault: recorded, then the reaction table (supervisor/guard.h; with a
- * sensor there is no estimate to re-lock). True when the drive is now in
- * FAULT (0 V out); false: REPORT, the sample goes on. */
-static bool sfoc_fault(sensored_foc_drive_t *d, drive_fault_t f, hal_command_t *out)
-{
-    if (guard_react(&d->sup, &d->rec, d->cfg.reaction, f, d->tick, false) != GUARD_SAFE) {
-        return false;
-    }
-    sfoc_zero_output(d, out);
-    return true;
-}
+/* The shell of this drive's step (supervisor/guard.h): three phases, its
+ * own checks of a sample, its reaction table, no re-lock (an encoder's
+ * angle is not lost: RELOCK acts as SAFE), the samples that ran counted. */
+static const guard_shell_t sfoc_shell = {
+    .sup = offsetof(sensored_foc_drive_t, sup),
+    .mon = offsetof(sensored_foc_drive_t, mon),
+    .rec = offsetof(sensored_foc_drive_t, rec),
+    .tick = offsetof(sensored_foc_drive_t, tick),
+    .disabled = offsetof(sensored_foc_drive_t, disabled),
+    .reaction = offsetof(sensored_foc_drive_t, cfg.reaction),
+    .n_phases = (uint8_t)SFOC_N_PHASES,
+    .accepts = sfoc_accepts,
+    .check = sfoc_check,
+    .relock = NULL,
+    .stopped = sfoc_zero_last,
+    .ticks = GUARD_TICK_RUN,
+};
 
 const char *sensored_foc_config_problem(const sensored_foc_config_t *c)
 {
@@ -101,8 +118,7 @@ bool sensored_foc_drive_init(sensored_foc_drive_t *d, const sensored_foc_config_
     d->last.i_q_ref_A = MC_ZERO;
     d->last.theta_e_rad = MC_ZERO;
     d->last.saturated = false;
-    hal_command_t none;
-    sfoc_zero_output(d, &none);
+    sfoc_zero_last(d);
     fault_monitor_init(&d->mon, &cfg->faults);
     flight_recorder_init(&d->rec);
     const bool ok = sensored_foc_config_problem(cfg) == 0 && foc_current_init(&d->current, &cfg->current, &d->cfg.model) &&
@@ -145,24 +161,10 @@ static mc_t sfoc_reference(sensored_foc_drive_t *d)
 bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, hal_command_t *out)
 {
     const sensored_foc_config_t *c = &d->cfg;
-    /* 0. latch, enable, the sample's checks */
-    if (d->sup.state == SUP_STATE_FAULT) {
-        sfoc_zero_output(d, out);
-        return false;
-    }
-    if (d->disabled) {
-        sfoc_zero_output(d, out);
-        return true;
-    }
-    if (!phase_adapter_accepts(in, (uint8_t)SFOC_N_PHASES) || !in->has_angle || !mc_gt(in->v_bus_V, c->v_bus_min_V) ||
-        !mc_is_finite(in->angle_rad)) {
-        return sfoc_trip(d, DRIVE_FAULT_BAD_INPUT, out);
-    }
-    {
-        const drive_fault_t f = fault_monitor_sample(&d->mon, in, (uint8_t)SFOC_N_PHASES);
-        if (f != DRIVE_FAULT_NONE && sfoc_fault(d, f, out)) {
-            return false;
-        }
+    /* 0. the shell: latch, enable, the sample's checks, the fault monitor */
+    const guard_action_t a = guard_begin(&sfoc_shell, d, in, out);
+    if (a == GUARD_SAFE || a == GUARD_IDLE) {
+        return a == GUARD_IDLE; /* 0 V out */
     }
     /* 1. currents in the rotor frame of the encoder's angle */
     if (!d->started) {
@@ -210,18 +212,10 @@ bool sensored_foc_drive_step(sensored_foc_drive_t *d, const hal_sample_t *in, ha
     d->last.v_ab_V = v_ab;
     d->last.theta_e_rad = th_e;
     d->last.saturated = d->current.saturated;
-    /* the command's checks, the estimate's, the flight recorder */
-    drive_fault_t f = fault_monitor_command(&d->mon, out, d->last.saturated);
-    if (f == DRIVE_FAULT_NONE && (!mc_is_finite(d->obs.theta_rad) || !mc_is_finite(d->obs.omega_rad_s))) {
-        f = DRIVE_FAULT_NON_FINITE;
-    }
-    guard_record(&d->rec, d->tick, d->sup.state, in, out, d->last.omega_ref_rad_s,
-                 d->last.theta_e_rad, d->obs.omega_rad_s);
-    d->tick += 1u;
-    if (f != DRIVE_FAULT_NONE && sfoc_fault(d, f, out)) {
-        return false;
-    }
-    return true;
+    /* the shell's end: the command's checks, the estimate's (sfoc_check),
+     * the flight recorder, the count, the reaction */
+    return guard_end(&sfoc_shell, d, in, out, d->last.saturated, d->last.omega_ref_rad_s, d->last.theta_e_rad,
+                     d->obs.omega_rad_s) != GUARD_SAFE;
 }
 
 bool sensored_foc_set_enabled(sensored_foc_drive_t *d, bool on)
