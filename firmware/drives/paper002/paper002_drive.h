@@ -126,7 +126,6 @@
 #include "control/ibcc.h"
 #include "control/mtpa.h"
 #include "control/sosmc.h"
-#include "estimators/angle_unwrap.h"
 #include "estimators/ekf_ipmsm.h"
 #include "estimators/flux_observer.h"
 #include "estimators/estimator_registry.h"
