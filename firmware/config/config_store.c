@@ -189,7 +189,7 @@ bool config_store_load(config_store_t *s, config_entry_t *values)
     uint16_t kept = 0;
     for (uint32_t i = 0; i < n; ++i) {
         for (uint32_t j = 0; j < m; ++j) {
-            const uint32_t *e = r + CONFIG_HEADER_WORDS + CONFIG_ENTRY_WORDS * j;
+            const uint32_t *e = &r[CONFIG_HEADER_WORDS + CONFIG_ENTRY_WORDS * j];
             if (e[0] == values[i].id) {
                 if (e[1] == values[i].def_hash) {
                     values[i].value = e[2];

@@ -252,7 +252,7 @@ TEST_F(Stm32Flash, EachWaitIsBounded)
 // a poll at least; the loop is 6 instructions, 7 with the watchdog), so
 // the erase's bound lasts at least 1 s, twice DS8626's 500 ms for a 16 KB
 // sector at x32, the program's at least 200 us, twice its 100 us a word.
-TEST(Stm32FlashBounds, AtLeastTwiceTheDatasheetsLongest)
+TEST_F(Stm32Flash, BoundsAreAtLeastTwiceTheDatasheetsLongest)
 {
     EXPECT_GE(STM32_FLASH_POLLS_PER_US, 168u / 4u);
     EXPECT_GE(STM32_FLASH_ERASE_POLLS / STM32_FLASH_POLLS_PER_US, 2u * 500000u);
