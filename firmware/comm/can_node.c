@@ -1,8 +1,10 @@
 #include "comm/can_node.h"
 
-void can_node_init(can_node_t *n, const can_tx_config_t *cfg)
+bool can_node_init(can_node_t *n, const can_tx_config_t *cfg)
 {
-    can_tx_init(&n->tx, cfg);
+    if (!can_tx_init(&n->tx, cfg)) {
+        return false;
+    }
     n->accepted = 0;
     n->rejected = 0;
     n->ignored = 0;
@@ -10,6 +12,7 @@ void can_node_init(can_node_t *n, const can_tx_config_t *cfg)
     n->last_reject_id = 0;
     n->heartbeats = 0;
     n->excess_steps = 0;
+    return true;
 }
 
 can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f, can_apply_fn apply, void *drive)

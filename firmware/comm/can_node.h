@@ -44,7 +44,9 @@ typedef struct {
     uint32_t excess_steps;      /* the step/dir input's excess steps, set by its owner (0 without one) */
 } can_node_t;
 
-void can_node_init(can_node_t *n, const can_tx_config_t *cfg);
+/* Resets the node's counters and its transmit schedule (can_tx_init).
+ * false: cfg refused (a node id above CAN_LINK_NODE_MAX, no rate). */
+bool can_node_init(can_node_t *n, const can_tx_config_t *cfg);
 
 /* One received frame: validated (can_link_parse); a CmdSetRate is carried
  * out here, any other valid command by apply(drive, cmd). Returns the

@@ -27,8 +27,11 @@ void can_tx_defaults(can_tx_config_t *c, uint8_t node, int32_t fs_hz)
     }
 }
 
-void can_tx_init(can_tx_t *t, const can_tx_config_t *cfg)
+bool can_tx_init(can_tx_t *t, const can_tx_config_t *cfg)
 {
+    if (cfg->node > CAN_LINK_NODE_MAX || cfg->fs_hz <= 0) {
+        return false;
+    }
     t->cfg = *cfg;
     for (uint32_t m = 0; m < CAN_TLM_COUNT; ++m) {
         t->due[m] = m; /* staggered by one sample */
@@ -37,6 +40,7 @@ void can_tx_init(can_tx_t *t, const can_tx_config_t *cfg)
     t->count = 0;
     t->sent = 0;
     t->dropped = 0;
+    return true;
 }
 
 int32_t can_tx_next_due(const can_tx_t *t, uint32_t tick)
@@ -59,15 +63,19 @@ void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm)
     }
     const uint32_t m = (uint32_t)next;
     t->due[m] = tick + t->cfg.period_ticks[m];
-    if (t->count >= CAN_TX_QUEUE) {
-        t->dropped += 1u;
+    can_frame_t f;
+    if (!can_link_pack((can_tlm_msg_t)m, t->cfg.node, tlm, &f)) {
         return;
     }
-    can_frame_t *f = &t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)];
-    if (can_link_pack((can_tlm_msg_t)m, t->cfg.node, tlm, f)) {
-        t->count += 1u;
-        t->sent += 1u;
+    if (t->count >= CAN_TX_QUEUE) {
+        /* full: the oldest frame goes, the newest telemetry stays */
+        t->head = (t->head + 1u) & (CAN_TX_QUEUE - 1u);
+        t->count -= 1u;
+        t->dropped += 1u;
     }
+    t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)] = f;
+    t->count += 1u;
+    t->sent += 1u;
 }
 
 bool can_tx_pop(can_tx_t *t, can_frame_t *f)

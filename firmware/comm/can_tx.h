@@ -6,7 +6,9 @@
  * one due message into a fixed-size queue, so its cost per sample is
  * bounded by one pack whatever the rates; the backend's transmit side
  * (an interrupt, or the simulator) takes frames with can_tx_pop(). Nothing
- * blocks: when the queue is full a due message is dropped and counted.
+ * blocks: when the queue is full the oldest queued frame makes room for
+ * the due message and is counted as dropped (telemetry: the newest is what
+ * a host wants after a bus outage, as a plot's last point).
  * Rates per message are set in samples at init and by CmdSetRate (ms);
  * period 0 turns a message off. Nothing allocates.
  */
@@ -39,16 +41,19 @@ typedef struct {
     uint32_t head;                             /* next frame to pop */
     uint32_t count;
     uint32_t sent;                             /* queued since init */
-    uint32_t dropped;                          /* due but the queue was full */
+    uint32_t dropped;                          /* queued, then pushed out by a newer one (queue full) */
 } can_tx_t;
 
 /* Default periods: heartbeat 100 ms, every other message 10 ms, each first
  * due at a different sample (staggered, so one sample rarely has two). */
 void can_tx_defaults(can_tx_config_t *c, uint8_t node, int32_t fs_hz);
 
-void can_tx_init(can_tx_t *t, const can_tx_config_t *cfg);
+/* Validates cfg (node 0..CAN_LINK_NODE_MAX, fs_hz > 0) and resets the
+ * schedule and the queue. false: refused, t untouched. */
+bool can_tx_init(can_tx_t *t, const can_tx_config_t *cfg);
 
-/* Once per control sample: queues the first due message (at most one). */
+/* Once per control sample: queues the first due message (at most one),
+ * pushing out the oldest frame when the queue is full. */
 void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm);
 
 /* The message can_tx_step would queue at tick (the first due one), or -1. */

@@ -1,6 +1,8 @@
 #include "motorsim/can_glue.h"
 
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 #include "mc_convert.h"
 
@@ -27,8 +29,11 @@ const char* command_name(std::uint32_t id)
 void can_glue_init(CanDriveContext* ctx, unsigned node, std::uint32_t fs_hz)
 {
     can_tx_config_t cfg;
-    can_tx_defaults(&cfg, static_cast<std::uint8_t>(node), static_cast<std::int32_t>(fs_hz));
-    can_node_init(&ctx->node, &cfg);
+    can_tx_defaults(&cfg, static_cast<std::uint8_t>(node > 255u ? 255u : node), static_cast<std::int32_t>(fs_hz));
+    if (!can_node_init(&ctx->node, &cfg)) {
+        throw std::invalid_argument("--can-node " + std::to_string(node) + ": the node id must be 0-" +
+                                    std::to_string(CAN_LINK_NODE_MAX) + " (or the control rate is not > 0)");
+    }
 }
 
 void can_drive_control_callback(void* vctx, const hal_sample_t* in, hal_command_t* out)

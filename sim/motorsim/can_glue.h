@@ -32,6 +32,7 @@ struct CanDriveContext {
 };
 
 // Initialises ctx->node (node id, default rates) for the drive set in ctx.
+// Throws std::invalid_argument naming the node id the firmware refuses.
 void can_glue_init(CanDriveContext* ctx, unsigned node, std::uint32_t fs_hz);
 
 // The control callback; ctx is a CanDriveContext.

@@ -147,7 +147,7 @@ can_node_t make_node(uint8_t node = 0)
     can_tx_config_t c;
     can_tx_defaults(&c, node, kFs);
     can_node_t n;
-    can_node_init(&n, &c);
+    EXPECT_TRUE(can_node_init(&n, &c));
     return n;
 }
 }  // namespace
@@ -322,12 +322,12 @@ TEST(CanNode, SetRateAndHeartbeatCounter)
 
 // ---- a full transmit queue (comm/can_tx.h, can_node.h), issue 26 ----
 //
-// The contract: at most one due message is packed per sample; when the
-// 16-frame queue is full that message is dropped and counted, never waited
-// for (its next due sample is a period on, as if sent); the queued frames
-// stay, oldest first (the newest is what is lost); the heartbeat's Counter
-// is the number of heartbeats queued before it, so a dropped heartbeat
-// is not counted as sent.
+// The contract (issue 44: keep the newest telemetry): at most one due
+// message is packed per sample; when the 16-frame queue is full the oldest
+// queued frame makes room for it and is counted as dropped, nothing is
+// waited for; the queue stays oldest first; the heartbeat's Counter is the
+// number of heartbeats queued before it, so a heartbeat pushed out shows
+// on the bus as a gap in the Counter.
 namespace {
 uint16_t hb_counter(const can_frame_t& f) { return static_cast<uint16_t>(f.data[5] | (f.data[6] << 8)); }
 int32_t theta_ref_raw(const can_frame_t& f)
@@ -349,50 +349,41 @@ void transmit_at(can_node_t* n, uint32_t k, can_telemetry_t* t)
 }
 }  // namespace
 
-// Default rates, node 0, nobody transmits for 105 ms: the first 16 due
-// frames stay queued in order (heartbeat at 0, the six 10 ms messages at
-// 1-6, the version at 7, the six at 101-106, Position and Velocity at 201,
-// 202), the 53 other messages due by then are dropped, the heartbeat due
-// at 100 ms among them: heartbeats stays 1. One slot freed at 105 ms: the
-// dropped heartbeat is not retried, the next due message (Position at
-// 110.1 ms) takes the slot, behind the 15 old frames. With the bus back,
-// the heartbeats of 200 and 300 ms carry Counter 1 and 2: the dropped
-// one was never counted. sent + dropped = every message due (215 in
-// 350 ms).
-TEST(CanNode, FullQueueDropsTheNewestCountsItAndRecovers)
+// Default rates, node 0, nobody transmits for 105 ms: the 69 messages due
+// are all queued (sent 69) and the queue keeps the newest 16, oldest first
+// (messages 4-6 of 80.4-80.6 ms, the six of 90.1-90.6, the heartbeat of
+// 100 ms, the six of 100.1-100.6), 53 pushed out; both heartbeats were
+// queued. With the bus back every frame is taken: the heartbeats of 200
+// and 300 ms carry Counter 2 and 3 (0 was pushed out, the one kept is 1);
+// nothing more is dropped.
+// Broken once: the drop of the newest put back (the queue kept the frames
+// of 0-20.2 ms).
+TEST(CanNode, FullQueueDropsTheOldestCountsItAndRecovers)
 {
     can_node_t n = make_node(0);
     can_telemetry_t t{};
     for (uint32_t k = 0; k < 1050; ++k) transmit_at(&n, k, &t);
     EXPECT_EQ(n.tx.count, CAN_TX_QUEUE);
-    EXPECT_EQ(n.tx.sent, CAN_TX_QUEUE);
-    EXPECT_EQ(n.tx.dropped, 69u - CAN_TX_QUEUE);  // 2 heartbeats, 1 version, 6 x 11 in [0, 1050)
-    EXPECT_EQ(n.heartbeats, 1u) << "a dropped heartbeat counted as sent";
+    EXPECT_EQ(n.tx.sent, 69u);  // 2 heartbeats, 1 version, 6 x 11 in [0, 1050)
+    EXPECT_EQ(n.tx.dropped, 69u - CAN_TX_QUEUE);
+    EXPECT_EQ(n.heartbeats, 2u);
     // the backend takes one frame: the oldest, left queued by peek
     can_frame_t f, g;
     ASSERT_TRUE(can_node_peek(&n, &f));
     ASSERT_TRUE(can_node_peek(&n, &g));
     EXPECT_EQ(std::memcmp(&f, &g, sizeof f), 0);
-    EXPECT_EQ(f.id, 0x100u);
-    EXPECT_EQ(hb_counter(f), 0u);
-    can_node_pop(&n);
-    EXPECT_EQ(n.tx.count, CAN_TX_QUEUE - 1);
-    for (uint32_t k = 1050; k < 1101; ++k) {
-        transmit_at(&n, k, &t);
-        ASSERT_EQ(n.tx.count, CAN_TX_QUEUE - 1) << "something was queued at " << k;
-    }
-    transmit_at(&n, 1101, &t);
-    EXPECT_EQ(n.tx.count, CAN_TX_QUEUE);
-    EXPECT_EQ(n.tx.sent, CAN_TX_QUEUE + 1);
-    const uint32_t first_ids[] = {0x110, 0x120, 0x130, 0x140, 0x150, 0x160, 0x170, 0x110, 0x120, 0x130,
-                                  0x140, 0x150, 0x160, 0x110, 0x120, 0x110};
-    const int32_t first_theta[] = {1, 2, 3, 4, 5, 6, 7, 101, 102, 103, 104, 105, 106, 201, 202, 1101};
+    const uint32_t ids[] = {0x140, 0x150, 0x160, 0x110, 0x120, 0x130, 0x140, 0x150,
+                            0x160, 0x100, 0x110, 0x120, 0x130, 0x140, 0x150, 0x160};
+    const int32_t theta[] = {0, 0, 0, 901, 0, 0, 0, 0, 0, 0, 1001, 0, 0, 0, 0, 0};
     for (int j = 0; j < 16; ++j) {
         ASSERT_TRUE(can_node_peek(&n, &f)) << j;
         can_node_pop(&n);
-        EXPECT_EQ(f.id, first_ids[j]) << j;
+        EXPECT_EQ(f.id, ids[j]) << j;
         if (f.id == 0x110) {
-            EXPECT_EQ(theta_ref_raw(f), first_theta[j] * 100) << j;  // 1e-3 k rad at 1e-5
+            EXPECT_EQ(theta_ref_raw(f), theta[j] * 100) << j;  // 1e-3 k rad at 1e-5
+        }
+        if (f.id == 0x100) {
+            EXPECT_EQ(hb_counter(f), 1u) << "the heartbeat kept is the second queued";
         }
     }
     EXPECT_FALSE(can_node_peek(&n, &f));
@@ -401,7 +392,7 @@ TEST(CanNode, FullQueueDropsTheNewestCountsItAndRecovers)
     // the bus back: every frame taken at once
     std::vector<uint16_t> counters;
     int positions = 0;
-    for (uint32_t k = 1102; k < 3500; ++k) {
+    for (uint32_t k = 1050; k < 3500; ++k) {
         transmit_at(&n, k, &t);
         while (can_node_peek(&n, &f)) {
             can_node_pop(&n);
@@ -409,41 +400,47 @@ TEST(CanNode, FullQueueDropsTheNewestCountsItAndRecovers)
             if (f.id == 0x110) ++positions;
         }
     }
-    EXPECT_EQ(counters, (std::vector<uint16_t>{1, 2}));
-    EXPECT_EQ(n.heartbeats, 3u);
-    EXPECT_EQ(positions, 23);  // 1201, 1301, .., 3401
+    EXPECT_EQ(counters, (std::vector<uint16_t>{2, 3}));
+    EXPECT_EQ(n.heartbeats, 4u);
+    EXPECT_EQ(positions, 24);  // 1101, 1201, .., 3401
     EXPECT_EQ(n.tx.dropped, 53u) << "drops after the queue had room again";
-    EXPECT_EQ(n.tx.sent + n.tx.dropped, 215u);  // 4 heartbeats, 1 version, 6 x 35 in [0, 3500)
+    EXPECT_EQ(n.tx.sent, 215u);  // every message due: 4 heartbeats, 1 version, 6 x 35 in [0, 3500)
 }
 
 // Every message at 1 ms on node 9 (0.8 frames a sample) while the backend
 // alternates 50 ms of a fast bus (about one frame a sample) and 50 ms of a
 // slow one (0.3): the queue fills, drops, drains and wraps its ring many
-// times. Each frame taken is the one a FIFO model of 16 frames says,
-// byte for byte (nothing reordered, overwritten or lost but what found
-// the queue full), the counters match the model, and every heartbeat's
-// Counter is the number of heartbeats taken before it.
+// times. Each frame taken is the one a model of 16 frames that pushes out
+// its oldest says, byte for byte (nothing reordered or overwritten, nothing
+// lost but what a newer frame pushed out), the counters match the model,
+// and every heartbeat's Counter is the number of heartbeats queued before
+// it (increasing on the bus, with gaps where one was pushed out).
 TEST(CanNode, QueueIsFifoAcrossTheRingAndAFullQueue)
 {
     can_node_t n = make_node(9);
     for (uint8_t m = 0; m < CAN_TLM_COUNT; ++m) ASSERT_TRUE(can_tx_set_period(&n.tx, 0, m, 1));
     std::vector<can_frame_t> model;  // front = oldest
     size_t head = 0;
-    uint32_t queued = 0, dropped = 0, taken = 0, hb_taken = 0;
+    uint32_t queued = 0, dropped = 0, taken = 0, hb_taken = 0, hb_queued = 0;
+    uint16_t hb_last = 0;
     uint32_t rng = 12345u;
     can_telemetry_t t{};
     for (uint32_t k = 0; k < 20000; ++k) {
         const int32_t m = can_tx_next_due(&n.tx, k);
         transmit_at(&n, k, &t);
         if (m >= 0) {
-            if (model.size() - head < CAN_TX_QUEUE) {
-                can_frame_t f{};
-                ASSERT_TRUE(can_link_pack(static_cast<can_tlm_msg_t>(m), 9, &t, &f));
-                model.push_back(f);
-                ++queued;
-            } else {
+            can_frame_t f{};
+            ASSERT_TRUE(can_link_pack(static_cast<can_tlm_msg_t>(m), 9, &t, &f));
+            if (model.size() - head >= CAN_TX_QUEUE) {
+                ++head;  // full: the oldest goes
                 ++dropped;
             }
+            if (f.id == 0x109) {
+                EXPECT_EQ(hb_counter(f), hb_queued) << "heartbeat at " << k;
+                ++hb_queued;
+            }
+            model.push_back(f);
+            ++queued;
         }
         rng = rng * 1664525u + 1013904223u;
         const uint32_t r = (rng >> 16) % 10;
@@ -459,7 +456,8 @@ TEST(CanNode, QueueIsFifoAcrossTheRingAndAFullQueue)
             ASSERT_EQ(f.dlc, w.dlc) << "frame " << taken;
             ASSERT_EQ(std::memcmp(f.data, w.data, w.dlc), 0) << "frame " << taken << " at " << k;
             if (f.id == 0x109) {
-                EXPECT_EQ(hb_counter(f), hb_taken) << "heartbeat at " << k;
+                EXPECT_TRUE(hb_taken == 0 || hb_counter(f) > hb_last) << "heartbeat at " << k;
+                hb_last = hb_counter(f);
                 ++hb_taken;
             }
             can_node_pop(&n);
@@ -472,20 +470,19 @@ TEST(CanNode, QueueIsFifoAcrossTheRingAndAFullQueue)
     EXPECT_GT(dropped, 1000u);
     EXPECT_GT(taken, 10u * CAN_TX_QUEUE);
     EXPECT_GT(hb_taken, 100u);
-    EXPECT_EQ(n.heartbeats, hb_taken + static_cast<uint32_t>(std::count_if(
-                                          model.begin() + static_cast<long>(head), model.end(),
-                                          [](const can_frame_t& f) { return f.id == 0x109; })));
+    EXPECT_EQ(n.heartbeats, hb_queued);
+    EXPECT_LT(hb_taken, hb_queued) << "no heartbeat was pushed out: the drops are not tested";
 }
 
 // The position drive's telemetry (can_node_step_drive) through a 50 ms bus
-// outage from 100 ms: its heartbeat, the 6 messages of 100.1-100.6 ms and
-// those of 110.1-110.6 and 120.1-120.3 ms fill the queue; the 15 due later
-// in the outage are dropped (Position of 130.1 and 140.1 ms among them);
-// when the bus comes back the host gets the old frames first, in order,
-// then fresh ones: the Position frames it receives carry the drive's
-// theta_r of 0.1, 10.1, ..., 120.1, 150.1, ... ms, none of the dropped
-// ones; the heartbeats' Counter runs 0, 1, 2. The drive's steps are not
-// affected.
+// outage from 100 ms: the 31 messages due in it are queued and the queue
+// keeps the newest 16 (120.3-120.6, 130.1-130.6, 140.1-140.6 ms); the 15
+// oldest are pushed out (the heartbeat of 100 ms, Position of 100.1, 110.1
+// and 120.1 ms among them); when the bus comes back the host gets the kept
+// frames first, in order, then fresh ones: the Position frames it
+// receives carry the drive's theta_r of 0.1, 10.1, ..., 90.1, 130.1,
+// 140.1, 150.1, ... ms; the heartbeats' Counter runs 0, 2 (1 was pushed
+// out). The drive's steps are not affected.
 TEST(CanNode, PositionDriveTelemetryThroughABusOutage)
 {
     static paper000_drive_t d;
@@ -508,11 +505,11 @@ TEST(CanNode, PositionDriveTelemetryThroughABusOutage)
         }
     }
     EXPECT_EQ(n.tx.dropped, 15u);
-    EXPECT_EQ(n.tx.sent + n.tx.dropped, 3u + 1u + 6u * 30u);
-    EXPECT_EQ(counters, (std::vector<uint16_t>{0, 1, 2}));
+    EXPECT_EQ(n.tx.sent, 3u + 1u + 6u * 30u);
+    EXPECT_EQ(counters, (std::vector<uint16_t>{0, 2}));
     std::vector<int> want_ticks;
     for (int k = 1; k < 3000; k += 100) {
-        if (k != 1301 && k != 1401) want_ticks.push_back(k);
+        if (k != 1001 && k != 1101 && k != 1201) want_ticks.push_back(k);
     }
     ASSERT_EQ(got_theta.size(), want_ticks.size());
     for (size_t j = 0; j < want_ticks.size(); ++j) {
@@ -869,5 +866,28 @@ TEST(DriveInterface, EveryDriveRunsThroughTheSameOperations)
         if (r != nullptr) {
             EXPECT_EQ(r->fault, DRIVE_FAULT_NONE);
         }
+    }
+}
+
+// A node id the DBC has no room for (above CAN_LINK_NODE_MAX: its ids add
+// the node to the message's) or no control rate is refused at init and
+// the node left as it was; 0 and 15 are taken (issue 44).
+// Broken once: the node test left out of can_tx_init (16 accepted).
+TEST(CanNode, InitRefusesANodeIdOutOfRange)
+{
+    can_node_t n = make_node(3);
+    const can_node_t before = n;
+    can_tx_config_t c;
+    can_tx_defaults(&c, 16u, kFs);
+    EXPECT_FALSE(can_node_init(&n, &c));
+    can_tx_defaults(&c, 255u, kFs);
+    EXPECT_FALSE(can_node_init(&n, &c));
+    can_tx_defaults(&c, 2u, 0);
+    EXPECT_FALSE(can_node_init(&n, &c));
+    EXPECT_EQ(std::memcmp(&n, &before, sizeof n), 0) << "a refused init changed the node";
+    for (const uint8_t ok : {uint8_t{0}, uint8_t{CAN_LINK_NODE_MAX}}) {
+        can_tx_defaults(&c, ok, kFs);
+        EXPECT_TRUE(can_node_init(&n, &c)) << int(ok);
+        EXPECT_EQ(n.tx.cfg.node, ok);
     }
 }

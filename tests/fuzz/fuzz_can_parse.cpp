@@ -135,8 +135,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     can_tx_config_t tc;
     can_tx_defaults(&tc, 0, 10000);
     can_node_t n_pos, n_speed;
-    can_node_init(&n_pos, &tc);
-    can_node_init(&n_speed, &tc);
+    if (!can_node_init(&n_pos, &tc)) return 0;
+    if (!can_node_init(&n_speed, &tc)) return 0;
     uint32_t tick = 2000;
     constexpr size_t kFrame = 12;
     for (size_t off = 0; off + 4 <= size; off += kFrame) {

@@ -149,7 +149,9 @@ int main(void)
     {
         can_tx_config_t tc;
         can_tx_defaults(&tc, 0u, (int32_t)pil_control_hz);
-        can_node_init(&can_node, &tc);
+        if (!can_node_init(&can_node, &tc)) {
+            return fail("can_node_init refused node 0 at the control rate");
+        }
     }
 
     /* calibration: the same timed region around nothing */

@@ -33,7 +33,9 @@ bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint32_t cfg_byte
     memcpy(&cfg, cfg_words, cfg_bytes);
     can_tx_config_t tc;
     can_tx_defaults(&tc, node, (int32_t)control_hz);
-    can_node_init(&a->node, &tc);
+    if (!can_node_init(&a->node, &tc)) {
+        return false; /* a node id the DBC has no room for */
+    }
     a->can = can;
     a->step_cycles = 0u;
     a->step_dir = false;
