@@ -284,7 +284,8 @@ def fmt_num(p, v):
     if t == "bool":
         return "true" if v else "false"
     if t == "f32":
-        return f"{float(v):g}"
+        g = f"{float(v):g}"
+        return g if float(g) == float(v) else repr(float(v))
     return str(v)
 
 
@@ -375,7 +376,7 @@ def doc_row(p, defaults_cols):
         rng = ", ".join(p["values"])
     defs = " | ".join(f"`{fmt_num(p, d)}`" for d in defaults_cols)
     return (f"| `0x{p['id']:04X}` | `{p['name']}` | {p['type']} | {p['unit'] or '-'} | {rng} | {defs} | "
-            f"{p['access']} | {p['description']} |")
+            f"{p['access']} | {p['description'].replace('|', chr(92) + '|')} |")
 
 
 def gen_doc(drives, bt, board_defaults, statuses):
