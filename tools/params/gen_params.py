@@ -20,7 +20,10 @@ defaults against the board tables (hal/backends/stm32f405/boards/*.c).
 --check regenerates into a scratch folder and compares (ctest
 tools.params_current); --out DIR writes the tree there instead.
 
-usage: tools/params/gen_params.py [--check] [--out DIR]
+--root DIR reads the sources under DIR instead of the repository (the
+tests' copies, tests/tools/test_params_gen.py).
+
+usage: tools/params/gen_params.py [--check] [--out DIR] [--root DIR]
 """
 import argparse
 import difflib
@@ -483,7 +486,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true", help="compare with the committed files instead of writing")
     ap.add_argument("--out", help="write the generated tree under this folder instead of the repository")
+    ap.add_argument("--root", help="the repository to read (default: this script's)")
     a = ap.parse_args()
+    global ROOT
+    if a.root:
+        ROOT = pathlib.Path(a.root).resolve()
     try:
         files = generate()
     except SourceError as e:
