@@ -98,22 +98,22 @@ typedef union {
     uint32_t u32;
 } param_value_t;
 
-/* One parameter. min, max, def are of the type (f32 in .f32, i32 and enum
+/* One parameter (its fields ordered for the least padding). min, max, def are of the type (f32 in .f32, i32 and enum
  * in .i32, u32 and bool in .u32); def_exact is the default as the source
  * writes it, in double (what the struct gets for the default). */
 typedef struct {
-    uint16_t id;
+    const char *name;         /* snake_case with its SI unit, as in the struct (R_ohm, i_max_A) */
+    const char *unit;         /* SI, "" for none */
+    const char *const *names; /* PARAM_ENUM: the values' names; else NULL */
+    double def_exact;
+    param_value_t min, max, def;
+    uint32_t def_hash; /* CRC-32 of id, name, type, unit, range (and the enum's names): the store's */
+    uint32_t offset;   /* offsetof the field in the table's struct */
     param_type_t type;
     param_access_t access;
-    const char *name; /* snake_case with its SI unit, as in the struct (R_ohm, i_max_A) */
-    const char *unit; /* SI, "" for none */
-    param_value_t min, max, def;
-    double def_exact;
-    uint32_t def_hash;        /* CRC-32 of id, name, type, unit, range (and the enum's names): the store's */
-    const char *const *names; /* PARAM_ENUM: the values' names; else NULL */
-    uint8_t n_names;
     param_field_t field; /* the C type of the field it sets */
-    uint32_t offset;     /* offsetof the field in the table's struct */
+    uint16_t id;
+    uint8_t n_names;
 } param_desc_t;
 
 /* A value the table fixes in its struct without a parameter (the image's

@@ -60,6 +60,8 @@ def f32(x):
 def c_float(x):
     """A C float literal that reads back as f32(x) exactly."""
     v = f32(x)
+    if v == int(v) and abs(v) < 1e7:
+        return f"{int(v)}.0f"
     s = next(t for t in (f"{v:.{n}g}" for n in range(1, 10)) if f32(float(t)) == v)
     if "e" not in s and "." not in s and "inf" not in s:
         s += ".0"
@@ -258,24 +260,27 @@ def gen_c(table, cname, guard, header_rel, defaults=None, extra_tables=(), prefi
             exact = c_double(dv)
             enum = p["type"] == "enum"
             names = f"names_{c_ident(p['name'])}" if enum else "NULL"
-            c.append(f"    {{0x{p['id']:04X}u, {TYPE_C[p['type']]}, {ACCESS_C[p['access']]}, \"{p['name']}\", "
-                     f"\"{p['unit']}\", {value_init(p, p['min'])}, {value_init(p, p['max'])}, {value_init(p, dv)}, "
-                     f"{exact}, 0x{p['def_hash']:08X}u, {names}, {len(p['values']) if enum else 0}u, "
-                     f"FIELD({p['field']}), (uint32_t)offsetof({st}, {p['field']})}},")
+            c.append(f"    {{.id = 0x{p['id']:04X}u, .type = {TYPE_C[p['type']]}, .access = {ACCESS_C[p['access']]}, "
+                     f".name = \"{p['name']}\", .unit = \"{p['unit']}\",\n"
+                     f"     .min = {value_init(p, p['min'])}, .max = {value_init(p, p['max'])}, "
+                     f".def = {value_init(p, dv)}, .def_exact = {exact}, .def_hash = 0x{p['def_hash']:08X}u,\n"
+                     f"     .names = {names}, .n_names = {len(p['values']) if enum else 0}u, .field = FIELD({p['field']}), "
+                     f".offset = (uint32_t)offsetof({st}, {p['field']})}},")
         c.append("};")
         c.append("")
     if fixed:
         c.append(f"static const param_fixed_t {cname}_fixed[{len(fixed)}] = {{")
         for f in fixed:
-            c.append(f"    {{\"{f['field']}\", FIELD({f['field']}), (uint32_t)offsetof({st}, {f['field']}), "
-                     f"{c_double(f['value'])}}},")
+            c.append(f"    {{.path = \"{f['field']}\", .field = FIELD({f['field']}), "
+                     f".offset = (uint32_t)offsetof({st}, {f['field']}), .value = {c_double(f['value'])}}},")
         c.append("};")
         c.append("")
     for name, d in tables:
-        fx = f"{cname}_fixed, {len(fixed)}u" if fixed else "NULL, 0u"
+        fx = f".fixed = {cname}_fixed, .n_fixed = {len(fixed)}u" if fixed else ".fixed = NULL, .n_fixed = 0u"
         label = src["table"] if d is None else f"{src['table']} {name.split('_')[-1]}"
-        c.append(f"const param_table_t {name} = {{\"{label}\", \"{st}\", (uint32_t)sizeof({st}), {name}_desc, "
-                 f"{len(params)}u, {fx}, {name.upper()}_SCHEMA_HASH}};")
+        c.append(f"const param_table_t {name} = {{.name = \"{label}\", .target = \"{st}\", "
+                 f".target_bytes = (uint32_t)sizeof({st}), .params = {name}_desc, .n_params = {len(params)}u, "
+                 f"{fx}, .schema_hash = {name.upper()}_SCHEMA_HASH}};")
     c.append("")
     return "\n".join(c), "\n".join(h)
 
