@@ -180,7 +180,7 @@ void p001_design_defaults(p001_design_input_t *in)
     in->fit_det_min = 0.0;
     in->i_open_loop_A = 0.0;
     in->probe_s = P001_PROBE_S;
-    in->estimator = P001_ESTIMATOR_FLUX;
+    in->estimator = OPEN_START_FLUX;
     in->omega_lim_rad_s = 0.0;
     in->compute_delay_samples = 0.0; /* a DAC card; an MCU's PWM is 1 */
     in->i_rail_A = 0.0;              /* unknown: no rail check */
@@ -300,7 +300,7 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     /* flux observer (12)-(14) in w = lambda/Ts units (flux_observer.h) */
     const double phi_fs = Phi / ts;
     const int s = (int)floor(log2(phi_fs)) + 1;
-    flux_observer_config_t *fo = &cfg->flux;
+    flux_observer_config_t *fo = &cfg->est.flux;
     bool ok = p001_coeff(m->R_ohm, "flux.R_ohm", &fo->R_ohm, err, err_len) &&
               p001_coeff(m->L_H / ts, "flux.L_fs_ohm", &fo->L_fs_ohm, err, err_len) &&
               p001_coeff(phi_fs, "flux.Phi_fs_V", &fo->Phi_fs_V, err, err_len) &&
@@ -313,13 +313,13 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     fo->rho_pre = mc_from_double(ldexp(1.0, -s));
     /* resistance tracking (estimators/resistance_tracker.h; constants above) */
     {
-        resistance_tracker_config_t *rt = &cfg->rtrack;
+        resistance_tracker_config_t *rt = &cfg->est.rtrack;
         const double tau_R = P001_RTRACK_TAU_PER_OBSERVER * 2.0 / (np * a1);
         const double i_gate = P001_RTRACK_I_GATE_SHARE * in->i_max_A;
         const double e_clamp = P001_RTRACK_E_CLAMP_SHARE * m->R_ohm * in->i_max_A;
         const double dR_max = P001_RTRACK_DR_MAX_SHARE * m->R_ohm;
         const double n_tau = round(tau_R * fsr);
-        rt->enabled = in->track_resistance && in->estimator == P001_ESTIMATOR_FLUX;
+        rt->enabled = in->track_resistance && in->estimator == OPEN_START_FLUX;
         if (rt->enabled) {
             if (!(m->R_ohm > 0.0)) {
                 return p001_fail(err, err_len, "motor.R_ohm", "must be > 0 to track R", m->R_ohm);
@@ -347,7 +347,7 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         }
     }
     /* I&I observer (15)-(16), increment form (speed_load_observer.h) */
-    speed_load_observer_config_t *so = &cfg->speed;
+    speed_load_observer_config_t *so = &cfg->est.speed;
     ok = ok && p001_coeff(ts * Kt / m->J_kgm2, "speed.ts_kt_over_J", &so->ts_kt_over_J, err, err_len) &&
          p001_coeff(ts / m->J_kgm2, "speed.ts_over_J", &so->ts_over_J, err, err_len) &&
          p001_coeff(fs / np, "speed.fs_over_np", &so->fs_over_np, err, err_len) &&
@@ -369,26 +369,26 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
     cfg->open_loop.v_max_V = mc_from_double(P001_OPEN_LOOP_VCAP_V);
     const double blend = (in->blend_tau_s > 0.0) ? in->blend_tau_s : P001_BLEND_TAU_S;
     cfg->sup.blend_decay = mc_from_double(exp(-ts / blend));
-    cfg->handover_sweep_rad =
+    cfg->est.handover_sweep_rad =
         mc_from_double((in->handover_sweep_rad > 0.0) ? in->handover_sweep_rad : P001_HANDOVER_SWEEP_RAD);
-    cfg->fit.decim = P001_FIT_DECIM;
-    cfg->fit.det_min = mc_from_double((in->fit_det_min > 0.0) ? in->fit_det_min : P001_FIT_DET_MIN);
+    cfg->est.fit.decim = P001_FIT_DECIM;
+    cfg->est.fit.det_min = mc_from_double((in->fit_det_min > 0.0) ? in->fit_det_min : P001_FIT_DET_MIN);
     cfg->v_bus_min_V = mc_from_double(P001_V_BUS_MIN_V);
     if (!(in->probe_s >= 0.0 && in->probe_s <= 10.0)) {
         return p001_fail(err, err_len, "probe_s", "must be in [0, 10] s", in->probe_s);
     }
-    cfg->probe_ticks = (uint32_t)llround(in->probe_s * fs);
-    cfg->probe_turn_ticks = (uint32_t)llround(fmin(P001_PROBE_TURN_S, 0.5 * in->probe_s) * fs);
-    cfg->probe_fit.decim = 1;
-    cfg->probe_fit.det_min = mc_from_double(P001_PROBE_DET_MIN);
-    cfg->probe_step2 = mc_from_double(P001_PROBE_STEP2);
-    cfg->probe_turn2 = mc_from_double(P001_PROBE_TURN2);
+    cfg->est.probe_ticks = (uint32_t)llround(in->probe_s * fs);
+    cfg->est.probe_turn_ticks = (uint32_t)llround(fmin(P001_PROBE_TURN_S, 0.5 * in->probe_s) * fs);
+    cfg->est.probe_fit.decim = 1;
+    cfg->est.probe_fit.det_min = mc_from_double(P001_PROBE_DET_MIN);
+    cfg->est.probe_step2 = mc_from_double(P001_PROBE_STEP2);
+    cfg->est.probe_turn2 = mc_from_double(P001_PROBE_TURN2);
     {
         double i_probe = (m->R_ohm > 0.0) ? P001_PROBE_SLIP_RAD_S * Ke / m->R_ohm : i_ol;
         if (i_probe > i_ol) {
             i_probe = i_ol;
         }
-        cfg->probe_v_V = mc_from_double(m->R_ohm * i_probe);
+        cfg->est.probe_v_V = mc_from_double(m->R_ohm * i_probe);
         if (rep != NULL) {
             rep->i_probe_A = i_probe;
         }
@@ -402,15 +402,16 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
             a_max = fmax(a_max, fabs(in->omega_rad_s[k + 1] - in->omega_rad_s[k]) / (in->t_s[k + 1] - in->t_s[k]));
         }
     }
-    if (in->estimator != P001_ESTIMATOR_FLUX && in->estimator != P001_ESTIMATOR_BACK_EMF) {
+    if (in->estimator != OPEN_START_FLUX && in->estimator != OPEN_START_BACK_EMF) {
         return p001_fail(err, err_len, "estimator", "must be FLUX (0) or BACK_EMF (1)", in->estimator);
     }
-    cfg->estimator = (p001_estimator_t)in->estimator;
+    cfg->estimator = (uint8_t)in->estimator;
     if (!(in->compute_delay_samples >= 0.0 && in->compute_delay_samples <= 1.0)) {
         return p001_fail(err, err_len, "compute_delay_samples", "must be in [0, 1]", in->compute_delay_samples);
     }
     cfg->compute_delay = mc_from_double(in->compute_delay_samples);
-    cfg->advance_np = mc_from_double(np * (0.5 + in->compute_delay_samples));
+    cfg->est.advance_np = mc_from_double(np * (0.5 + in->compute_delay_samples));
+    cfg->est.model = cfg->model; /* the estimator's motor is the drive's */
     {
         const double w_lim = (in->omega_lim_rad_s > 0.0) ? in->omega_lim_rad_s : P001_EMF_AT_OMEGA_LIM_V / Ke;
         fg_estimator_design_t ed;
@@ -427,10 +428,10 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         ed.load_rate_max_Nm_s = P001_EMF_LOAD_RATE_NM_S;
         ed.omega_lim_rad_s = w_lim;
         ed.i_max_A = in->i_max_A;
-        fg_estimator_design(&ed, &cfg->emf, NULL);
-        cfg->emf_torque_model = cfg->model;
-        cfg->emf_torque_model.K_V_s = mc_from_double(Kt);
-        cfg->omega_lim_rad_s = mc_from_double(w_lim);
+        fg_estimator_design(&ed, &cfg->est.emf, NULL);
+        cfg->est.emf_torque_model = cfg->model;
+        cfg->est.emf_torque_model.K_V_s = mc_from_double(Kt);
+        cfg->est.omega_lim_rad_s = mc_from_double(w_lim);
     }
 
     /* speed profile: ticks, slopes, lengths, angles at the corners */
@@ -483,7 +484,7 @@ bool p001_design(const p001_design_input_t *in, paper001_config_t *cfg, p001_des
         rep->loop_wn_rad_s = sqrt(Ke * Kt / (m->L_H * m->J_kgm2));
         rep->loop_zeta = r * m->J_kgm2 / (2.0 * sqrt(m->L_H * m->J_kgm2 * Ke * Kt));
         rep->i_open_loop_A = i_ol;
-        rep->probe_s = (double)cfg->probe_ticks * ts;
+        rep->probe_s = (double)cfg->est.probe_ticks * ts;
     }
     return true;
 }

@@ -38,7 +38,7 @@ typedef struct {
     double handover_sweep_rad; /* electrical; <= 0: derived */
     double fit_det_min;      /* smallest arc measure of the circle fit; <= 0: derived */
     double probe_s;          /* longest start-up probe [s]; 0: no probe (defaults: 0.3) */
-    int estimator;           /* p001_estimator_t: FLUX (default) or BACK_EMF */
+    int estimator;           /* OPEN_START_FLUX (default) or OPEN_START_BACK_EMF (estimators/open_start.h) */
     double compute_delay_samples; /* the board's computation delay, [0, 1] samples */
     double i_rail_A;
     int i_trip_samples;      /* consecutive samples beyond i_trip_A that trip (0 or 1: instantaneous; up to 8) */         /* current at the ADC's rail; 0: unknown (no rail check) */

@@ -69,8 +69,13 @@ typedef enum {
 /* The configuration type an estimator takes: a drive picks among the
  * estimators of one family, whose configuration it carries. */
 typedef enum {
-    EST_FAMILY_ROTOR_ANGLE = 1 /* rotor_angle_config_t (estimators/rotor_angle.h) */
+    EST_FAMILY_ROTOR_ANGLE = 1, /* rotor_angle_config_t (estimators/rotor_angle.h) */
+    EST_FAMILY_OPEN_START = 2   /* open_start_config_t (estimators/open_start.h) */
 } estimator_family_t;
+
+/* The open-start family's sample in and out (estimators/open_start.h). */
+struct open_start_in;
+struct open_start_report;
 
 typedef struct estimator_ops {
     const char *name;          /* as in the docs and logs: "flux" */
@@ -103,6 +108,15 @@ typedef struct estimator_ops {
     /* the time update (NULL: none): u_mean_ab_V the voltage the motor sees over the coming sample
      * (the computation delay's mean), u_cmd_ab_V this sample's command, both without any injection */
     void (*hold)(void *self, mc_ab_t u_mean_ab_V, mc_ab_t u_cmd_ab_V);
+
+    /* The open-start family's (estimators/open_start.h; NULL in the others). Its sample's
+     * operations (measure, open loop, hold) are not here: a drive runs them in line, its step
+     * instantiated per member (estimator_registry.h, OPEN_START_ESTIMATORS). */
+    /* the estimate and the figures the status shows (closed: the drive's loop is closed) */
+    void (*report)(const void *self, const struct open_start_in *in, bool closed, struct open_start_report *r);
+    /* the speed from which the estimate is trusted, raised at run time (NULL: not settable);
+     * false: refused (below the configured one) */
+    bool (*set_omega_lim)(void *self, mc_t omega_lim_rad_s);
 } estimator_ops_t;
 
 #ifdef __cplusplus

@@ -2,9 +2,7 @@
 #include "estimators/estimator_registry.h"
 
 const estimator_ops_t *const estimator_registry[] = {
-    &encoder_angle_ops,
-    &flux_angle_ops,
-    &hfi_angle_ops,
+    &encoder_angle_ops, &flux_angle_ops, &hfi_angle_ops, &flux_speed_ops, &emf_speed_ops,
 };
 const size_t estimator_registry_count = sizeof(estimator_registry) / sizeof(estimator_registry[0]);
 

@@ -11,9 +11,11 @@
 
 #include <stddef.h>
 
+#include "estimators/emf_speed.h"
 #include "estimators/encoder_angle.h"
 #include "estimators/estimator.h"
 #include "estimators/flux_angle.h"
+#include "estimators/flux_speed.h"
 #include "estimators/hfi_angle.h"
 
 #ifdef __cplusplus
@@ -25,7 +27,18 @@ typedef union {
     encoder_angle_t encoder;
     flux_angle_t flux;
     hfi_angle_t hfi;
+    flux_speed_t flux_speed;
+    emf_speed_t emf_speed;
 } estimator_storage_t;
+
+/* The open-start family's members (estimators/open_start.h), one line
+ * each: X(prefix), where the header defines prefix_ops and the sample's
+ * operations in line (prefix_measure_op, prefix_open_loop_op,
+ * prefix_hold_op). A drive of the family
+ * instantiates its step once per line, so that the sample runs the
+ * estimator without a call (paper001_drive.c); its configuration's number
+ * picks the instantiation at init. */
+#define OPEN_START_ESTIMATORS(X) X(flux_speed) X(emf_speed)
 
 extern const estimator_ops_t *const estimator_registry[];
 extern const size_t estimator_registry_count;

@@ -89,7 +89,7 @@ void p001_select_estimator(Scenario* sc, const std::string& name)
 
 const char* p001_estimator_name(const drive_config_storage_t* cfg)
 {
-    return cfg->paper001.estimator == P001_ESTIMATOR_BACK_EMF ? "back_emf" : "flux";
+    return cfg->paper001.estimator == OPEN_START_BACK_EMF ? "back_emf" : "flux";
 }
 
 }  // namespace

@@ -131,7 +131,7 @@ struct Scenario {
         double probe_s = -1.0;  // start-up probe [s]; 0: none; < 0: the design's default
         bool identify = false;  // commissioning run (R, L, Phi) before the run
         bool track_resistance = false;  // R of the flux observer tracked on line
-        int estimator = 0;      // p001_estimator_t: 0 flux (paper 001), 1 back_emf (paper 000)
+        int estimator = 0;      // paper001_config_t.estimator: 0 flux (paper 001), 1 back_emf (paper 000)
     } speed_gains;
 
     // [paper002] (paper 002's cascaded speed drive of an IPMSM on an

@@ -659,7 +659,7 @@ TEST(PmsmIdentification, OvercurrentInAnyPhaseRejectsAndLatches)
 // test ran it with one): the design's output advance n_p (1/2 + d), the
 // voltage the observers integrate (1 - d) v + d v_prev, and the output's
 // rotation: the estimate advanced by n_p w_hat (1/2 + d) Ts, each against
-// its formula in double (drives/paper001/paper001_drive.h); K_t = 3/2 n_p Phi for
+// its formula in double (drives/paper001/paper001_drive.h, estimators/flux_speed.h); K_t = 3/2 n_p Phi for
 // three phases in IDA-PBC's 1/K_t and J/K_t.
 TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
 {
@@ -672,7 +672,7 @@ TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
         char err[160];
         ASSERT_TRUE(p001_design(&in, &cfg, &rep, err, sizeof err)) << err;
         const double tol = MC_FIXED ? 3e-5 : 1e-6;
-        EXPECT_NEAR(mc_to_double(cfg.advance_np), np * (0.5 + d), tol * np) << d;
+        EXPECT_NEAR(mc_to_double(cfg.est.advance_np), np * (0.5 + d), tol * np) << d;
         EXPECT_NEAR(mc_to_double(cfg.compute_delay), d, tol) << d;
         const double kt = 1.5 * np * phi;
         EXPECT_NEAR(mc_to_double(cfg.ctrl.inv_Kt_A_Nm), 1.0 / kt, 1e-3 / kt) << d;
@@ -691,7 +691,7 @@ TEST(Paper001Delay, AdvanceAppliedMeanAndOutputRotation)
             mc_rot_t rho;
             rho.s = mc_from_double(std::sin(a));
             rho.c = mc_from_double(std::cos(a));
-            const mc_rot_t out = paper001_output_rot(&cfg, rho, mc_from_double(w));
+            const mc_rot_t out = flux_speed_output_rot(&cfg.est, rho, mc_from_double(w));
             const double e = a + w * np * (0.5 + d) / fs;
             EXPECT_NEAR(mc_to_double(out.s), std::sin(e), 20 * tol) << d << " " << w;
             EXPECT_NEAR(mc_to_double(out.c), std::cos(e), 20 * tol) << d << " " << w;

@@ -185,7 +185,7 @@ TEST(Params, ValuesOfTheirTypeAndRange)
     EXPECT_TRUE(params_write(&paper001_params, &in, PAPER001_PARAMS_N_P, i32v(100), false, &e));
     EXPECT_EQ(in.motor.n_p, 100);
     EXPECT_TRUE(params_write(&paper001_params, &in, PAPER001_PARAMS_ESTIMATOR, i32v(1), false, &e));
-    EXPECT_EQ(in.estimator, P001_ESTIMATOR_BACK_EMF);
+    EXPECT_EQ(in.estimator, OPEN_START_BACK_EMF);
     EXPECT_TRUE(params_write(&paper001_params, &in, PAPER001_PARAMS_TRACK_RESISTANCE, u32v(1), false, &e));
     EXPECT_TRUE(in.track_resistance);
     // an integer field wider than int32 (paper 002's encoder counts: long)

@@ -10,7 +10,7 @@ line) and by operation. Use it to see which lines of firmware/ cost what:
   tools/bench/pil_profile.py --type fixed --samples 1000
   tools/bench/pil_profile.py --type float --by op
 
-Instructions outside paper000_drive_step (the harness) are left out. The log is
+Instructions outside the drive's step (the harness, the inits) are left out. The log is
 about 60 bytes per executed instruction: keep --samples to a few thousand.
 """
 import argparse
@@ -34,6 +34,8 @@ def main():
     ap.add_argument("--build-root", default=os.path.join(cb.ROOT, "build", "pil-profile"))
     ap.add_argument("--by", choices=["line", "op", "function"], default="line")
     ap.add_argument("--top", type=int, default=60)
+    ap.add_argument("--estimator", default=None, help="mc_pil_gen --estimator (a drive measured per estimator)")
+    ap.add_argument("--drive", default="paper000", help="the drive the image is built for (its scenario: --scenario)")
     args = ap.parse_args()
     miss = cb.missing_tools()
     if miss:
@@ -43,9 +45,9 @@ def main():
     gen = pil.host_generator(args.type, args.gen)
     os.makedirs(args.build_root, exist_ok=True)
     vec = os.path.join(args.build_root, "pil_vectors_%s.c" % args.type)
-    cb.run([gen, args.scenario, vec, str(args.samples)])
+    cb.run([gen] + (["--estimator", args.estimator] if args.estimator else []) + [args.scenario, vec, str(args.samples)])
     bdir = os.path.join(args.build_root, preset)
-    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "CMAKE_C_FLAGS_RELEASE": "-O3 -DNDEBUG -g"},
+    cb.cross_build(preset, bdir, {"MC_PIL_VECTORS": vec, "MC_DRIVE": args.drive, "CMAKE_C_FLAGS_RELEASE": "-O3 -DNDEBUG -g -fno-ipa-icf"},
                    targets=["mc_pil"])
     elf = os.path.join(bdir, "hal", "backends", "mcu", "mc_pil.elf")
     log = os.path.join(args.build_root, "exec_%s.log" % args.type)
@@ -77,7 +79,7 @@ def main():
         i += 2
     harness = {"main", "paint_stack", "stack_used", "mcu_put_u32", "mcu_put_i32", "mcu_puts", "mcu_put_kv", "mcu_put_hex32",
                "semihost", "mcu_systick_now", "mcu_systick_elapsed", "from_bits", "to_bits", "Reset_Handler",
-               "paper000_drive_init", "memcpy", "memset"}
+               "memcpy", "memset"}
     agg = collections.Counter()
     total = 0
     for pc, c in cnt.items():
@@ -96,8 +98,8 @@ def main():
             key = (op, fw[0][1] if fw else "?")
         agg[key] += c
     n = max(1, args.samples)
-    print("%d periods, %.1f instructions per period in paper000_drive_step and below (%s, %s)"
-          % (n, total / n, args.type, machine))
+    print("%d periods, %.1f instructions per period in %s's step and below (%s, %s)"
+          % (n, total / n, args.drive, args.type, machine))
     for key, c in agg.most_common(args.top):
         print("%8.1f  %s" % (c / n, "  ".join(key)))
     return 0

@@ -6,9 +6,11 @@
  *   phase adapter (adapter/)     2 or 3 phase currents -> alpha-beta, voltages back
  *                                with min/max zero sequence, limited by the measured bus
  *   reference (trajectory/)      speed_profile: ramps and holds, w*, dw_ref/dt
- *   estimators (estimators/)     flux_observer (12)-(14) -> unit vector of the angle;
- *                                speed_load_observer (15)-(16) with the unwrap of
- *                                Appendix A -> w_hat, tau_hat
+ *   estimator (estimators/)      the open-start estimator cfg.estimator names
+ *                                (open_start.h): flux_speed.h, flux_observer (12)-(14)
+ *                                -> unit vector of the angle, speed_load_observer
+ *                                (15)-(16) with the unwrap of Appendix A -> w_hat,
+ *                                tau_hat; or emf_speed.h, paper 000's chain
  *   controller (control/)        ida_pbc (11) with the J dw_ref/dt feed-forward
  *   start-up (startup/)          open-loop drive (paper 000's eq. (68)) along the
  *                                reference angle until the observer is trusted
@@ -35,12 +37,14 @@
  * it (the back-EMF drives a braking current: damping K_e K_t / R). Meanwhile
  * the flux observer runs as a pure integrator and the circle fit
  * (startup/flux_circle_fit.h) measures its initial error from the arc the
- * flux describes. Once the reference has turned `handover_sweep_rad`
+ * flux describes. Once the reference has turned `est.handover_sweep_rad`
  * electrical and the arc suffices, the observer is corrected, its gradient
  * term switched on, the speed observer started at the reference speed,
  * and the loop closed; the estimate is reported valid from then on.
  *
- * Estimator by configuration (cfg.estimator): with BACK_EMF, paper 000's
+ * The probe, the fit and the hand-over are the estimator's
+ * (estimators/flux_speed.h). Estimator by configuration (cfg.estimator):
+ * with OPEN_START_BACK_EMF (estimators/emf_speed.h), paper 000's
  * estimator replaces the flux and I&I observers after the probe: it runs
  * in the (f-g) frame of the open-loop vector (the reference angle plus the
  * probe's offset), the loop closes as in paper 000 once |w*| >= omega_lim
@@ -59,15 +63,12 @@
 #include "control/delay_comp.h"
 #include "control/ida_pbc.h"
 #include "estimators/estimate.h"
-#include "estimators/fg_estimator.h"
-#include "estimators/flux_observer.h"
-#include "estimators/resistance_tracker.h"
-#include "estimators/speed_load_observer.h"
+#include "estimators/estimator_registry.h"
+#include "estimators/open_start.h"
 #include "hal/hal_types.h"
 #include "math/frame_fg.h"
 #include "math/mc_num.h"
 #include "model/motor_model.h"
-#include "startup/flux_circle_fit.h"
 #include "startup/open_loop.h"
 #include "supervisor/fault_monitor.h"
 #include "supervisor/flight_recorder.h"
@@ -79,48 +80,28 @@
 extern "C" {
 #endif
 
-/* The estimator the drive controls with, chosen by configuration. */
-typedef enum {
-    P001_ESTIMATOR_FLUX = 0,     /* paper 001: flux observer (12)-(14), unwrap (App. A), I&I (15)-(16) */
-    P001_ESTIMATOR_BACK_EMF = 1  /* paper 000: back-EMF observer (23)-(28) in the (f-g) frame of the
-                                  * open-loop vector, arctan and jump counter (29)-(32), (71),
-                                  * mechanical observer (33)-(37) (estimators/fg_estimator.h) */
-} p001_estimator_t;
-
 typedef struct {
     uint8_t n_phases;              /* 3: PMSM (star, three legs); 2: stepper (two H-bridges) */
-    p001_estimator_t estimator;
+    uint8_t estimator;             /* its number in the open-start family (estimators/open_start.h):
+                                    * OPEN_START_FLUX (paper 001: flux observer (12)-(14), unwrap
+                                    * (App. A), I&I (15)-(16)) or OPEN_START_BACK_EMF (paper 000:
+                                    * back-EMF observer (23)-(28) in the (f-g) frame of the open-loop
+                                    * vector, arctan and jump counter (29)-(32), (71), mechanical
+                                    * observer (33)-(37)) */
     motor_model_t model;           /* R, L, K_e = n_p Phi (K_V_s), n_p, fs */
     drive_limits_t limits;         /* i_trip_A on every phase; v_max_V unused (the bus is measured) */
-    flux_observer_config_t flux;
-    resistance_tracker_config_t rtrack; /* estimator FLUX: R of (12) tracked on line in closed
-                                    * loop (estimators/resistance_tracker.h); disabled: the model's */
-    speed_load_observer_config_t speed;
+    open_start_config_t est;       /* the estimator's (its model: this model) */
     ida_pbc_config_t ctrl;
     open_loop_config_t open_loop;  /* v_max_V: a cap below the bus, if any */
     supervisor_config_t sup;
     speed_profile_config_t profile;
-    flux_circle_fit_config_t fit;  /* the observer's initial error from the open-loop motion */
-    uint32_t probe_ticks;          /* longest start-up probe (0: none) */
-    uint32_t probe_turn_ticks;     /* longest time along alpha */
-    mc_t probe_v_V;                /* the probe's standstill vector */
-    mc_t probe_step2;              /* squared spacing of the probe's fit points (scaled units) */
-    mc_t probe_turn2;              /* squared chord at which the probe's vector turns (scaled units) */
-    flux_circle_fit_config_t probe_fit; /* the through-origin fit of the probe's short arc */
-    mc_t handover_sweep_rad;       /* electrical angle the open loop turns before the switch */
     mc_t v_bus_min_V;              /* below this measured bus the sample is refused */
     mc_t compute_delay;            /* d in [0, 1]: this step's voltage acts d Ts after the
                                     * currents were sampled, the last one before (the board's
                                     * property: a DAC card ~0, an MCU PWM 1); the observers
                                     * integrate (1 - d) v[k] + d v[k-1] over the sample */
-    mc_t advance_np;               /* n_p (1/2 + d): the output angle's lead per unit of
-                                    * w_hat Ts (the voltage acts on average that late) */
     deadtime_comp_config_t deadtime; /* the inverter's dead-time compensation
                                     * (control/deadtime_comp.h); disabled: none (no inverter) */
-    /* estimator = BACK_EMF only */
-    fg_estimator_config_t emf;     /* paper 000's estimator gains (design/paper000_design.h) */
-    motor_model_t emf_torque_model;/* the model with K = K_t: the torque of (33)-(37) */
-    mc_t omega_lim_rad_s;          /* |w*| from which the back-EMF angle is trusted (paper 000 4.2) */
     /* faults (docs/faults.md): the generic set, and the loss of the
      * estimate in closed loop: the flux observer's |rho_hat|^2 outside
      * [los_rho2_lo, los_rho2_hi] (1 when it agrees with Phi; estimator FLUX)
@@ -152,29 +133,10 @@ static inline mc_ab_t paper001_applied_mean(const paper001_config_t *c, mc_ab_t 
     return delay_applied_mean(c->compute_delay, v, v_prev);
 }
 
-/* Below this lead the output angle is not advanced: 1e-6 rad is far below
- * anything the drive resolves, and sin/cos of smaller angles would make
- * subnormal intermediates (x^3) in the float build at standstill. */
 /* Share of the largest phase voltage a commanded speed's back-EMF may
  * take: the rest (10 %) is left for the R i and L di/dt drops and the
  * controller's margin. */
 #define P001_CMD_VOLTAGE_SHARE MC_C(0.9)
-
-#define P001_ADVANCE_MIN_RAD MC_C(1e-6)
-
-/* The angle the voltage of (11) is turned to alpha-beta with: the estimate
- * rho advanced by n_p w_hat (1/2 + d) Ts, the electrical angle the rotor
- * has on average while the voltage acts (held over the sample, d samples
- * of computation delay). Without it the voltage lags the rotor by half a
- * sample and more. */
-static inline mc_rot_t paper001_output_rot(const paper001_config_t *c, mc_rot_t rho, mc_t omega_hat_rad_s)
-{
-    const mc_t adv = mc_div_i(mc_mul(omega_hat_rad_s, c->advance_np), c->model.fs_hz);
-    if (mc_lt(mc_abs(adv), P001_ADVANCE_MIN_RAD)) {
-        return rho;
-    }
-    return mc_rot_compose(rho, mc_rot_from_angle(adv));
-}
 
 typedef struct {
     drive_mode_t mode;
@@ -198,34 +160,25 @@ typedef struct {
     uint32_t overruns;             /* HAL-reported overruns */
 } paper001_telemetry_t;
 
+/* The step instantiated for one estimator (paper001_drive.c); self is the drive. */
+typedef bool (*paper001_run_fn)(void *self, const hal_sample_t *in, hal_command_t *out);
+
 typedef struct {
     paper001_config_t cfg;
+    paper001_run_fn run;           /* the step for the estimator cfg.estimator names */
     supervisor_t sup;
     fault_monitor_t mon;
     flight_recorder_t rec;
     fault_persist_t rho_persist, speed_persist;
     lock_monitor_t lock;
-    flux_observer_t flux;
-    resistance_tracker_t rtrack;   /* cfg.rtrack.enabled: the R the flux observer subtracts */
-    flux_circle_fit_t fit;
-    flux_circle_fit_t probe;       /* points P001_PROBE_SCALE (rho - probe_anchor) */
-    mc_ab_t probe_anchor;          /* rho_hat when the probe starts */
-    mc_ab_t probe_last;            /* the last point offered to the probe's fit */
-    bool probing;                  /* the probe runs (the first samples of the open loop) */
-    bool probe_turned;             /* the probe's vector has turned to the arc's direction */
-    mc_rot_t probe_dir;            /* the probe's vector direction */
-    mc_rot_t ol_origin;            /* open-loop vector angle minus the reference angle (electrical) */
-    mc_t ol_theta0_rad;            /* reference angle when the open-loop turn starts */
-    mc_t ol_origin_mech_rad;       /* ol_origin as a mechanical angle (the (f-g) frame's offset) */
-    fg_estimator_t emf;            /* estimator = BACK_EMF */
+    const estimator_ops_t *est;    /* the estimator cfg.estimator names */
+    estimator_storage_t est_state; /* its state */
+    open_start_in_t x;             /* the sample the estimator is given: the reference w*, theta* in it */
     deadtime_comp_t dtc;           /* cfg.deadtime */
-    speed_load_observer_t speed;
     ida_pbc_t ctrl;
     speed_profile_t profile;
-    speed_point_t ref;
     bool disabled;                 /* paper001_drive_set_enabled(false): 0 V until enabled again */
     mc_t stop_ramp_rad_s2;         /* the ramp of a stop: the last commanded, else the profile's steepest */
-    mc_t omega_lim_rad_s;          /* in use (BACK_EMF): cfg's or paper001_drive_set_omega_lim's */
     mc_t v_bus_V;                  /* the last accepted bus measurement */
     uint32_t tick;
     struct {

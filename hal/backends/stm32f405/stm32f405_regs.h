@@ -72,6 +72,28 @@ typedef struct {
 #define FLASH_ACR_PRFTEN (1u << 8)
 #define FLASH_ACR_ICEN (1u << 9)
 #define FLASH_ACR_DCEN (1u << 10)
+STM32_ASSERT(offsetof(flash_regs_t, SR) == 0x0C, "FLASH_SR at 0x0C");
+STM32_ASSERT(offsetof(flash_regs_t, CR) == 0x10, "FLASH_CR at 0x10");
+/* the key sequence that unlocks FLASH_CR (RM0090 3.6.1, 3.9.2); a wrong
+ * key locks it until the next reset */
+#define FLASH_KEY1 0x45670123u
+#define FLASH_KEY2 0xCDEF89ABu
+/* FLASH_SR (RM0090 3.9.4): the error flags are cleared by writing 1 */
+#define FLASH_SR_EOP (1u << 0)
+#define FLASH_SR_OPERR (1u << 1)  /* operation error (set with ERRIE only) */
+#define FLASH_SR_WRPERR (1u << 4) /* write protection error */
+#define FLASH_SR_PGAERR (1u << 5) /* programming alignment error (a 128-bit row crossed) */
+#define FLASH_SR_PGPERR (1u << 6) /* programming parallelism error (access size against PSIZE) */
+#define FLASH_SR_PGSERR (1u << 7) /* programming sequence error (a write without PG, ...) */
+#define FLASH_SR_ERRORS (FLASH_SR_OPERR | FLASH_SR_WRPERR | FLASH_SR_PGAERR | FLASH_SR_PGPERR | FLASH_SR_PGSERR)
+#define FLASH_SR_BSY (1u << 16)
+/* FLASH_CR (RM0090 3.9.5) */
+#define FLASH_CR_PG (1u << 0)
+#define FLASH_CR_SER (1u << 1)
+#define FLASH_CR_SNB(n) (((uint32_t)(n) & 0xFu) << 3) /* sector 0-11 */
+#define FLASH_CR_PSIZE_X32 (2u << 8)                  /* 32-bit program and erase parallelism (2.7-3.6 V, RM0090 3.6.2) */
+#define FLASH_CR_STRT (1u << 16)
+#define FLASH_CR_LOCK (1u << 31)
 
 /* ---- GPIO, RM0090 8.4 ---- */
 typedef struct {

@@ -16,14 +16,14 @@
  *   ii      speed_load_observer_step (15)-(16)  (a library call in the step)
  *   ida     ida_pbc_step (11)                   (inline in the step)
  *   frames  mc_rot_fwd of i and mc_rot_inv of v at the advanced output
- *           angle (paper001_output_rot; inline in the step)
+ *           angle (flux_speed_output_rot; inline in the step)
  * each through a noipa wrapper that takes its arguments in one struct, so
  * that the timed sequence (pointer, bl) is the same for every part and for
  * an empty wrapper timed in the same period, which tools/bench/pil.py
  * subtracts. A part's count is thus its body plus loading its arguments
  * (and, for the library calls, the call itself), as in the step.
  * It then checks that the copies end bit for bit where the drive's states
- * did (flux observer after flux_observer_hold of the voltage the step held,
+ * did (the flux observer told the voltage held over the last sample first, as the step's measure is,
  * I&I, IDA-PBC, i_d/i_q) and, in the periods where the supervisor did not
  * limit the command (part_outputs_checked), that IDA-PBC's (v_d, v_q) plus
  * the bumpless offset and its rotation are the command and voltage the step
@@ -51,7 +51,7 @@ static ida_pbc_t ctrl_copy;
 /* what the step started from */
 static bool part;
 static mc_t blend_d, blend_q; /* the bumpless offset the supervisor adds to this step's command */
-static mc_ab_t v_ab_before;   /* the voltage held over the last sample (the delay's v[k-1]) */
+static mc_ab_t u_held_before; /* the voltage the step's flux observer integrates (the drive's x.u_held_ab_V) */
 static uint32_t part_mismatches, part_outputs_checked;
 static uint32_t part_first = 0xFFFFFFFFu;
 static pil_line_t line;
@@ -97,7 +97,7 @@ typedef struct {
 __attribute__((noipa)) static void pil_frames(pil_frames_args_t *a)
 {
     mc_rot_fwd(a->rho, a->i.alpha, a->i.beta, &a->i_d, &a->i_q);
-    mc_rot_inv(paper001_output_rot(a->c, a->rho, a->w_hat), a->v_d, a->v_q, &a->v.alpha, &a->v.beta);
+    mc_rot_inv(flux_speed_output_rot(&a->c->est, a->rho, a->w_hat), a->v_d, a->v_q, &a->v.alpha, &a->v.beta);
 }
 __attribute__((noipa)) static void pil_frames_empty(pil_frames_args_t *a) { (void)a; }
 
@@ -117,13 +117,14 @@ void pil_probe_before(const void *self, const void *cfg_v, const hal_sample_t *i
     const paper001_config_t *cfg = (const paper001_config_t *)cfg_v;
     (void)in;
     (void)k;
-    part = cfg->estimator == P001_ESTIMATOR_FLUX && drive->sup.state == SUP_STATE_CLOSED_LOOP;
+    part = cfg->estimator == OPEN_START_FLUX && drive->sup.state == SUP_STATE_CLOSED_LOOP;
     blend_d = drive->sup.blend_V[0];
     blend_q = drive->sup.blend_V[1];
-    v_ab_before = drive->last.v_ab_V;
+    u_held_before = drive->x.u_held_ab_V;
     if (part) {
-        memcpy(&flux_copy, &drive->flux, sizeof flux_copy);
-        memcpy(&speed_copy, &drive->speed, sizeof speed_copy);
+        memcpy(&flux_copy, &drive->est_state.flux_speed.flux, sizeof flux_copy);
+        memcpy(&speed_copy, &drive->est_state.flux_speed.speed, sizeof speed_copy);
+        flux_observer_hold(&flux_copy, u_held_before); /* as the step's measure begins */
         memcpy(&ctrl_copy, &drive->ctrl, sizeof ctrl_copy);
     }
 }
@@ -154,8 +155,8 @@ void pil_probe_after(const void *self, const void *cfg_v, const hal_sample_t *in
     ida_args.i_q = drive->last.i_q_A;
     ida_args.w_hat = speed_copy.omega_rad_s;
     ida_args.tau_hat = speed_copy.load_Nm;
-    ida_args.w_ref = drive->ref.omega_rad_s;
-    ida_args.a_ref = drive->ref.accel_rad_s2;
+    ida_args.w_ref = drive->x.ref.omega_rad_s;
+    ida_args.a_ref = drive->x.ref.accel_rad_s2;
     PIL_TIME(t_ida0, pil_ida_empty(&ida_args));
     PIL_TIME(t_ida, pil_ida(&ida_args));
     /* the command as supervisor_blend makes it (no switch in a closed-loop
@@ -177,9 +178,8 @@ void pil_probe_after(const void *self, const void *cfg_v, const hal_sample_t *in
     const mc_t i_d = frames_args.i_d;
     const mc_t i_q = frames_args.i_q;
     const mc_ab_t v_ab = frames_args.v;
-    flux_observer_hold(&flux_copy, paper001_applied_mean(cfg, drive->last.v_ab_V, v_ab_before));
-    bool same = memcmp(&flux_copy, &drive->flux, sizeof flux_copy) == 0 &&
-                memcmp(&speed_copy, &drive->speed, sizeof speed_copy) == 0 &&
+    bool same = memcmp(&flux_copy, &drive->est_state.flux_speed.flux, sizeof flux_copy) == 0 &&
+                memcmp(&speed_copy, &drive->est_state.flux_speed.speed, sizeof speed_copy) == 0 &&
                 memcmp(&ctrl_copy, &drive->ctrl, sizeof ctrl_copy) == 0 && to_bits(i_d) == to_bits(drive->last.i_d_A) &&
                 to_bits(i_q) == to_bits(drive->last.i_q_A);
     if (!drive->sup.sat_prev) {

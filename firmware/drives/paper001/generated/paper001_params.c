@@ -13,8 +13,8 @@
     _Generic(((p001_design_input_t *)0)->path, double: PARAM_FIELD_DOUBLE, int: PARAM_FIELD_INT, long: PARAM_FIELD_LONG, \
              bool: PARAM_FIELD_BOOL, unsigned int: PARAM_FIELD_UINT, unsigned long: PARAM_FIELD_ULONG)
 
-_Static_assert(P001_ESTIMATOR_FLUX == 0, "estimator: flux is P001_ESTIMATOR_FLUX");
-_Static_assert(P001_ESTIMATOR_BACK_EMF == 1, "estimator: back_emf is P001_ESTIMATOR_BACK_EMF");
+_Static_assert(OPEN_START_FLUX == 0, "estimator: flux is OPEN_START_FLUX");
+_Static_assert(OPEN_START_BACK_EMF == 1, "estimator: back_emf is OPEN_START_BACK_EMF");
 
 static const char *const names_estimator[] = {"flux", "back_emf"};
 
