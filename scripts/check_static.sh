@@ -203,7 +203,8 @@ fi
 FORMAT_PENDING=scripts/clang_format_pending.txt
 format_files() {  # the checked files, generated ones left out
     find firmware hal sim design tools -type f \( -name '*.c' -o -name '*.h' -o -name '*.cpp' -o -name '*.hpp' \) \
-        ! -path 'firmware/comm/generated/*' ! -path 'firmware/drives/*/boards/*_config.c' | LC_ALL=C sort
+        ! -path 'firmware/comm/generated/*' ! -path 'firmware/drives/*/boards/*_config.c' \
+        ! -path 'firmware/drives/*/generated/*' ! -path 'firmware/config/generated/*' | LC_ALL=C sort
 }
 if want clang-format; then
     tf=$SECONDS

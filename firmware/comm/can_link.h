@@ -24,7 +24,7 @@
 extern "C" {
 #endif
 
-#define CAN_LINK_MSG_SET_VERSION 3u   /* the DBC's MsgSetVersion; VERSION "drive-can 3" (1 + Version + ExcessSteps) */
+#define CAN_LINK_MSG_SET_VERSION 4u   /* the DBC's MsgSetVersion; VERSION "drive-can 4" (1 + Version + ExcessSteps + ParamRequest, ParamReply) */
 #define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
 
 /* One classic CAN frame: the HAL's (hal/hal_types.h). */

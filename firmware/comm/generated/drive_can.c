@@ -807,6 +807,93 @@ bool drive_can_version_fixed_point_is_in_range(uint8_t value)
 {
     return (value <= 1u);
 }
+int drive_can_param_reply_pack(
+    uint8_t *dst_p,
+    const struct drive_can_param_reply_t *src_p,
+    size_t size)
+{
+    uint32_t value;
+
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->op, 0u, 0x0fu);
+    dst_p[0] |= pack_left_shift_u8(src_p->status, 4u, 0xf0u);
+    dst_p[1] |= pack_left_shift_u8(src_p->seq, 0u, 0xffu);
+    dst_p[2] |= pack_left_shift_u16(src_p->param_id, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u16(src_p->param_id, 8u, 0xffu);
+    value = (uint32_t)src_p->value;
+    dst_p[4] |= pack_left_shift_u32(value, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(value, 8u, 0xffu);
+    dst_p[6] |= pack_right_shift_u32(value, 16u, 0xffu);
+    dst_p[7] |= pack_right_shift_u32(value, 24u, 0xffu);
+
+    return (8);
+}
+
+int drive_can_param_reply_unpack(
+    struct drive_can_param_reply_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    uint32_t value;
+
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->op = unpack_right_shift_u8(src_p[0], 0u, 0x0fu);
+    dst_p->status = unpack_right_shift_u8(src_p[0], 4u, 0xf0u);
+    dst_p->seq = unpack_right_shift_u8(src_p[1], 0u, 0xffu);
+    dst_p->param_id = unpack_right_shift_u16(src_p[2], 0u, 0xffu);
+    dst_p->param_id |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
+    value = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
+    value |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
+    value |= unpack_left_shift_u32(src_p[6], 16u, 0xffu);
+    value |= unpack_left_shift_u32(src_p[7], 24u, 0xffu);
+    dst_p->value = (int32_t)value;
+
+    return (0);
+}
+
+int drive_can_param_reply_init(struct drive_can_param_reply_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct drive_can_param_reply_t));
+
+    return 0;
+}
+
+bool drive_can_param_reply_op_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+bool drive_can_param_reply_status_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+bool drive_can_param_reply_seq_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_param_reply_param_id_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_param_reply_value_is_in_range(int32_t value)
+{
+    (void)value;
+
+    return (true);
+}
 int drive_can_cmd_enable_pack(
     uint8_t *dst_p,
     const struct drive_can_cmd_enable_t *src_p,
@@ -1161,4 +1248,85 @@ bool drive_can_cmd_set_rate_message_is_in_range(uint8_t value)
 bool drive_can_cmd_set_rate_period_is_in_range(uint16_t value)
 {
     return (value <= 60000u);
+}
+int drive_can_param_request_pack(
+    uint8_t *dst_p,
+    const struct drive_can_param_request_t *src_p,
+    size_t size)
+{
+    uint32_t value;
+
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->op, 0u, 0x0fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->seq, 0u, 0xffu);
+    dst_p[2] |= pack_left_shift_u16(src_p->param_id, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u16(src_p->param_id, 8u, 0xffu);
+    value = (uint32_t)src_p->value;
+    dst_p[4] |= pack_left_shift_u32(value, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(value, 8u, 0xffu);
+    dst_p[6] |= pack_right_shift_u32(value, 16u, 0xffu);
+    dst_p[7] |= pack_right_shift_u32(value, 24u, 0xffu);
+
+    return (8);
+}
+
+int drive_can_param_request_unpack(
+    struct drive_can_param_request_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    uint32_t value;
+
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->op = unpack_right_shift_u8(src_p[0], 0u, 0x0fu);
+    dst_p->seq = unpack_right_shift_u8(src_p[1], 0u, 0xffu);
+    dst_p->param_id = unpack_right_shift_u16(src_p[2], 0u, 0xffu);
+    dst_p->param_id |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
+    value = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
+    value |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
+    value |= unpack_left_shift_u32(src_p[6], 16u, 0xffu);
+    value |= unpack_left_shift_u32(src_p[7], 24u, 0xffu);
+    dst_p->value = (int32_t)value;
+
+    return (0);
+}
+
+int drive_can_param_request_init(struct drive_can_param_request_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct drive_can_param_request_t));
+
+    return 0;
+}
+
+bool drive_can_param_request_op_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+bool drive_can_param_request_seq_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_param_request_param_id_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+bool drive_can_param_request_value_is_in_range(int32_t value)
+{
+    (void)value;
+
+    return (true);
 }

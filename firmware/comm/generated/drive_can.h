@@ -53,6 +53,7 @@ extern "C" {
 #define DRIVE_CAN_VOLTAGES_FRAME_ID (0x150u)
 #define DRIVE_CAN_TIMING_FRAME_ID (0x160u)
 #define DRIVE_CAN_VERSION_FRAME_ID (0x170u)
+#define DRIVE_CAN_PARAM_REPLY_FRAME_ID (0x180u)
 #define DRIVE_CAN_CMD_ENABLE_FRAME_ID (0x200u)
 #define DRIVE_CAN_CMD_MOVE_FRAME_ID (0x210u)
 #define DRIVE_CAN_CMD_SPEED_FRAME_ID (0x220u)
@@ -60,6 +61,7 @@ extern "C" {
 #define DRIVE_CAN_CMD_SET_OMEGA_LIM_FRAME_ID (0x240u)
 #define DRIVE_CAN_CMD_CLEAR_FAULTS_FRAME_ID (0x250u)
 #define DRIVE_CAN_CMD_SET_RATE_FRAME_ID (0x260u)
+#define DRIVE_CAN_PARAM_REQUEST_FRAME_ID (0x280u)
 
 /* Frame lengths in bytes. */
 #define DRIVE_CAN_HEARTBEAT_LENGTH (8u)
@@ -70,6 +72,7 @@ extern "C" {
 #define DRIVE_CAN_VOLTAGES_LENGTH (8u)
 #define DRIVE_CAN_TIMING_LENGTH (8u)
 #define DRIVE_CAN_VERSION_LENGTH (4u)
+#define DRIVE_CAN_PARAM_REPLY_LENGTH (8u)
 #define DRIVE_CAN_CMD_ENABLE_LENGTH (1u)
 #define DRIVE_CAN_CMD_MOVE_LENGTH (6u)
 #define DRIVE_CAN_CMD_SPEED_LENGTH (4u)
@@ -77,6 +80,7 @@ extern "C" {
 #define DRIVE_CAN_CMD_SET_OMEGA_LIM_LENGTH (2u)
 #define DRIVE_CAN_CMD_CLEAR_FAULTS_LENGTH (1u)
 #define DRIVE_CAN_CMD_SET_RATE_LENGTH (3u)
+#define DRIVE_CAN_PARAM_REQUEST_LENGTH (8u)
 
 /* Extended or standard frame types. */
 #define DRIVE_CAN_HEARTBEAT_IS_EXTENDED (0)
@@ -87,6 +91,7 @@ extern "C" {
 #define DRIVE_CAN_VOLTAGES_IS_EXTENDED (0)
 #define DRIVE_CAN_TIMING_IS_EXTENDED (0)
 #define DRIVE_CAN_VERSION_IS_EXTENDED (0)
+#define DRIVE_CAN_PARAM_REPLY_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_ENABLE_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_MOVE_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_SPEED_IS_EXTENDED (0)
@@ -94,6 +99,7 @@ extern "C" {
 #define DRIVE_CAN_CMD_SET_OMEGA_LIM_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_CLEAR_FAULTS_IS_EXTENDED (0)
 #define DRIVE_CAN_CMD_SET_RATE_IS_EXTENDED (0)
+#define DRIVE_CAN_PARAM_REQUEST_IS_EXTENDED (0)
 
 /* Frame cycle times in milliseconds. */
 
@@ -108,6 +114,22 @@ extern "C" {
 #define DRIVE_CAN_HEARTBEAT_MODE_CLOSED_LOOP_CHOICE (1u)
 #define DRIVE_CAN_HEARTBEAT_MODE_FAULT_CHOICE (2u)
 
+#define DRIVE_CAN_PARAM_REPLY_OP_READ_CHOICE (0u)
+#define DRIVE_CAN_PARAM_REPLY_OP_WRITE_CHOICE (1u)
+#define DRIVE_CAN_PARAM_REPLY_OP_SAVE_CHOICE (2u)
+#define DRIVE_CAN_PARAM_REPLY_OP_DEFAULTS_CHOICE (3u)
+#define DRIVE_CAN_PARAM_REPLY_OP_LIST_CHOICE (4u)
+
+#define DRIVE_CAN_PARAM_REPLY_STATUS_DONE_CHOICE (0u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_UNKNOWN_ID_CHOICE (1u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_READ_ONLY_CHOICE (2u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_OUT_OF_RANGE_CHOICE (3u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_NOT_WHILE_ENABLED_CHOICE (4u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_BAD_VALUE_CHOICE (5u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_DESIGN_REFUSED_CHOICE (6u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_STORE_FAILED_CHOICE (7u)
+#define DRIVE_CAN_PARAM_REPLY_STATUS_BAD_REQUEST_CHOICE (8u)
+
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_HEARTBEAT_CHOICE (0u)
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_POSITION_CHOICE (1u)
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_VELOCITY_CHOICE (2u)
@@ -116,6 +138,12 @@ extern "C" {
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_VOLTAGES_CHOICE (5u)
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_TIMING_CHOICE (6u)
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_VERSION_CHOICE (7u)
+
+#define DRIVE_CAN_PARAM_REQUEST_OP_READ_CHOICE (0u)
+#define DRIVE_CAN_PARAM_REQUEST_OP_WRITE_CHOICE (1u)
+#define DRIVE_CAN_PARAM_REQUEST_OP_SAVE_CHOICE (2u)
+#define DRIVE_CAN_PARAM_REQUEST_OP_DEFAULTS_CHOICE (3u)
+#define DRIVE_CAN_PARAM_REQUEST_OP_LIST_CHOICE (4u)
 
 /* Frame Names. */
 #define DRIVE_CAN_HEARTBEAT_NAME "Heartbeat"
@@ -126,6 +154,7 @@ extern "C" {
 #define DRIVE_CAN_VOLTAGES_NAME "Voltages"
 #define DRIVE_CAN_TIMING_NAME "Timing"
 #define DRIVE_CAN_VERSION_NAME "Version"
+#define DRIVE_CAN_PARAM_REPLY_NAME "ParamReply"
 #define DRIVE_CAN_CMD_ENABLE_NAME "CmdEnable"
 #define DRIVE_CAN_CMD_MOVE_NAME "CmdMove"
 #define DRIVE_CAN_CMD_SPEED_NAME "CmdSpeed"
@@ -133,6 +162,7 @@ extern "C" {
 #define DRIVE_CAN_CMD_SET_OMEGA_LIM_NAME "CmdSetOmegaLim"
 #define DRIVE_CAN_CMD_CLEAR_FAULTS_NAME "CmdClearFaults"
 #define DRIVE_CAN_CMD_SET_RATE_NAME "CmdSetRate"
+#define DRIVE_CAN_PARAM_REQUEST_NAME "ParamRequest"
 
 /* Signal Names. */
 #define DRIVE_CAN_HEARTBEAT_DRIVE_KIND_NAME "DriveKind"
@@ -171,6 +201,11 @@ extern "C" {
 #define DRIVE_CAN_VERSION_FW_MINOR_NAME "FwMinor"
 #define DRIVE_CAN_VERSION_FW_PATCH_NAME "FwPatch"
 #define DRIVE_CAN_VERSION_FIXED_POINT_NAME "FixedPoint"
+#define DRIVE_CAN_PARAM_REPLY_OP_NAME "Op"
+#define DRIVE_CAN_PARAM_REPLY_STATUS_NAME "Status"
+#define DRIVE_CAN_PARAM_REPLY_SEQ_NAME "Seq"
+#define DRIVE_CAN_PARAM_REPLY_PARAM_ID_NAME "ParamId"
+#define DRIVE_CAN_PARAM_REPLY_VALUE_NAME "Value"
 #define DRIVE_CAN_CMD_ENABLE_ENABLE_NAME "Enable"
 #define DRIVE_CAN_CMD_MOVE_THETA_TO_NAME "ThetaTo"
 #define DRIVE_CAN_CMD_MOVE_DURATION_NAME "Duration"
@@ -181,6 +216,10 @@ extern "C" {
 #define DRIVE_CAN_CMD_CLEAR_FAULTS_RESERVED_NAME "Reserved"
 #define DRIVE_CAN_CMD_SET_RATE_MESSAGE_NAME "Message"
 #define DRIVE_CAN_CMD_SET_RATE_PERIOD_NAME "Period"
+#define DRIVE_CAN_PARAM_REQUEST_OP_NAME "Op"
+#define DRIVE_CAN_PARAM_REQUEST_SEQ_NAME "Seq"
+#define DRIVE_CAN_PARAM_REQUEST_PARAM_ID_NAME "ParamId"
+#define DRIVE_CAN_PARAM_REQUEST_VALUE_NAME "Value"
 
 /**
  * Signals in message Heartbeat.
@@ -523,6 +562,52 @@ struct drive_can_version_t {
 };
 
 /**
+ * Signals in message ParamReply.
+ *
+ * The answer to a ParamRequest, one for each: its Op, Seq and ParamId echoed (list: the parameter found), Status done or the named refusal (param_status_t, firmware/config/params.h), Value the parameter's value after the request (read, write, list) or 0.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct drive_can_param_reply_t {
+    /**
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t op;
+
+    /**
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t status;
+
+    /**
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t seq;
+
+    /**
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t param_id;
+
+    /**
+     * the parameter's 32 bits: an IEEE 754 single's for a parameter of type f32, else the integer (docs/parameters.md gives each parameter's type)
+     *
+     * Range: -2147483648..2147483647 (-2147483648..2147483647 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    int32_t value;
+};
+
+/**
  * Signals in message CmdEnable.
  *
  * Enable (1) or disable (0) the power stage. Disable puts the drive in its safe state (0 V) until enabled; enabling a disabled drive starts it again as at power-up (alignment or probe, then its configured program): the rotor may have moved. Refused in fault (clear it first).
@@ -653,6 +738,47 @@ struct drive_can_cmd_set_rate_t {
      * Offset: 0
      */
     uint16_t period;
+};
+
+/**
+ * Signals in message ParamRequest.
+ *
+ * Read, write, save, restore the defaults of, or list the drive's and board's parameters (docs/parameters.md: ids, types, ranges, access). Answered by a ParamReply with the same Seq. Op read: ParamId's value; write: Value into ParamId (refused read-only, outside its range, or while enabled for a parameter written only while disabled); save: every value into the configuration store (refused while enabled); defaults: every value back to its default (not saved); list: the first parameter whose id is >= ParamId (0xFFFF and unknown_id past the last).
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct drive_can_param_request_t {
+    /**
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t op;
+
+    /**
+     * the host's sequence number, echoed in the reply
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t seq;
+
+    /**
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t param_id;
+
+    /**
+     * write: the parameter's 32 bits, an IEEE 754 single's for a parameter of type f32, else the integer; 0 for the other ops
+     *
+     * Range: -2147483648..2147483647 (-2147483648..2147483647 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    int32_t value;
 };
 
 /**
@@ -1276,6 +1402,88 @@ bool drive_can_version_fw_patch_is_in_range(uint8_t value);
 bool drive_can_version_fixed_point_is_in_range(uint8_t value);
 
 /**
+ * Pack message ParamReply.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int drive_can_param_reply_pack(
+    uint8_t *dst_p,
+    const struct drive_can_param_reply_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message ParamReply.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int drive_can_param_reply_unpack(
+    struct drive_can_param_reply_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from ParamReply.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int drive_can_param_reply_init(struct drive_can_param_reply_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_reply_op_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_reply_status_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_reply_seq_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_reply_param_id_is_in_range(uint16_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_reply_value_is_in_range(int32_t value);
+
+/**
  * Pack message CmdEnable.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -1623,6 +1831,79 @@ bool drive_can_cmd_set_rate_message_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool drive_can_cmd_set_rate_period_is_in_range(uint16_t value);
+
+/**
+ * Pack message ParamRequest.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int drive_can_param_request_pack(
+    uint8_t *dst_p,
+    const struct drive_can_param_request_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message ParamRequest.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int drive_can_param_request_unpack(
+    struct drive_can_param_request_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from ParamRequest.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int drive_can_param_request_init(struct drive_can_param_request_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_request_op_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_request_seq_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_request_param_id_is_in_range(uint16_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_param_request_value_is_in_range(int32_t value);
 
 
 #ifdef __cplusplus
