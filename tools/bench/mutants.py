@@ -515,7 +515,7 @@ MUTANTS = [
     m("can_tx_full_drops_newest", "comm/can_tx.c", "a full queue drops the due frame, not its oldest one",
       ("        t->head = (t->head + 1u) & (CAN_TX_QUEUE - 1u);\n        t->count -= 1u;\n        t->dropped += 1u;",
        "        t->dropped += 1u;\n        return;")),
-    m("can_node_heartbeat_counts_drops", "comm/can_node.c", "the heartbeat counter advances when its frame was not queued",
+    m("can_node_heartbeat_counts_drops", "comm/can_node.c", "the heartbeat counter advances when its frame was dropped",
       ("if (heartbeat_due && n->tx.sent != before) {", "if (heartbeat_due && n->tx.sent >= before) {")),
     m("can_link_round_negative", "comm/can_link.c", "telemetry: negative values rounded towards +inf by 0.5 (float)",
       ("int64_t r = (int64_t)(y >= 0.0f ? y + 0.5f : y - 0.5f);", "int64_t r = (int64_t)(y + 0.5f);")),
