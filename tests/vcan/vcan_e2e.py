@@ -395,7 +395,10 @@ def sensored_commander(d, sent_bad):
     d.send("CmdSpeed", OmegaRef=10.0, Ramp=20.0)
     if not d.wait_for(lambda s: abs(s["Velocity"]["OmegaRef"] - 10.0) < 0.01, 10, "the new reference 10 rad/s"):
         return
-    if not d.wait_sim(0.6):
+    # 1.6 s: the check's last 0.2 s of the hold then start at least 0.14 s
+    # after the scenario's load step at 2.5 s (CmdSpeed lands at 1.0-1.5 s);
+    # with 0.6 s they could start 40 ms after it (0.25 rad/s of transient)
+    if not d.wait_sim(1.6):
         return
     d.send("CmdStop", Reserved=0)
 
