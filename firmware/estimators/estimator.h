@@ -12,10 +12,14 @@
  * commands the voltage, an injection on top of the command, a correction
  * of the speed reference) is an optional operation, NULL where it has none;
  * a drive calls it when present and never tests the estimator's kind.
- * Found by the number the drive's configuration holds
- * (estimators/estimator_registry.h); added with its files and one line
- * there. Nothing allocates: the drive owns the state
- * (estimator_storage_t).
+ * Found by its family (the configuration type it takes) and the number
+ * the drive's configuration holds (estimators/estimator_registry.h); added
+ * with its files and its lines there. Nothing allocates: the drive owns
+ * the state (estimator_storage_t). The family above is the rotor-angle
+ * one (rotor_angle.h); the open-start family (open_start.h: angle, speed
+ * and load from the currents, with an open-loop start) keeps only its
+ * cold operations in this table (init, config_problem, report,
+ * set_omega_lim) and runs its sample in line in the drive's step.
  *
  * Units: SI, angles in rad (electrical where named _e), currents in A,
  * voltages in V in the stator's alpha-beta frame.
