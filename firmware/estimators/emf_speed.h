@@ -41,7 +41,8 @@ extern const estimator_ops_t emf_speed_ops;
 const char *emf_speed_problem(const void *cfg);
 
 /* The sample's operations, in line as flux_speed.h's (estimator.h's
- * signatures; the ops table holds them too). */
+ * signatures; the ops table holds them too; C only, as there). */
+#ifndef __cplusplus
 /* One sample after the probe: the frame's front (6)-(8) at the open-loop
  * vector's angle, the observer's correction, the tracking where the angle
  * is trusted, the hand-over either way (the jump counter's branch at the
@@ -49,7 +50,7 @@ const char *emf_speed_problem(const void *cfg);
  * (44). */
 static FLUX_SPEED_IN_LINE void emf_speed_measure_op(void *self, const open_start_in_t *in, open_start_out_t *out)
 {
-    emf_speed_t *o = (emf_speed_t *)self;
+    emf_speed_t *o = self;
     o->probe_ran = o->fs.probing;
     if (o->probe_ran) {
         flux_speed_measure(&o->fs, in, out);
@@ -60,11 +61,11 @@ static FLUX_SPEED_IN_LINE void emf_speed_measure_op(void *self, const open_start
         const mc_t theta_ref = in->ref.theta_rad;
         const mc_t theta_r = mc_add(theta_ref, o->fs.ol_origin_mech_rad);
         const mc_t w_r = in->ref.omega_rad_s;
-        speed_point_t next;
-        speed_profile_eval(in->profile, in->tick + 1u, &next);
+        speed_point_t ahead;
+        speed_profile_eval(in->profile, in->tick + 1u, &ahead);
         /* the (f-g) frame: the open-loop vector's origin turned by the reference */
         const mc_rot_t rot_k = mc_rot_compose(o->fs.ol_origin, mc_rot_from_angle(mc_elec_angle(theta_ref, n_p)));
-        fg_estimator_front(&o->fr, rot_k, theta_ref, next.theta_rad, n_p, in->i_ab_A, &o->i_f_A, &o->i_g_A);
+        fg_estimator_front(&o->fr, rot_k, theta_ref, ahead.theta_rad, n_p, in->i_ab_A, &o->i_f_A, &o->i_g_A);
         fg_estimator_correct(&o->emf, o->i_f_A, o->i_g_A);
         const bool want_closed = !mc_lt(mc_abs(w_r), o->omega_lim_rad_s) && fg_estimator_observable(&o->emf);
         if (want_closed) {
@@ -98,7 +99,7 @@ static FLUX_SPEED_IN_LINE void emf_speed_measure_op(void *self, const open_start
 static FLUX_SPEED_IN_LINE void emf_speed_open_loop_op(const void *self, const open_start_in_t *in, mc_t v_V,
                                                       mc_t *v_d_V, mc_t *v_q_V)
 {
-    const emf_speed_t *o = (const emf_speed_t *)self;
+    const emf_speed_t *o = self;
     if (o->probe_ran) {
         flux_speed_open_loop(&o->fs, in, v_V, v_d_V, v_q_V);
         return;
@@ -112,7 +113,7 @@ static FLUX_SPEED_IN_LINE void emf_speed_open_loop_op(const void *self, const op
 static FLUX_SPEED_IN_LINE void emf_speed_hold_op(void *self, const open_start_in_t *in, mc_ab_t u_mean_ab_V, mc_t u_d_V,
                                                  mc_t u_q_V)
 {
-    emf_speed_t *o = (emf_speed_t *)self;
+    emf_speed_t *o = self;
     if (o->probe_ran) {
         return; /* the probe's flux observer integrates it at the next measure */
     }
@@ -122,6 +123,7 @@ static FLUX_SPEED_IN_LINE void emf_speed_hold_op(void *self, const open_start_in
     }
     fg_estimator_predict(&o->emf, &o->fs.cfg.model, v_f, v_g, o->i_f_A, o->i_g_A, o->fr.half);
 }
+#endif /* !__cplusplus */
 
 #ifdef __cplusplus
 }

@@ -163,15 +163,19 @@ static FLUX_SPEED_IN_LINE void flux_speed_open_loop(const flux_speed_t *o, const
 }
 
 /* The operations the drive's step calls (estimator.h's signatures; the
- * ops table holds them too), in line: see OPEN_START_ESTIMATORS. */
+ * ops table holds them too), in line: see OPEN_START_ESTIMATORS. C only:
+ * the drives' steps are C, and C converts self without a cast. */
+#ifndef __cplusplus
 static FLUX_SPEED_IN_LINE void flux_speed_measure_op(void *self, const open_start_in_t *in, open_start_out_t *out)
 {
-    flux_speed_measure((flux_speed_t *)self, in, out);
+    flux_speed_t *o = self;
+    flux_speed_measure(o, in, out);
 }
 static FLUX_SPEED_IN_LINE void flux_speed_open_loop_op(const void *self, const open_start_in_t *in, mc_t v_V,
                                                        mc_t *v_d_V, mc_t *v_q_V)
 {
-    flux_speed_open_loop((const flux_speed_t *)self, in, v_V, v_d_V, v_q_V);
+    const flux_speed_t *o = self;
+    flux_speed_open_loop(o, in, v_V, v_d_V, v_q_V);
 }
 static FLUX_SPEED_IN_LINE void flux_speed_hold_op(void *self, const open_start_in_t *in, mc_ab_t u_mean_ab_V,
                                                   mc_t u_d_V, mc_t u_q_V)
@@ -182,6 +186,7 @@ static FLUX_SPEED_IN_LINE void flux_speed_hold_op(void *self, const open_start_i
     (void)u_d_V;
     (void)u_q_V;
 }
+#endif /* !__cplusplus */
 
 #ifdef __cplusplus
 }
