@@ -169,6 +169,21 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
     return true;
 }
 
+void can_link_pack_param_reply(uint8_t node, uint8_t op, uint8_t status, uint8_t seq, uint16_t id, uint32_t value,
+                               can_frame_t *f)
+{
+    struct drive_can_param_reply_t s;
+    (void)drive_can_param_reply_init(&s);
+    s.op = (uint8_t)(op & 0x0Fu);
+    s.status = (uint8_t)(status & 0x0Fu);
+    s.seq = seq;
+    s.param_id = id;
+    s.value = (int32_t)value;
+    f->id = DRIVE_CAN_PARAM_REPLY_FRAME_ID + node;
+    f->dlc = DRIVE_CAN_PARAM_REPLY_LENGTH;
+    (void)drive_can_param_reply_pack(f->data, &s, sizeof(f->data));
+}
+
 can_reject_t can_link_parse(uint8_t node, const can_frame_t *f, can_cmd_t *cmd)
 {
     cmd->kind = CAN_CMD_NONE;
@@ -263,6 +278,21 @@ can_reject_t can_link_parse(uint8_t node, const can_frame_t *f, can_cmd_t *cmd)
         c.kind = CAN_CMD_SET_RATE;
         c.message = s.message;
         c.period_ms = s.period;
+        break;
+    }
+    case DRIVE_CAN_PARAM_REQUEST_FRAME_ID: {
+        struct drive_can_param_request_t s;
+        if (f->dlc != DRIVE_CAN_PARAM_REQUEST_LENGTH || drive_can_param_request_unpack(&s, f->data, f->dlc) != 0) {
+            return CAN_REJECT_DLC;
+        }
+        if ((f->data[0] & 0xF0u) != 0u) {
+            return CAN_REJECT_RANGE; /* bits 4-7 unused: 0 */
+        }
+        c.kind = CAN_CMD_PARAM;
+        c.param_op = s.op;
+        c.param_seq = s.seq;
+        c.param_id = s.param_id;
+        c.param_value = (uint32_t)s.value;
         break;
     }
     default:

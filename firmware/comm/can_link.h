@@ -69,7 +69,8 @@ typedef enum {
     CAN_CMD_STOP,
     CAN_CMD_SET_OMEGA_LIM,
     CAN_CMD_CLEAR_FAULTS,
-    CAN_CMD_SET_RATE
+    CAN_CMD_SET_RATE,
+    CAN_CMD_PARAM /* ParamRequest: answered by the node's parameter handler (can_node.h) */
 } can_cmd_kind_t;
 
 /* A validated command, SI in mc_t. */
@@ -81,6 +82,12 @@ typedef struct {
     mc_t omega_lim_rad_s;
     uint8_t message;
     uint16_t period_ms;
+    /* ParamRequest's signals as they travel (config/params.h reads them):
+     * the op (0-15: an op the image does not know is answered
+     * bad_request), the host's sequence number, the id, the 32 bits */
+    uint8_t param_op, param_seq;
+    uint16_t param_id;
+    uint32_t param_value;
 } can_cmd_t;
 
 /* Why a frame was refused (0: accepted). */
@@ -103,6 +110,11 @@ const char *can_link_reject_name(can_reject_t r);
  * reason is returned. Pure: the caller decides what a command does (and
  * whether the drive's mode allows it) and counts the refusals. */
 can_reject_t can_link_parse(uint8_t node, const can_frame_t *f, can_cmd_t *cmd);
+
+/* Packs a ParamReply of node into *f: op and seq echoed, status
+ * (param_status_t, 0-15), the parameter's id and its 32 bits. */
+void can_link_pack_param_reply(uint8_t node, uint8_t op, uint8_t status, uint8_t seq, uint16_t id, uint32_t value,
+                               can_frame_t *f);
 
 /* The DBC's integer for value x of a signal of factor 1/inv (inv = 1, 100,
  * 500, 1000, 10000 or 100000 in this message set), rounded to nearest and

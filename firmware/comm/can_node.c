@@ -1,5 +1,7 @@
 #include "comm/can_node.h"
 
+#include <stddef.h>
+
 bool can_node_init(can_node_t *n, const can_tx_config_t *cfg)
 {
     if (!can_tx_init(&n->tx, cfg)) {
@@ -12,7 +14,31 @@ bool can_node_init(can_node_t *n, const can_tx_config_t *cfg)
     n->last_reject_id = 0;
     n->heartbeats = 0;
     n->excess_steps = 0;
+    n->param = NULL;
+    n->param_ctx = NULL;
+    n->param_replies = 0;
     return true;
+}
+
+void can_node_set_params(can_node_t *n, can_param_fn fn, void *ctx)
+{
+    n->param = fn;
+    n->param_ctx = ctx;
+}
+
+/* A ParamRequest: the handler's answer as a ParamReply. */
+static can_reject_t answer_param(can_node_t *n, const can_cmd_t *cmd)
+{
+    if (n->param == NULL) {
+        return CAN_REJECT_UNKNOWN_ID; /* an image without parameters */
+    }
+    can_param_answer_t a = {0};
+    n->param(n->param_ctx, cmd, &a);
+    can_frame_t f;
+    can_link_pack_param_reply(n->tx.cfg.node, cmd->param_op, a.status, cmd->param_seq, a.id, a.value, &f);
+    can_tx_push(&n->tx, &f);
+    n->param_replies += 1u;
+    return CAN_REJECT_NONE;
 }
 
 can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f, can_apply_fn apply, void *drive)
@@ -26,6 +52,8 @@ can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f
     if (r == CAN_REJECT_NONE) {
         if (cmd.kind == CAN_CMD_SET_RATE) {
             r = can_tx_set_period(&n->tx, tick, cmd.message, cmd.period_ms) ? CAN_REJECT_NONE : CAN_REJECT_RANGE;
+        } else if (cmd.kind == CAN_CMD_PARAM) {
+            r = answer_param(n, &cmd);
         } else {
             r = apply(drive, &cmd);
         }

@@ -33,6 +33,16 @@ extern "C" {
  * CAN_REJECT_MODE if refused (nothing changed). */
 typedef can_reject_t (*can_apply_fn)(void *drive, const can_cmd_t *cmd);
 
+/* The answer to a ParamRequest (cmd->kind CAN_CMD_PARAM): the status
+ * (config/params.h param_status_t), the parameter's id and its 32 bits;
+ * the node echoes op and seq in the ParamReply it queues. */
+typedef struct {
+    uint8_t status;
+    uint16_t id;
+    uint32_t value;
+} can_param_answer_t;
+typedef void (*can_param_fn)(void *ctx, const can_cmd_t *req, can_param_answer_t *ans);
+
 typedef struct {
     can_tx_t tx;
     uint32_t accepted;          /* commands carried out */
@@ -42,14 +52,25 @@ typedef struct {
     uint32_t last_reject_id;    /* and its identifier */
     uint32_t heartbeats;        /* the heartbeat's Counter (wrapping at 16 bits on the bus) */
     uint32_t excess_steps;      /* the step/dir input's excess steps, set by its owner (0 without one) */
+    can_param_fn param;         /* the parameters' handler (can_node_set_params), NULL: none */
+    void *param_ctx;
+    uint32_t param_replies;     /* ParamReply frames queued */
 } can_node_t;
 
-/* Resets the node's counters and its transmit schedule (can_tx_init).
- * false: cfg refused (a node id above CAN_LINK_NODE_MAX, no rate). */
+/* Resets the node's counters and its transmit schedule (can_tx_init),
+ * with no parameters' handler. false: cfg refused (a node id above
+ * CAN_LINK_NODE_MAX, no rate). */
 bool can_node_init(can_node_t *n, const can_tx_config_t *cfg);
 
+/* The handler that answers ParamRequest (an image with parameters: its
+ * config/param_service.h); each request then gets one ParamReply, queued
+ * as telemetry is (comm/can_tx.h: the oldest frame goes when the queue is
+ * full). Without one a ParamRequest is refused as an unknown id. */
+void can_node_set_params(can_node_t *n, can_param_fn fn, void *ctx);
+
 /* One received frame: validated (can_link_parse); a CmdSetRate is carried
- * out here, any other valid command by apply(drive, cmd). Returns the
+ * out here, a ParamRequest answered by the parameters' handler, any other
+ * valid command by apply(drive, cmd). Returns the
  * verdict: CAN_REJECT_NONE when carried out. */
 can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f, can_apply_fn apply, void *drive);
 

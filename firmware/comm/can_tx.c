@@ -67,13 +67,18 @@ void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm)
     if (!can_link_pack((can_tlm_msg_t)m, t->cfg.node, tlm, &f)) {
         return;
     }
+    can_tx_push(t, &f);
+}
+
+void can_tx_push(can_tx_t *t, const can_frame_t *f)
+{
     if (t->count >= CAN_TX_QUEUE) {
-        /* full: the oldest frame goes, the newest telemetry stays */
+        /* full: the oldest frame goes, the newest stays */
         t->head = (t->head + 1u) & (CAN_TX_QUEUE - 1u);
         t->count -= 1u;
         t->dropped += 1u;
     }
-    t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)] = f;
+    t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)] = *f;
     t->count += 1u;
     t->sent += 1u;
 }

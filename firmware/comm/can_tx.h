@@ -56,6 +56,10 @@ bool can_tx_init(can_tx_t *t, const can_tx_config_t *cfg);
  * pushing out the oldest frame when the queue is full. */
 void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm);
 
+/* Queues frame f (a reply: comm/can_node.h), pushing out the oldest frame
+ * when the queue is full, as can_tx_step does. */
+void can_tx_push(can_tx_t *t, const can_frame_t *f);
+
 /* The message can_tx_step would queue at tick (the first due one), or -1. */
 int32_t can_tx_next_due(const can_tx_t *t, uint32_t tick);
 

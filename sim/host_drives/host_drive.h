@@ -12,6 +12,7 @@
 #ifndef MCSIM_DRIVES_HOST_DRIVE_H
 #define MCSIM_DRIVES_HOST_DRIVE_H
 
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +21,7 @@
 
 extern "C" {
 #include "drives/registry.h"
+#include "config/params.h"
 #include "startup/pmsm_identification.h"
 }
 
@@ -29,6 +31,14 @@ namespace mcsim {
 // host part's parser includes; the programs that only run drives do not
 // compile toml++).
 class View;
+
+// HostDrive.params of a drive: its generated table where this build has
+// the parameters (float: firmware/CMakeLists.txt's mc_params), else none.
+#if MC_HAS_PARAMS
+#define MC_HOST_PARAMS(table) (&(table))
+#else
+#define MC_HOST_PARAMS(table) nullptr
+#endif
 
 struct HostDrive {
     const char* name;   // the firmware registry's name, and [drive] kind's
@@ -95,6 +105,18 @@ struct HostDrive {
     // (motorsim/commission.h). Throws ScenarioError when it cannot be
     // designed.
     bool (*pmsm_identification)(const Scenario& sc, pmsm_id_config_t* cfg, double* duration_s);
+    // Its user parameters, served over CAN and kept in motorsim's
+    // --flash-image (the table generated from firmware/drives/<name>/
+    // params.toml over its design input; nullptr: none, or a build without
+    // them, the fixed-point one). With them: the design input they set,
+    // from the scenario (input_bytes long), and the configuration from
+    // such an input as design makes it from the scenario (the scenario's
+    // board adds its dead-time compensation), tried on the drive; throws
+    // ScenarioError "FILE: design: ...". design is these two in turn.
+    const param_table_t* params;
+    std::size_t input_bytes;
+    void (*design_input)(const Scenario& sc, void* input);
+    void (*design_from_input)(Scenario& sc, const void* input, drive_config_storage_t* cfg);
 };
 
 // The drive of that name, or nullptr.

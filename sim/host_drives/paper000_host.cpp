@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "drives/paper000/generated/paper000_params.h"
 #include "host_drives/host_drive.h"
 #include "mc_convert.h"
 #include "scenario/design_input.h"
@@ -325,12 +326,17 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in)
 
 void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
 {
+    drive_design_input_t in;
+    make_design_input(sc, &in);
+    init_drive_from(sc, in, drive);
+}
+
+void init_drive_from(Scenario& sc, const drive_design_input_t& in, paper000_drive_t* drive)
+{
     if (sc.motor.type != MotorType::kStepper2) {
         throw ScenarioError(sc.path + ": motor.file: the paper-000 position drive ([trajectory]) runs two-phase "
                             "steppers (type = \"stepper2\"); a pmsm3 motor takes the speed drive ([speed])");
     }
-    drive_design_input_t in;
-    make_design_input(sc, &in);
     paper000_config_t cfg;
     std::memset(&cfg, 0, sizeof(cfg));
     char err[256] = {0};
@@ -350,9 +356,26 @@ void design_and_init_drive(Scenario& sc, paper000_drive_t* drive)
     sc.pre_ticks = drive->align_ticks;
 }
 
+namespace {
+
+void p000_design_input(const Scenario& sc, void* in)
+{
+    make_design_input(sc, static_cast<drive_design_input_t*>(in));
+}
+
+void p000_design_from_input(Scenario& sc, const void* in, drive_config_storage_t* out)
+{
+    auto d = std::make_unique<paper000_drive_t>();
+    init_drive_from(sc, *static_cast<const drive_design_input_t*>(in), d.get());  // sets sc.pre_ticks
+    out->paper000 = d->cfg;
+}
+
+}  // namespace
+
 extern const HostDrive kPaper000Host;
 const HostDrive kPaper000Host = {kName, "trajectory", false, &p000_parse, &p000_design, &p000_keys, &p000_extra_keys,
                                  &p000_parse_extra, nullptr, &p000_peak_demand, &p000_set_applied_voltage, nullptr,
-                                 nullptr, nullptr};
+                                 nullptr, nullptr, MC_HOST_PARAMS(paper000_params), sizeof(drive_design_input_t),
+                                 &p000_design_input, &p000_design_from_input};
 
 }  // namespace mcsim

@@ -19,6 +19,8 @@ void make_design_input(const Scenario& sc, drive_design_input_t* in);
 // sc.t_start_s()). Throws ScenarioError ("FILE: design: reason") if the
 // design or the drive rejects the input.
 void design_and_init_drive(Scenario& sc, paper000_drive_t* drive);
+// The same from a design input made already (the parameters' service's).
+void init_drive_from(Scenario& sc, const drive_design_input_t& in, paper000_drive_t* drive);
 
 }  // namespace mcsim
 

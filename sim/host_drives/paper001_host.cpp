@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "drives/paper001/generated/paper001_params.h"
 #include "host_drives/host_drive.h"
 #include "scenario/design_input.h"
 #include "scenario/toml_view.h"
@@ -78,6 +79,20 @@ void p001_design(Scenario& sc, drive_config_storage_t* out)
     out->paper001 = d->cfg;
 }
 
+void p001_design_input(const Scenario& sc, void* in)
+{
+    make_speed_design_input(sc, static_cast<p001_design_input_t*>(in));
+}
+
+// cppcheck-suppress constParameterCallback ; HostDrive.design_from_input may set sc.pre_ticks (paper 000's does)
+void p001_design_from_input(Scenario& sc, const void* in, drive_config_storage_t* out)
+{
+    auto d = std::make_unique<paper001_drive_t>();
+    p001_design_report_t rep{};
+    init_speed_drive_from(sc, *static_cast<const p001_design_input_t*>(in), d.get(), &rep);
+    out->paper001 = d->cfg;
+}
+
 void p001_select_estimator(Scenario* sc, const std::string& name)
 {
     if (name == "flux" || name == "back_emf") {
@@ -120,6 +135,12 @@ void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p0
 {
     p001_design_input_t in;
     make_speed_design_input(sc, &in);
+    init_speed_drive_from(sc, in, drive, rep);
+}
+
+void init_speed_drive_from(const Scenario& sc, const p001_design_input_t& in, paper001_drive_t* drive,
+                           p001_design_report_t* rep)
+{
     paper001_config_t cfg;
     std::memset(&cfg, 0, sizeof(cfg));
     char err[256] = {0};
@@ -156,6 +177,7 @@ bool p001_identification(const Scenario& sc, pmsm_id_config_t* cfg, double* dura
 extern const HostDrive kPaper001Host;
 const HostDrive kPaper001Host = {"paper001", "speed", false, &p001_parse, &p001_design, &p001_keys, nullptr, nullptr,
                                  &p001_select_estimator, nullptr, nullptr, &p001_estimator_name, nullptr,
-                                 &p001_identification};
+                                 &p001_identification, MC_HOST_PARAMS(paper001_params), sizeof(p001_design_input_t),
+                                 &p001_design_input, &p001_design_from_input};
 
 }  // namespace mcsim

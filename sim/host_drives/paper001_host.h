@@ -17,6 +17,9 @@ void make_speed_design_input(const Scenario& sc, p001_design_input_t* in);
 // nullptr) + paper001_drive_init. Throws ScenarioError ("FILE: design:
 // reason") if the design or the drive rejects the input.
 void design_and_init_speed_drive(const Scenario& sc, paper001_drive_t* drive, p001_design_report_t* rep);
+// The same from a design input made already (the parameters' service's).
+void init_speed_drive_from(const Scenario& sc, const p001_design_input_t& in, paper001_drive_t* drive,
+                           p001_design_report_t* rep);
 
 }  // namespace mcsim
 

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "design/paper002_design.h"
+#include "drives/paper002/generated/paper002_params.h"
 #include "host_drives/host_drive.h"
 #include "scenario/design_input.h"
 #include "scenario/toml_view.h"
@@ -128,10 +129,17 @@ void make_paper002_design_input(const Scenario& sc, p002_design_input_t* in)
     std::copy(std::begin(sc.ipmsm.ekf_r), std::end(sc.ipmsm.ekf_r), in->ekf_r);
 }
 
+void init_paper002_drive_from(const Scenario& sc, const p002_design_input_t& in, paper002_drive_t* drive);
+
 void design_and_init_paper002_drive(const Scenario& sc, paper002_drive_t* drive)
 {
     p002_design_input_t in;
     make_paper002_design_input(sc, &in);
+    init_paper002_drive_from(sc, in, drive);
+}
+
+void init_paper002_drive_from(const Scenario& sc, const p002_design_input_t& in, paper002_drive_t* drive)
+{
     paper002_config_t cfg;
     std::memset(&cfg, 0, sizeof(cfg));
     char err[256] = {0};
@@ -149,6 +157,19 @@ void p002_design(Scenario& sc, drive_config_storage_t* out)
 {
     auto d = std::make_unique<paper002_drive_t>();
     design_and_init_paper002_drive(sc, d.get());
+    out->paper002 = d->cfg;
+}
+
+void p002_design_input(const Scenario& sc, void* in)
+{
+    make_paper002_design_input(sc, static_cast<p002_design_input_t*>(in));
+}
+
+// cppcheck-suppress constParameterCallback ; HostDrive.design_from_input may set sc.pre_ticks (paper 000's does)
+void p002_design_from_input(Scenario& sc, const void* in, drive_config_storage_t* out)
+{
+    auto d = std::make_unique<paper002_drive_t>();
+    init_paper002_drive_from(sc, *static_cast<const p002_design_input_t*>(in), d.get());
     out->paper002 = d->cfg;
 }
 
@@ -179,6 +200,7 @@ void p002_peak_demand(const Scenario& sc, double* w_pk, double* a_pk)
 extern const HostDrive kPaper002Host;
 const HostDrive kPaper002Host = {"paper002", "paper002", false, &p002_parse, &p002_design, &p002_keys, nullptr, nullptr,
                                  &p002_select_estimator, &p002_peak_demand, nullptr, &p002_estimator_name,
-                                 "ekf_speed", nullptr};
+                                 "ekf_speed", nullptr, MC_HOST_PARAMS(paper002_params), sizeof(p002_design_input_t),
+                                 &p002_design_input, &p002_design_from_input};
 
 }  // namespace mcsim

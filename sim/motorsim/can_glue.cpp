@@ -20,8 +20,20 @@ const char* command_name(std::uint32_t id)
     case 0x240: return "CmdSetOmegaLim";
     case 0x250: return "CmdClearFaults";
     case 0x260: return "CmdSetRate";
+    case 0x280: return "ParamRequest";
     default: return "unknown";
     }
+}
+
+// can_apply_fn: the drive's commands, CmdEnable refused while its
+// parameters do not design (motorsim/param_glue.h)
+can_reject_t apply_command(void* vctx, const can_cmd_t* cmd)
+{
+    auto* ctx = static_cast<CanDriveContext*>(vctx);
+    if (cmd->kind == CAN_CMD_ENABLE && cmd->enable && ctx->params != nullptr && !ctx->params->ready()) {
+        return CAN_REJECT_MODE;
+    }
+    return can_node_apply_drive(&ctx->drive, cmd);
 }
 
 }  // namespace
@@ -46,7 +58,7 @@ void can_drive_control_callback(void* vctx, const hal_sample_t* in, hal_command_
     // commands: validated by the node, carried out by the drive between steps
     hal_can_frame_t f;
     for (unsigned k = 0; k < CAN_NODE_RX_PER_STEP && hal_can_receive(&f); ++k) {
-        const can_reject_t r = can_node_receive(&ctx->node, in->tick, &f, &can_node_apply_drive, &ctx->drive);
+        const can_reject_t r = can_node_receive(&ctx->node, in->tick, &f, &apply_command, ctx);
         if (r == CAN_REJECT_NOT_OURS) {
             continue;
         }

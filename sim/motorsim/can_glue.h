@@ -18,6 +18,7 @@
 #include "comm/can_node.h"
 #include "drives/drive.h"
 #include "hal/hal.h"
+#include "motorsim/param_glue.h"
 
 namespace mcsim {
 
@@ -29,6 +30,9 @@ struct CanDriveContext {
     std::FILE* log = nullptr;           // one line per command received, or nullptr
     std::uint32_t commands = 0;         // frames for our node received
     std::uint32_t tx_waits = 0;         // samples the bus did not take a frame
+    // the drive's parameters (ParamRequest; nullptr: none): while they do
+    // not design, CmdEnable is refused
+    const ParamGlue* params = nullptr;
 };
 
 // Initialises ctx->node (node id, default rates) for the drive set in ctx.

@@ -60,6 +60,7 @@
 #include "model/pm_plant.h"
 #include "motorsim/drive_glue.h"
 #include "motorsim/can_glue.h"
+#include "motorsim/param_glue.h"
 #include "can/socketcan.h"
 #include "motorsim/outputs.h"
 #include "motorsim_config.h"
@@ -114,6 +115,7 @@ struct Options {
     std::string metrics_out;
     std::string estimator;  // empty: the scenario's
     std::string can_iface;  // empty: no CAN
+    std::string flash_image;  // empty: none
     unsigned can_node = 0;
     bool out_given = false;
     bool metrics_out_given = false;
@@ -125,6 +127,7 @@ struct Options {
     bool no_csv = false;
     bool quiet = false;
     bool can_given = false;
+    bool flash_given = false;
     bool realtime = false;
     std::string backend = "plant";
 };
@@ -435,10 +438,28 @@ int run(const Options& opt)
     // which the rig's start time and the run's length take from it.
     mcsim::MetricList commission_metrics;
     mcsim::commission_drive(*host, &sc, &commission_metrics);
+    // With --flash-image or on CAN the drive's user parameters (as a board
+    // has them: motorsim/param_glue.h): the design from the scenario's
+    // design input with the image's saved record over it.
+    if (opt.flash_given && opt.flash_image.empty()) {
+        throw std::invalid_argument("--flash-image: empty path");
+    }
+    if (opt.flash_given && host->params == nullptr) {
+        throw std::invalid_argument("--flash-image: the " + sc.drive_kind +
+                                    " drive has no user parameters in this build (the float build serves them)");
+    }
+    std::unique_ptr<mcsim::ParamGlue> params;
+    if (host->params != nullptr && (opt.flash_given || can)) {
+        params = std::make_unique<mcsim::ParamGlue>(sc, *host, opt.flash_image);
+    }
     // a few kB: heap, not stack
     auto storage = std::make_unique<drive_storage_t>();
     auto cfg = std::make_unique<drive_config_storage_t>();
-    drive_t drive = mcsim::design_scenario_drive(sc, storage.get(), cfg.get());
+    drive_t drive = params ? params->start(storage.get(), cfg.get())
+                           : mcsim::design_scenario_drive(sc, storage.get(), cfg.get());
+    if (params && !opt.quiet) {
+        std::fprintf(stderr, "motorsim: parameters: %s\n", params->summary().c_str());
+    }
     if (sc.pre_ticks > 0 && write_csv && sc.n_ticks() > kMaxLoggedSamples) {
         throw std::invalid_argument(sc.path + ": run.duration_s: with the rotor alignment, " +
                                     std::to_string(sc.n_ticks()) + " samples exceed the in-memory log limit of " +
@@ -499,6 +520,10 @@ int run(const Options& opt)
         can_ctx->t_start_s = sc.t_start_s();
         can_ctx->log = opt.quiet ? nullptr : stderr;
         mcsim::can_glue_init(can_ctx.get(), opt.can_node, hal_control_rate_hz());
+        if (params) {
+            can_ctx->params = params.get();
+            can_node_set_params(&can_ctx->node, &mcsim::ParamGlue::answer, params.get());
+        }
         rec->score_against_drive_reference(true);  // the ekf_speed scoring always does
         hal_sw_plant_set_can(can->bus());
         started = hal_start(&mcsim::can_drive_control_callback, can_ctx.get());
@@ -656,6 +681,11 @@ int main(int argc, char** argv)
         ->type_name("N")
         ->check(CLI::Range(0u, 15u))
         ->needs(can_opt);
+    CLI::Option* flash_opt = app.add_option("--flash-image", opt.flash_image,
+                   "keep the drive's parameters in PATH, a flash image of the board's store (two 16 KB sectors; "
+                   "created erased if absent): at start the newest saved record goes over the scenario's design "
+                   "input, and on CAN a ParamRequest save writes to it (docs/parameters.md)")
+        ->type_name("PATH");
     app.add_option("--backend", opt.backend,
                    "plant (default: the drive on the plant's sensor and amplifier models) or board-emulated (through "
                    "an emulated DAC/ADC board, [board] of the scenario: Hall sensors, 16-bit converters, linear "
@@ -693,6 +723,7 @@ int main(int argc, char** argv)
     opt.out_given = out_opt->count() > 0;
     opt.metrics_out_given = metrics_out_opt->count() > 0;
     opt.can_given = can_opt->count() > 0;
+    opt.flash_given = flash_opt->count() > 0;
 
     mcsim::install_output_signal_handlers();
     try {

@@ -70,8 +70,8 @@ can_frame_t cmd_move(double theta, double T, uint8_t node = 0)
 {
     const int32_t th = static_cast<int32_t>(std::lround(theta * 1e5));
     const uint16_t ms = static_cast<uint16_t>(std::lround(T * 1e3));
-    return frame(0x210u + node, {uint8_t(th), uint8_t(th >> 8), uint8_t(th >> 16), uint8_t(th >> 24), uint8_t(ms),
-                                 uint8_t(ms >> 8)});
+    return frame(0x210u + node,
+                 {uint8_t(th), uint8_t(th >> 8), uint8_t(th >> 16), uint8_t(th >> 24), uint8_t(ms), uint8_t(ms >> 8)});
 }
 // CmdSpeed (0.01 rad/s, 0.1 rad/s^2)
 can_frame_t cmd_speed(double w, double ramp)
@@ -99,15 +99,19 @@ std::vector<std::pair<can_frame_t, can_reject_t>> bad_frames()
     can_frame_t f = frame(0x210, {0, 0, 0, 0, 0, 0});
     f.dlc = 9;
     v.push_back({f, CAN_REJECT_DLC});
-    v.push_back({frame(0x200, {2}), CAN_REJECT_RANGE});                    // Enable: unused bit set
-    v.push_back({frame(0x210, {0, 0, 0, 0, 0, 0}), CAN_REJECT_RANGE});     // Move: Duration 0 < 0.001
-    v.push_back({frame(0x220, {0, 0, 0, 0}), CAN_REJECT_RANGE});           // Speed: Ramp 0 < 0.1
-    v.push_back({frame(0x230, {1}), CAN_REJECT_RANGE});                    // Stop: reserved byte
-    v.push_back({frame(0x240, {0, 0}), CAN_REJECT_RANGE});                 // SetOmegaLim 0 < 0.001
-    v.push_back({frame(0x250, {0xFF}), CAN_REJECT_RANGE});                 // ClearFaults: reserved byte
-    v.push_back({frame(0x260, {CAN_TLM_COUNT, 10, 0}), CAN_REJECT_RANGE}); // SetRate: no such message
-    v.push_back({frame(0x260, {1, 0x61, 0xEA}), CAN_REJECT_RANGE});        // SetRate: 60001 ms
-    for (uint32_t id : {0x270u, 0x280u, 0x2F0u}) v.push_back({frame(id, {0}), CAN_REJECT_UNKNOWN_ID});
+    v.push_back({frame(0x200, {2}), CAN_REJECT_RANGE});                     // Enable: unused bit set
+    v.push_back({frame(0x210, {0, 0, 0, 0, 0, 0}), CAN_REJECT_RANGE});      // Move: Duration 0 < 0.001
+    v.push_back({frame(0x220, {0, 0, 0, 0}), CAN_REJECT_RANGE});            // Speed: Ramp 0 < 0.1
+    v.push_back({frame(0x230, {1}), CAN_REJECT_RANGE});                     // Stop: reserved byte
+    v.push_back({frame(0x240, {0, 0}), CAN_REJECT_RANGE});                  // SetOmegaLim 0 < 0.001
+    v.push_back({frame(0x250, {0xFF}), CAN_REJECT_RANGE});                  // ClearFaults: reserved byte
+    v.push_back({frame(0x260, {CAN_TLM_COUNT, 10, 0}), CAN_REJECT_RANGE});  // SetRate: no such message
+    v.push_back({frame(0x260, {1, 0x61, 0xEA}), CAN_REJECT_RANGE});         // SetRate: 60001 ms
+    v.push_back({frame(0x280, {0, 0, 0, 0, 0, 0, 0}), CAN_REJECT_DLC});     // ParamRequest: 7 bytes
+    v.push_back(
+        {frame(0x280, {0x10, 0, 1, 1, 0, 0, 0, 0}), CAN_REJECT_RANGE});  // ParamRequest: unused bits of Op's byte
+    v.push_back({frame(0x280, {0, 0, 1, 1, 0, 0, 0, 0}), CAN_REJECT_UNKNOWN_ID});  // a node without parameters
+    for (uint32_t id : {0x270u, 0x290u, 0x2F0u}) v.push_back({frame(id, {0}), CAN_REJECT_UNKNOWN_ID});
     for (uint32_t id : {0x211u, 0x23Fu, 0x100u, 0x110u, 0x1FFu, 0x300u, 0x7FFu, 0x800u, 0xFFFFFFFFu})
         v.push_back({frame(id, {0, 0, 0, 0, 0, 0}), CAN_REJECT_NOT_OURS});
     return v;
@@ -164,7 +168,8 @@ TEST(CanNode, BadFramesNeverChangeThePositionDrive)
     const auto before = bytes_of(d);
     uint32_t rejected = 0, ignored = 0;
     for (const auto& [f, why] : bad_frames()) {
-        EXPECT_EQ(can_node_receive(&n, 100, &f, &apply_via<&paper000_drive_ops>, &d), why) << std::hex << f.id << " dlc " << int(f.dlc);
+        EXPECT_EQ(can_node_receive(&n, 100, &f, &apply_via<&paper000_drive_ops>, &d), why)
+            << std::hex << f.id << " dlc " << int(f.dlc);
         (why == CAN_REJECT_NOT_OURS ? ignored : rejected) += 1;
     }
     // valid commands the position drive refuses: CmdSpeed (the speed
@@ -173,7 +178,8 @@ TEST(CanNode, BadFramesNeverChangeThePositionDrive)
     const can_frame_t refused[] = {cmd_speed(5.0, 10.0), cmd_move(1.0, 1.0), frame(0x250, {0}),
                                    frame(0x240, {0xD0, 0x07})};
     for (const can_frame_t& f : refused) {
-        EXPECT_EQ(can_node_receive(&n, 100, &f, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_MODE) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 100, &f, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_MODE)
+            << std::hex << f.id;
         ++rejected;
     }
     EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed the drive";
@@ -205,7 +211,8 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
               CAN_REJECT_MODE);
     const can_frame_t mv = cmd_move(0.2, 0.5);
     ASSERT_EQ(can_node_receive(&n, k, &mv, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_NONE);
-    EXPECT_EQ(can_node_receive(&n, k, &mv, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_MODE) << "a move during a move";
+    EXPECT_EQ(can_node_receive(&n, k, &mv, &apply_via<&paper000_drive_ops>, &d), CAN_REJECT_MODE)
+        << "a move during a move";
     double prev = D(d.ref.theta_rad), max_step = 0.0;
     for (int j = 0; j < 6000; ++j, ++k) {
         ASSERT_TRUE(step_position(&d, k, &out));
@@ -222,10 +229,12 @@ TEST(CanNode, PositionDriveMoveStopAndOmegaLim)
     EXPECT_EQ(t.drive_kind, DRIVE_CAN_HEARTBEAT_DRIVE_KIND_PAPER000_POSITION_CHOICE);
     EXPECT_TRUE(t.drive.enabled);
     // SetOmegaLim: 2.9 refused (below the design), 3.0 taken
-    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
-              CAN_REJECT_MODE);
-    EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0xB8, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
-              CAN_REJECT_NONE);
+    EXPECT_EQ(
+        can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0x54, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
+        CAN_REJECT_MODE);
+    EXPECT_EQ(
+        can_node_receive(&n, k, &(const can_frame_t&)frame(0x240, {0xB8, 0x0B}), &apply_via<&paper000_drive_ops>, &d),
+        CAN_REJECT_NONE);
     EXPECT_NEAR(D(d.omega_lim_rad_s), 3.0, 1e-3);
     // Stop with nothing queued: accepted, the reference stays
     EXPECT_EQ(can_node_receive(&n, k, &(const can_frame_t&)frame(0x230, {0}), &apply_via<&paper000_drive_ops>, &d),
@@ -294,8 +303,9 @@ TEST(CanNode, SetRateAndHeartbeatCounter)
     ASSERT_TRUE(init_position(&d));
     can_node_t n = make_node(3);
     // Position every 1 ms on node 3
-    ASSERT_EQ(can_node_receive(&n, 0, &(const can_frame_t&)frame(0x263, {1, 1, 0}), &apply_via<&paper000_drive_ops>, &d),
-              CAN_REJECT_NONE);
+    ASSERT_EQ(
+        can_node_receive(&n, 0, &(const can_frame_t&)frame(0x263, {1, 1, 0}), &apply_via<&paper000_drive_ops>, &d),
+        CAN_REJECT_NONE);
     int position = 0, heartbeats = 0;
     uint16_t last_counter = 0;
     for (uint32_t k = 0; k < 10000; ++k) {
@@ -592,10 +602,11 @@ TEST(CanNode, SpeedDriveCommands)
     }
     // (a speed beyond the back-EMF limit either way: K |w| on 0.9 of the
     // phase voltage; CmdClearFaults while running: no restart under the rotor)
-    for (const can_frame_t& f : {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(-60.0, 10.0), cmd_speed(10.0, 600.0),
-                                 frame(0x250, {0}),
-                                 frame(0x240, {0xB8, 0x0B}) /* SetOmegaLim: flux estimator */}) {
-        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper001_drive_ops>, &d), CAN_REJECT_MODE) << std::hex << f.id;
+    for (const can_frame_t& f :
+         {cmd_move(1.0, 1.0), cmd_speed(60.0, 10.0), cmd_speed(-60.0, 10.0), cmd_speed(10.0, 600.0), frame(0x250, {0}),
+          frame(0x240, {0xB8, 0x0B}) /* SetOmegaLim: flux estimator */}) {
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper001_drive_ops>, &d), CAN_REJECT_MODE)
+            << std::hex << f.id;
     }
     EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed the speed drive";
     ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(-3.0, 10.0), &apply_via<&paper001_drive_ops>, &d),
@@ -666,11 +677,13 @@ TEST(CanNode, Paper002DriveCommands)
     // (4800 rad/s^2), CmdClearFaults without a fault, CmdEnable 1 enabled
     for (const can_frame_t& f : {cmd_move(1.0, 1.0), frame(0x240, {0xB8, 0x0B}), cmd_speed(200.0, 100.0),
                                  cmd_speed(10.0, 6000.0), frame(0x250, {0}), frame(0x200, {1})}) {
-        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper002_drive_ops>, &d), CAN_REJECT_MODE) << std::hex << f.id;
+        EXPECT_EQ(can_node_receive(&n, 10, &f, &apply_via<&paper002_drive_ops>, &d), CAN_REJECT_MODE)
+            << std::hex << f.id;
     }
     EXPECT_TRUE(bytes_of(d) == before) << "a refused frame changed paper 002's drive";
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(50.0, 1000.0), &apply_via<&paper002_drive_ops>, &d),
-              CAN_REJECT_NONE);
+    ASSERT_EQ(
+        can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(50.0, 1000.0), &apply_via<&paper002_drive_ops>, &d),
+        CAN_REJECT_NONE);
     // 1.875 x 50 / 1000 = 93.75 ms: the peak slope 1000 rad/s^2 at the middle
     mc_t w, dw;
     speed_poly_eval(&d.reference, d.tick + 469, &w, &dw);
@@ -692,8 +705,9 @@ TEST(CanNode, Paper002DriveCommands)
     // CmdStop on the move: the reference ramps from where it is to 0 at the
     // last ramp (1000 rad/s^2): 30 rad/s after 0.03 s of a reference at
     // 30 rad/s takes 1.875 x 30 / 1000 = 56 ms
-    ASSERT_EQ(can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(30.0, 1000.0), &apply_via<&paper002_drive_ops>, &d),
-              CAN_REJECT_NONE);
+    ASSERT_EQ(
+        can_node_receive(&n, 10, &(const can_frame_t&)cmd_speed(30.0, 1000.0), &apply_via<&paper002_drive_ops>, &d),
+        CAN_REJECT_NONE);
     speed_poly_eval(&d.reference, d.tick + 600, &w, &dw);
     ASSERT_NEAR(D(w), 30.0, 1e-3);
     d.tick += 600;  // the reference's clock only: the drive is not stepped here
@@ -731,8 +745,9 @@ TEST(CanNode, Paper002DriveCommands)
     EXPECT_EQ(t.drive.first_fault, static_cast<uint8_t>(DRIVE_FAULT_NON_FINITE));
     EXPECT_EQ(t.drive.fault_events, 1u);
     EXPECT_FALSE(t.drive.enabled);
-    EXPECT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &apply_via<&paper002_drive_ops>, &d),
-              CAN_REJECT_MODE);
+    EXPECT_EQ(
+        can_node_receive(&n, 13, &(const can_frame_t&)cmd_speed(10.0, 100.0), &apply_via<&paper002_drive_ops>, &d),
+        CAN_REJECT_MODE);
     ASSERT_EQ(can_node_receive(&n, 13, &(const can_frame_t&)frame(0x250, {0}), &apply_via<&paper002_drive_ops>, &d),
               CAN_REJECT_NONE);
     EXPECT_EQ(d.sup.fault, DRIVE_FAULT_NONE);
@@ -890,4 +905,54 @@ TEST(CanNode, InitRefusesANodeIdOutOfRange)
         EXPECT_TRUE(can_node_init(&n, &c)) << int(ok);
         EXPECT_EQ(n.tx.cfg.node, ok);
     }
+}
+
+// A ParamRequest reaches the node's parameters' handler and is answered
+// by one ParamReply, Op and Seq echoed, the handler's status, id and bits
+// in the DBC's places (tools/can/drive.dbc); every request is answered,
+// an op the image does not know included (the handler says bad_request).
+namespace {
+struct ParamProbe {
+    std::vector<can_cmd_t> seen;
+};
+void param_probe(void* ctx, const can_cmd_t* req, can_param_answer_t* ans)
+{
+    static_cast<ParamProbe*>(ctx)->seen.push_back(*req);
+    ans->status = req->param_op <= 4u ? 0u : 8u;
+    ans->id = static_cast<uint16_t>(req->param_id + 1u);
+    ans->value = ~req->param_value;
+}
+}  // namespace
+
+TEST(CanNode, ParamRequestIsAnsweredByOneParamReply)
+{
+    can_node_t n = make_node(5);
+    ParamProbe probe;
+    can_node_set_params(&n, param_probe, &probe);
+    const can_frame_t req = frame(0x285, {0x01, 0x2A, 0x01, 0x01, 0x78, 0x56, 0x34, 0x12});  // write, seq 42, 0x0101
+    EXPECT_EQ(can_node_receive(&n, 0, &req, can_node_apply_drive, nullptr), CAN_REJECT_NONE);
+    ASSERT_EQ(probe.seen.size(), 1u);
+    EXPECT_EQ(probe.seen[0].kind, CAN_CMD_PARAM);
+    EXPECT_EQ(probe.seen[0].param_op, 1u);
+    EXPECT_EQ(probe.seen[0].param_seq, 42u);
+    EXPECT_EQ(probe.seen[0].param_id, 0x0101u);
+    EXPECT_EQ(probe.seen[0].param_value, 0x12345678u);
+    can_frame_t rep{};
+    ASSERT_TRUE(can_node_peek(&n, &rep));
+    EXPECT_EQ(rep.id, 0x185u);
+    ASSERT_EQ(rep.dlc, 8u);
+    const std::vector<uint8_t> want = {0x01, 0x2A, 0x02, 0x01, 0x87, 0xA9, 0xCB, 0xED};
+    EXPECT_EQ(std::vector<uint8_t>(rep.data, rep.data + 8), want);
+    EXPECT_EQ(n.param_replies, 1u);
+    EXPECT_EQ(n.accepted, 1u);
+    can_node_pop(&n);
+    const can_frame_t odd = frame(0x285, {0x0F, 0x07, 0, 0, 0, 0, 0, 0});  // op 15: no such op
+    EXPECT_EQ(can_node_receive(&n, 1, &odd, can_node_apply_drive, nullptr), CAN_REJECT_NONE);
+    ASSERT_TRUE(can_node_peek(&n, &rep));
+    EXPECT_EQ(rep.data[0], 0x8F);  // op 15 echoed, status 8 (bad_request)
+    EXPECT_EQ(rep.data[1], 0x07);
+    // another node's request is not ours
+    const can_frame_t other = frame(0x284, {0, 0, 1, 1, 0, 0, 0, 0});
+    EXPECT_EQ(can_node_receive(&n, 2, &other, can_node_apply_drive, nullptr), CAN_REJECT_NOT_OURS);
+    EXPECT_EQ(probe.seen.size(), 2u);
 }

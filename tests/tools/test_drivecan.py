@@ -148,3 +148,123 @@ def test_plot_live_from_the_bus(tmp_path):
     assert png.exists() and png.stat().st_size > 5000
     log = tmp_path / "live.log"
     assert log.exists() and sum(1 for _ in can.CanutilsLogReader(str(log))) > 50
+
+
+# ---- param and config: against a node on the virtual bus that keeps
+# paper 001's parameters by id as the firmware's service does (values, the
+# read-only rule, a list walk, save and defaults counted); the C service
+# itself is tested by firmware.ParamService.* and over SocketCAN by
+# tools.vcan_e2e.
+class MockParamNode(threading.Thread):
+    def __init__(self, channel, node=2, drive_kind=1):
+        super().__init__(daemon=True)
+        self.bus = can.Bus(interface="virtual", channel=channel)
+        self.node, self.kind = node, drive_kind
+        by_id, _ = dc.param_tables("paper001")
+        self.params = by_id
+        self.values = {pid: self.default_bits(p) for pid, p in by_id.items()}
+        self.writes, self.saves, self.stop = [], 0, False
+
+    @staticmethod
+    def default_bits(p):
+        return dc.value_to_bits(p, str(p["default"]).lower() if isinstance(p["default"], bool) else str(p["default"]))
+
+    def run(self):
+        req, rep, hb = (DB.get_message_by_name(n) for n in ("ParamRequest", "ParamReply", "Heartbeat"))
+        next_hb = 0.0
+        while not self.stop:
+            if time.monotonic() >= next_hb:
+                data = hb.encode({s.name: 0 for s in hb.signals} | {"DriveKind": self.kind, "MsgSetVersion": 4})
+                self.bus.send(can.Message(arbitration_id=hb.frame_id + self.node, data=data, is_extended_id=False))
+                next_hb = time.monotonic() + 0.05
+            m = self.bus.recv(timeout=0.01)
+            if m is None or m.arbitration_id != req.frame_id + self.node:
+                continue
+            r = req.decode(bytes(m.data), decode_choices=False)
+            op, pid, bits = int(r["Op"]), int(r["ParamId"]), int(r["Value"]) & 0xFFFFFFFF
+            status, out_id, out = 0, pid, 0
+            if op in (0, 1) and pid not in self.values:
+                status = 1
+            elif op == 0:
+                out = self.values[pid]
+            elif op == 1:
+                if self.params[pid]["access"] == "ro":
+                    status = 2
+                else:
+                    self.values[pid] = bits
+                    self.writes.append(pid)
+                    out = bits
+            elif op == 2:
+                self.saves += 1
+            elif op == 3:
+                self.values = {i: self.default_bits(p) for i, p in self.params.items()}
+            elif op == 4:
+                later = sorted(i for i in self.values if i >= pid)
+                status, out_id = (0, later[0]) if later else (1, 0xFFFF)
+                out = self.values[later[0]] if later else 0
+            else:
+                status = 8
+            v = out - (1 << 32) if out & 0x80000000 else out
+            data = rep.encode({"Op": op, "Status": status, "Seq": int(r["Seq"]), "ParamId": out_id, "Value": v})
+            self.bus.send(can.Message(arbitration_id=rep.frame_id + self.node, data=data, is_extended_id=False))
+
+
+def pns(channel, **kw):
+    base = dict(dbc=dc.DBC, channel=channel, interface="virtual", node=2, drive=None, timeout=0.5, cmd="param",
+                args=[], save=False)
+    base.update(kw)
+    return argparse.Namespace(**base)
+
+
+def test_param_and_config_against_a_node(tmp_path, capsys):
+    node = MockParamNode("params")
+    node.start()
+    bus = can.Bus(interface="virtual", channel="params")
+    try:
+        # the drive found from the heartbeat; every parameter listed with its value
+        assert dc.param_cmd(pns("params", action="list"), bus=bus, db=DB) == 0
+        out = capsys.readouterr().out
+        assert "R_ohm" in out and "0.225" in out and "estimator" in out and "flux" in out
+        assert len(out.strip().splitlines()) == len(node.params)
+        # set by name: checked first, then written; get reads it back
+        assert dc.param_cmd(pns("params", action="set", args=["R_ohm", "0.3"]), bus=bus, db=DB) == 0
+        rid = next(i for i, p in node.params.items() if p["name"] == "R_ohm")
+        assert node.writes == [rid]
+        assert dc.param_cmd(pns("params", action="get", args=["R_ohm"]), bus=bus, db=DB) == 0
+        assert "R_ohm = 0.3 ohm" in capsys.readouterr().out
+        # refusals named, nothing sent for a value the tool refuses
+        for args, why in ((["R_ohm", "1e9"], "outside"), (["estimator", "magic"], "not one of"),
+                          (["nothing", "1"], "no parameter 'nothing'"), (["ts_s", "1e-4"], "refused: read_only")):
+            assert dc.param_cmd(pns("params", action="set", args=args), bus=bus, db=DB) == 1
+            assert why in capsys.readouterr().err
+        assert node.writes == [rid]
+        # export, edit two values, import: only those written, then saved
+        f = tmp_path / "m.toml"
+        assert dc.param_cmd(pns("params", cmd="config", action="export", file=str(f)), bus=bus, db=DB) == 0
+        text = f.read_text()
+        assert 'drive = "paper001"' in text and "R_ohm = 0.3" in text
+        text = text.replace("R_ohm = 0.3 ", "R_ohm = 0.25 ").replace('estimator = "flux"',
+                                                                             'estimator = "back_emf"')
+        f.write_text(text)
+        node.writes.clear()
+        assert dc.param_cmd(pns("params", cmd="config", action="import", file=str(f), save=True),
+                            bus=bus, db=DB) == 0
+        cap = capsys.readouterr()
+        assert "R_ohm: 0.3 -> 0.25 ohm" in cap.out and "estimator: flux -> back_emf" in cap.out
+        assert "2 of" in cap.err and "saved" in cap.err
+        assert len(node.writes) == 2 and node.saves == 1
+        # a file of another drive or with an unknown name is refused before any write
+        node.writes.clear()
+        f.write_text('drive = "paper001"\n[params]\nR_ohm = 0.2\nwarp_factor = 9\n')
+        assert dc.param_cmd(pns("params", cmd="config", action="import", file=str(f)), bus=bus, db=DB) == 1
+        assert "params.warp_factor: not a parameter" in capsys.readouterr().err
+        assert node.writes == []
+        # no node: a timeout, said
+        assert dc.param_cmd(pns("params", node=9, drive="paper001", action="get", args=["R_ohm"], timeout=0.05),
+                            bus=bus, db=DB) == 1
+        assert "no ParamReply" in capsys.readouterr().err
+    finally:
+        node.stop = True
+        node.join(2)
+        bus.shutdown()
+        node.bus.shutdown()

@@ -16,7 +16,14 @@ the VM fixture by tests/vcan/run_vcan_e2e.sh, or on any Linux with vcan):
     unknown id, the other drive's command, a move during a move) were
     refused: the heartbeat's RejectedCommands and motorsim's metrics count
     them, and the CSV's reference did not move until the valid command;
-  - `cantools decode` reads the recording with the DBC as it is.
+  - `cantools decode` reads the recording with the DBC as it is;
+  - the parameters (issue 44): paper 001 on the bus with --flash-image;
+    each refusal of ParamReply met once (not while enabled, unknown id,
+    read-only, out of range, bad value, bad request, design refused with
+    CmdEnable refused meanwhile, store failed), a resistance written while
+    disabled and saved; a second motorsim on the same image reads it back,
+    and its run is bit for bit the native run of the scenario whose
+    [drive_model] has that resistance (and differs from the scenario's).
 
     vcan_e2e.py --motorsim build/host/sim/motorsim --out DIR [--iface vcan0] [--plot PNG]
                 [--phase all|record|check] [--vm]
@@ -124,6 +131,32 @@ class Drive:
     def send_raw(self, frame_id, data):
         self.bus.send(can.Message(arbitration_id=frame_id, data=bytes(data), is_extended_id=False))
 
+    def param(self, op, pid=0, bits=0, timeout_s=5.0):
+        """One ParamRequest; (status name, id, 32 bits) of its ParamReply
+        (matched by Seq), or None."""
+        self.seq = (getattr(self, "seq", 0) + 1) & 0xFF
+        req, rep = self.db.get_message_by_name("ParamRequest"), self.db.get_message_by_name("ParamReply")
+        value = bits - (1 << 32) if bits & 0x80000000 else bits
+        self.bus.send(can.Message(arbitration_id=req.frame_id, is_extended_id=False,
+                                  data=req.encode({"Op": op, "Seq": self.seq, "ParamId": pid, "Value": value})))
+        names = {int(k): str(v) for k, v in rep.get_signal_by_name("Status").choices.items()}
+        t_end = time.monotonic() + timeout_s
+        while time.monotonic() < t_end:
+            msg = self.bus.recv(0.05)
+            if msg is None or msg.arbitration_id != rep.frame_id or len(msg.data) != 8:
+                if msg is not None and not msg.is_extended_id:
+                    try:
+                        m = self.db.get_message_by_frame_id(msg.arbitration_id & ~0xF)
+                        if m.senders and m.senders[0] == "DRIVE" and m.name != "ParamReply":
+                            self.last[m.name] = m.decode(bytes(msg.data), decode_choices=False)
+                    except KeyError:
+                        pass
+                continue
+            r = rep.decode(bytes(msg.data), decode_choices=False)
+            if r["Seq"] == self.seq:
+                return names.get(int(r["Status"]), str(r["Status"])), int(r["ParamId"]), int(r["Value"]) & 0xFFFFFFFF
+        return None
+
     def close(self):
         self.bus.shutdown()
 
@@ -174,7 +207,7 @@ def compare(frames, cols, rows, mapping, what):
           + ", ".join(f"{k} {v:.2f}" for k, v in sorted(worst.items())) + ")")
 
 
-def record_case(args, db, name, scenario, commander):
+def record_case(args, db, name, scenario, commander, extra=()):
     """The bus side of one case: motorsim on the bus, candump recording,
     the commander talking to the drive. Writes DIR/NAME/case.json with what
     the check phase needs that the files do not hold."""
@@ -190,7 +223,8 @@ def record_case(args, db, name, scenario, commander):
     sent_bad = []
     with open(err_path, "w") as err:
         sim = subprocess.Popen([args.motorsim, "--scenario", scenario, "--can", args.iface, "--realtime",
-                                "--out", out, "--no-plot", "--no-expect"], stdout=subprocess.DEVNULL, stderr=err)
+                                "--out", out, "--no-plot", "--no-expect", *extra], stdout=subprocess.DEVNULL,
+                               stderr=err)
     rc = None
     try:
         commander(drive, sent_bad)
@@ -203,7 +237,7 @@ def record_case(args, db, name, scenario, commander):
         dump.send_signal(signal.SIGINT)
         dump.wait(timeout=10)
     with open(os.path.join(out, "case.json"), "w") as f:
-        json.dump({"scenario": scenario, "motorsim_rc": rc, "sent_bad": sent_bad,
+        json.dump({"scenario": scenario, "motorsim_rc": rc, "sent_bad": sent_bad, "out": out,
                    "commander_failures": failures[n_fail:]}, f, indent=1)
 
 
@@ -408,28 +442,157 @@ def sensored_checks(metrics, cols, rows, frames, sent_bad):
 
 
 # name, scenario, what the commander does on the bus, what is checked after
+# ---- the parameters over CAN and --flash-image (issue 44) ----------------
+# ids of firmware/drives/paper001/params.toml (docs/parameters.md)
+R_OHM, TS_S, I_TRIP_A = 0x0101, 0x0210, 0x0202
+R_NEW = 0.27  # ohm: the scenario's motor has 0.225
+
+
+def f32_bits(x):
+    import struct
+    return struct.unpack("<I", struct.pack("<f", x))[0]
+
+
+def f32_of(bits):
+    import struct
+    return struct.unpack("<f", struct.pack("<I", bits))[0]
+
+
+def image_path(args):
+    return os.path.join(os.path.abspath(args.out), "params.img")
+
+
+def params_set_commander(d, answers, image):
+    """Every refusal once, then R written while disabled and saved."""
+    if not d.wait_for(lambda s: s["Heartbeat"]["Enabled"] == 1, 60, "the drive running"):
+        return
+
+    def ask(what, op, pid=0, bits=0):
+        a = d.param(op, pid, bits)
+        answers.append({"what": what, "status": a[0] if a else None, "bits": a[2] if a else None})
+
+    ask("write R while enabled", 1, R_OHM, f32_bits(R_NEW))
+    ask("save while enabled", 2)
+    d.send("CmdEnable", Enable=0)
+    if not d.wait_for(lambda s: s["Heartbeat"]["Enabled"] == 0, 10, "the drive disabled"):
+        return
+    ask("read an unknown id", 0, 0x0FFF)
+    ask("write the read-only Ts", 1, TS_S, f32_bits(2e-4))
+    ask("write R = 1000 ohm", 1, R_OHM, f32_bits(1000.0))
+    ask("write R = NaN", 1, R_OHM, 0x7FC00000)
+    ask("op 9", 9)
+    ask("write i_trip below i_max", 1, I_TRIP_A, f32_bits(4.0))
+    d.send("CmdEnable", Enable=1)  # refused: the parameters do not design
+    time.sleep(0.3)
+    d.poll(0.05)
+    answers.append({"what": "enabled after CmdEnable while not designed",
+                    "status": int(d.last["Heartbeat"]["Enabled"]), "bits": None})
+    ask("write i_trip back to 12 A", 1, I_TRIP_A, f32_bits(12.0))
+    os.mkdir(image + ".tmp")  # the image cannot be replaced: the store fails
+    ask("save with the image's folder refusing", 2)
+    os.rmdir(image + ".tmp")
+    ask("write R", 1, R_OHM, f32_bits(R_NEW))
+    ask("save", 2)
+
+
+def params_read_commander(d, answers, image):
+    if not d.wait_for(lambda s: "Heartbeat" in s, 60, "a heartbeat"):
+        return
+    a = d.param(0, R_OHM)
+    answers.append({"what": "read R after the restart", "status": a[0] if a else None, "bits": a[2] if a else None})
+
+
+PARAMS_SET_EXPECT = [
+    ("write R while enabled", "not_while_enabled"), ("save while enabled", "not_while_enabled"),
+    ("read an unknown id", "unknown_id"), ("write the read-only Ts", "read_only"),
+    ("write R = 1000 ohm", "out_of_range"), ("write R = NaN", "bad_value"), ("op 9", "bad_request"),
+    ("write i_trip below i_max", "design_refused"), ("enabled after CmdEnable while not designed", 0),
+    ("write i_trip back to 12 A", "done"), ("save with the image's folder refusing", "store_failed"),
+    ("write R", "done"), ("save", "done"),
+]
+
+
+def params_set_checks(metrics, cols, rows, frames, answers):
+    for (what, want), got in zip(PARAMS_SET_EXPECT, answers):
+        check(got["what"] == what and got["status"] == want, f"params: {what}: {got['status']} ({want} expected)")
+    check(len(answers) == len(PARAMS_SET_EXPECT), f"params: {len(answers)} answers ({len(PARAMS_SET_EXPECT)} expected)")
+    check(metrics.get("fault") == 0, "params: no fault")
+
+
+def params_read_checks(metrics, cols, rows, frames, answers, case_out=None):
+    got = answers[0] if answers else {"status": None, "bits": None}
+    check(got["status"] == "done" and got["bits"] == f32_bits(R_NEW),
+          f"params: after the restart R reads {f32_of(got['bits']) if got['bits'] is not None else None} ohm "
+          f"({got['status']}; {R_NEW} written and saved)")
+
+
+def params_native_checks(args):
+    """The second run against motorsim run natively on the scenario with
+    [drive_model] R_ohm = the float32 written, and on the scenario alone."""
+    out = os.path.join(args.out, "params_read")
+    try:
+        stderr = open(os.path.join(out, "motorsim.stderr")).read()
+        cols, rows = read_csv(os.path.join(out, "speed_can.csv"))
+    except OSError as e:
+        check(False, f"params: no second run to compare ({e})")
+        return
+    check("parameters: --flash-image" in stderr and "record 1" in stderr,
+          "params: the second motorsim started from the image's record: "
+          + next((l for l in stderr.splitlines() if "parameters:" in l), "(no line)"))
+    base = open(os.path.join(HERE, "speed_can.toml")).read().replace('"../../sim/', f'"{ROOT}/sim/')
+    for name, extra, same in (("with_r", f"\n[drive_model]\nR_ohm = {f32_of(f32_bits(R_NEW))!r}\n", True),
+                              ("scenario", "", False)):
+        d = os.path.join(args.out, "params_native_" + name)
+        os.makedirs(d, exist_ok=True)
+        scen = os.path.join(d, "speed_can.toml")
+        with open(scen, "w") as f:
+            f.write(base + extra)
+        r = subprocess.run([args.motorsim, "--scenario", scen, "--out", d, "--no-plot", "--no-expect", "--quiet"],
+                           capture_output=True, text=True)
+        if not check(r.returncode == 0, f"params: native run {name} (exit {r.returncode}) {r.stderr[-300:]}"):
+            continue
+        c2, r2 = read_csv(os.path.join(d, "speed_can.csv"))
+        # every column but the reference's: on a bus it is the drive's own
+        # (score_against_drive_reference), without one the scenario's
+        keep = [i for h, i in sorted(cols.items(), key=lambda x: x[1]) if h != "omega_ref_rad_s"]
+        equal = c2 == cols and len(r2) == len(rows) and all(
+            [a[i] for i in keep] == [b[i] for i in keep] for a, b in zip(r2, rows))
+        check(equal == same, f"params: the second run's CSV ({len(keep)} columns, all but the reference's) "
+              f"{'equals' if equal else 'differs from'} the native run "
+              + ("of the scenario with [drive_model] R_ohm = the value saved" if same else "of the scenario alone"))
+
+
 CASES = [
     ("position", os.path.join(HERE, "position_can.toml"), position_commander, position_checks),
     ("speed", os.path.join(HERE, "speed_can.toml"), speed_commander, speed_checks),
     ("paper002", os.path.join(HERE, "paper002_can.toml"), paper002_commander, paper002_checks),
     ("sensored", os.path.join(ROOT, "sim", "scenarios", "sensored_benchmark.toml"), sensored_commander,
      sensored_checks),
+    ("params_set", os.path.join(HERE, "speed_can.toml"), params_set_commander, params_set_checks, True),
+    ("params_read", os.path.join(HERE, "speed_can.toml"), params_read_commander, params_read_checks, True),
 ]
 
 
 def record(args, db):
     if not ensure_iface(args.iface):
         return False
-    for name, scenario, commander, _ in CASES:
-        record_case(args, db, name, scenario, commander)
+    image = image_path(args)
+    if os.path.exists(image):
+        os.remove(image)  # a new board
+    for name, scenario, commander, _, *flash in CASES:
+        if flash:
+            record_case(args, db, name, scenario, lambda d, a: commander(d, a, image), ("--flash-image", image))
+        else:
+            record_case(args, db, name, scenario, commander)
     return True
 
 
 def check_all(args, db):
-    for name, _, _, checks in CASES:
+    for name, _, _, checks, *_ in CASES:
         case = load_case(args, db, name)
         if case is not None:
             checks(*case[:5])
+    params_native_checks(args)
     pos_log = os.path.join(args.out, "position", "position.log")
     # the DBC as it is with cantools' own command line
     r = subprocess.run([sys.executable, "-m", "cantools", "decode", DBC], stdin=open(pos_log), capture_output=True,

@@ -18,6 +18,15 @@
   drivecan.py send --channel vcan0 [--node N] MESSAGE [SIGNAL=VALUE ...]
       a command by name with physical values, checked against the DBC's
       ranges before anything is sent, e.g. `send CmdSpeed OmegaRef=10 Ramp=50`
+  drivecan.py param list|get NAME|set NAME VALUE|save|defaults --channel vcan0 [--node N] [--drive D]
+      the drive's and board's parameters by name or id (ParamRequest,
+      ParamReply; docs/parameters.md): each request answered done or a
+      named refusal (exit 1); set checks the value against the parameter's
+      type and range first; VALUE a number, true/false, or an enum's name
+  drivecan.py config export FILE.toml | config import FILE.toml [--save] --channel vcan0 [--node N]
+      every parameter into a TOML file ([params] name = value), or back:
+      import shows each difference and writes only what changed (--save:
+      then saves); a refusal stops it, naming the parameter (exit 1)
 
 --interface is python-can's (default socketcan; `virtual` for tests).
 Drive node N (0-15) uses the DBC's ids plus N; decoding masks the node
@@ -29,6 +38,7 @@ import collections
 import csv
 import os
 import re
+import struct
 import subprocess
 import sys
 import time
@@ -262,6 +272,269 @@ def send(args, bus=None, db=None):
     return 0
 
 
+# ---- parameters (ParamRequest / ParamReply) --------------------------------
+# The parameters' one source (firmware/drives/<drive>/params.toml and
+# firmware/config/board_params.toml) read by tools/params/gen_params.py's
+# reader: names, ids, types, ranges; the drive of a node from its
+# heartbeat's DriveKind (the DBC's choice names start with the drive's).
+sys.path.insert(0, os.path.join(ROOT, "tools", "params"))
+import gen_params  # noqa: E402
+
+PARAM_OPS = {"read": 0, "write": 1, "save": 2, "defaults": 3, "list": 4}
+
+
+class ParamError(Exception):
+    pass
+
+
+def param_tables(drive):
+    """{id: param} and {name: param} of the board's and the drive's tables."""
+    import pathlib
+    src = pathlib.Path(ROOT) / "firmware" / "drives" / drive / "params.toml"
+    if not src.is_file():
+        drives = sorted(d.name for d in (pathlib.Path(ROOT) / "firmware" / "drives").iterdir()
+                        if (d / "params.toml").is_file())
+        raise ParamError(f"--drive {drive}: no such drive with parameters ({', '.join(drives)})")
+    params = gen_params.read_table(pathlib.Path(ROOT) / gen_params.BOARD_SRC, board=True)["params"]
+    params += gen_params.read_table(src)["params"]
+    return {p["id"]: p for p in params}, {p["name"]: p for p in params}
+
+
+def value_to_bits(p, text):
+    """The 32 bits of VALUE for parameter p, checked against its type and
+    range; raises ParamError naming both."""
+    t = p["type"]
+    try:
+        if t == "f32":
+            x = float(text)
+            if x != x or x in (float("inf"), float("-inf")):
+                raise ValueError
+            if not gen_params.f32(p["min"]) <= gen_params.f32(x) <= gen_params.f32(p["max"]):
+                raise ParamError(f"{p['name']}: {text} outside [{p['min']:g}, {p['max']:g}] {p['unit']}")
+            return struct.unpack("<I", struct.pack("<f", x))[0]
+        if t == "bool":
+            v = {"true": 1, "false": 0, "1": 1, "0": 0}.get(str(text).lower())
+            if v is None:
+                raise ValueError
+            return v
+        if t == "enum":
+            if text in p["values"]:
+                return p["values"].index(text)
+            raise ParamError(f"{p['name']}: '{text}' is not one of {', '.join(p['values'])}")
+        x = int(str(text), 0)
+    except ValueError:
+        raise ParamError(f"{p['name']}: '{text}' is not a value of type {t}") from None
+    if not p["min"] <= x <= p["max"]:
+        raise ParamError(f"{p['name']}: {x} outside [{p['min']}, {p['max']}]")
+    return x & 0xFFFFFFFF
+
+
+def bits_to_value(p, bits):
+    """The parameter's value (float, int, bool or the enum's name) of 32 bits."""
+    bits &= 0xFFFFFFFF
+    t = p["type"] if p else "u32"
+    if t == "f32":
+        return struct.unpack("<f", struct.pack("<I", bits))[0]
+    if t == "i32":
+        return bits - (1 << 32) if bits & 0x80000000 else bits
+    if t == "bool":
+        return bool(bits)
+    if t == "enum":
+        return p["values"][bits] if bits < len(p["values"]) else bits
+    return bits
+
+
+def fmt_value(p, v):
+    if isinstance(v, float):  # a float32's shortest text that reads back as the same float32
+        for digits in range(1, 10):
+            text = f"{v:.{digits}g}"
+            if struct.pack("<f", float(text)) == struct.pack("<f", v):
+                return text
+        return f"{v:.9g}"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+class ParamClient:
+    """Requests to one node, each answered by the ParamReply of its Seq
+    (retried twice on a timeout)."""
+
+    def __init__(self, bus, db, node, timeout_s=0.5):
+        self.bus, self.db, self.node, self.timeout_s = bus, db, node, timeout_s
+        self.req = db.get_message_by_name("ParamRequest")
+        self.rep = db.get_message_by_name("ParamReply")
+        self.status = {int(k): str(v) for k, v in self.rep.get_signal_by_name("Status").choices.items()}
+        self.seq = 0
+
+    def request(self, op, pid=0, bits=0):
+        """(status name, id, 32 bits) of the reply."""
+        value = bits - (1 << 32) if bits & 0x80000000 else bits
+        for _ in range(3):
+            self.seq = (self.seq + 1) & 0xFF
+            data = self.req.encode({"Op": PARAM_OPS[op], "Seq": self.seq, "ParamId": pid, "Value": value},
+                                   strict=True)
+            self.bus.send(can.Message(arbitration_id=self.req.frame_id + self.node, data=data, is_extended_id=False))
+            end = time.monotonic() + self.timeout_s
+            while time.monotonic() < end:
+                m = self.bus.recv(timeout=max(0.0, end - time.monotonic()))
+                if m is None or m.arbitration_id != self.rep.frame_id + self.node or len(m.data) != 8:
+                    continue
+                r = self.rep.decode(bytes(m.data), decode_choices=False)
+                if r["Seq"] == self.seq and r["Op"] == PARAM_OPS[op]:
+                    return self.status.get(int(r["Status"]), str(r["Status"])), int(r["ParamId"]), \
+                        int(r["Value"]) & 0xFFFFFFFF
+        raise ParamError(f"node {self.node}: no ParamReply to {op} within {self.timeout_s} s (3 tries)")
+
+
+def node_drive(bus, db, node, timeout_s=1.5):
+    """The drive of node (its folder's name) from a heartbeat's DriveKind."""
+    hb = db.get_message_by_name("Heartbeat")
+    kinds = {int(k): str(v) for k, v in hb.get_signal_by_name("DriveKind").choices.items()}
+    drives = sorted((d for d in os.listdir(os.path.join(ROOT, "firmware", "drives"))
+                     if os.path.isfile(os.path.join(ROOT, "firmware", "drives", d, "params.toml"))),
+                    key=len, reverse=True)
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end:
+        m = bus.recv(timeout=max(0.0, end - time.monotonic()))
+        if m is None or m.arbitration_id != hb.frame_id + node or len(m.data) != hb.length:
+            continue
+        kind = kinds.get(int(hb.decode(bytes(m.data), decode_choices=False)["DriveKind"]))
+        for d in drives:
+            if kind is not None and kind.startswith(d):
+                return d
+        raise ParamError(f"node {node}: DriveKind {kind} names no drive with parameters (--drive NAME)")
+    raise ParamError(f"node {node}: no heartbeat within {timeout_s} s to tell its drive (--drive NAME)")
+
+
+def param_lookup(by_id, by_name, key):
+    if key in by_name:
+        return by_name[key]
+    try:
+        pid = int(key, 0)
+    except ValueError:
+        raise ParamError(f"no parameter '{key}' (drivecan.py param list names them)") from None
+    return by_id.get(pid) or {"id": pid, "name": f"{pid:#06x}", "type": "u32", "unit": "", "access": "?"}
+
+
+def param_list(client, by_id):
+    """[(param, value)] of every parameter the node lists."""
+    out, at = [], 0
+    while at <= 0xFFFE:
+        st, pid, bits = client.request("list", at)
+        if st == "unknown_id":
+            break
+        if st != "done":
+            raise ParamError(f"list from {at:#06x}: refused: {st}")
+        p = by_id.get(pid)
+        if p is None:
+            p = {"id": pid, "name": f"{pid:#06x}", "type": "u32", "unit": "", "access": "?"}
+        out.append((p, bits_to_value(p, bits)))
+        at = pid + 1
+    return out
+
+
+def check_done(what, st):
+    if st != "done":
+        raise ParamError(f"{what}: refused: {st}")
+
+
+def param_cmd(args, bus=None, db=None):
+    db = db or load_db(args.dbc)
+    if not 0 <= args.node <= NODE_MASK:
+        raise SystemExit(f"drivecan {args.cmd}: --node {args.node}: must be 0-15")
+    bus = bus or open_bus(args)
+    try:
+        drive = args.drive or node_drive(bus, db, args.node)
+        by_id, by_name = param_tables(drive)
+        c = ParamClient(bus, db, args.node, args.timeout)
+        if args.cmd == "param":
+            return param_action(args, c, by_id, by_name)
+        return config_action(args, c, drive, by_id, by_name)
+    except (ParamError, gen_params.SourceError) as e:
+        print(f"drivecan {args.cmd}: {e}", file=sys.stderr)
+        return 1
+
+
+def param_action(args, c, by_id, by_name):
+    if args.action == "list":
+        for p, v in param_list(c, by_id):
+            print(f"{p['id']:#06x}  {p['name']:<28} {fmt_value(p, v):>14} {p['unit']:<8} {p['access']}")
+        return 0
+    if args.action in ("save", "defaults"):
+        check_done(args.action, c.request(args.action)[0])
+        print(f"drivecan: {args.action}: done", file=sys.stderr)
+        return 0
+    if not args.args:
+        raise ParamError(f"param {args.action}: which parameter?")
+    p = param_lookup(by_id, by_name, args.args[0])
+    if args.action == "get":
+        st, _, bits = c.request("read", p["id"])
+        check_done(f"get {p['name']}", st)
+        print(f"{p['name']} = {fmt_value(p, bits_to_value(p, bits))} {p['unit']}".rstrip())
+        return 0
+    if len(args.args) != 2:
+        raise ParamError("param set NAME VALUE")
+    st, _, bits = c.request("write", p["id"], value_to_bits(p, args.args[1]))
+    check_done(f"set {p['name']}", st)
+    print(f"{p['name']} = {fmt_value(p, bits_to_value(p, bits))} {p['unit']}".rstrip())
+    return 0
+
+
+def config_action(args, c, drive, by_id, by_name):
+    import tomllib
+    if args.action == "export":
+        rows = param_list(c, by_id)
+        lines = [f"# drivecan.py config export, node {args.node}: the {drive} drive's and its board's parameters",
+                 f"drive = \"{drive}\"", "", "[params]"]
+        for p, v in rows:
+            val = f"\"{v}\"" if isinstance(v, str) else fmt_value(p, v)
+            if p["type"] == "f32" and "e" not in val and "." not in val and "n" not in val:
+                val += ".0"
+            lines.append(f"{p['name']} = {val}  # {p['unit'] or '-'}, {p['access']}")
+        tmp = args.file + ".tmp"
+        with open(tmp, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        os.replace(tmp, args.file)
+        print(f"drivecan: {len(rows)} parameters into {args.file}", file=sys.stderr)
+        return 0
+    try:
+        with open(args.file, "rb") as f:
+            src = tomllib.load(f)
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        raise ParamError(f"{args.file}: {e}") from None
+    if src.get("drive", drive) != drive:
+        raise ParamError(f"{args.file}: drive = \"{src['drive']}\", node {args.node} runs {drive}")
+    want = src.get("params")
+    if not isinstance(want, dict):
+        raise ParamError(f"{args.file}: no [params] table")
+    writes = []
+    for name, v in want.items():  # every value checked before anything is written
+        if name not in by_name:
+            raise ParamError(f"{args.file}: params.{name}: not a parameter of {drive} or its board")
+        p = by_name[name]
+        text = ("true" if v else "false") if isinstance(v, bool) else str(v)
+        writes.append((p, value_to_bits(p, text)))
+    changed = 0
+    for p, bits in writes:
+        st, _, now = c.request("read", p["id"])
+        check_done(f"read {p['name']}", st)
+        if now == bits:
+            continue
+        if p["access"] == "ro":
+            raise ParamError(f"{p['name']}: read-only, the node has {fmt_value(p, bits_to_value(p, now))}, "
+                             f"the file {fmt_value(p, bits_to_value(p, bits))}")
+        print(f"  {p['name']}: {fmt_value(p, bits_to_value(p, now))} -> {fmt_value(p, bits_to_value(p, bits))} "
+              f"{p['unit']}".rstrip())
+        check_done(f"set {p['name']}", c.request("write", p["id"], bits)[0])
+        changed += 1
+    print(f"drivecan: {changed} of {len(writes)} parameters changed", file=sys.stderr)
+    if args.save:
+        check_done("save", c.request("save")[0])
+        print("drivecan: saved", file=sys.stderr)
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
@@ -298,7 +571,21 @@ def main(argv=None):
     p.add_argument("--node", type=int, default=0)
     p.add_argument("message")
     p.add_argument("values", nargs="*")
+    for name, actions in (("param", ("list", "get", "set", "save", "defaults")), ("config", ("export", "import"))):
+        p = sub.add_parser(name)
+        bus_args(p)
+        p.add_argument("--node", type=int, default=0)
+        p.add_argument("--drive", help="the node's drive (default: from its heartbeat)")
+        p.add_argument("--timeout", type=float, default=0.5, help="seconds for each reply (default 0.5)")
+        p.add_argument("action", choices=actions)
+        if name == "param":
+            p.add_argument("args", nargs="*", metavar="NAME [VALUE]")
+        else:
+            p.add_argument("file", metavar="FILE.toml")
+            p.add_argument("--save", action="store_true", help="import: save after writing")
     args = ap.parse_args(argv)
+    if args.cmd in ("param", "config"):
+        return param_cmd(args)
     if args.cmd == "monitor":
         monitor(args)
         return 0
