@@ -39,9 +39,10 @@ extern "C" {
  * Today's largest pair: 10 of the board's and 30 of paper 000's. */
 #define PARAM_SERVICE_MAX_ENTRIES 96u
 
-/* A request as it travels (ParamRequest's signals). */
+/* A request as it travels (ParamRequest's signals; op the 4 bits as
+ * received, a param_op_t or not: an unknown one is answered bad_request). */
 typedef struct {
-    param_op_t op;
+    uint8_t op;
     uint8_t seq;
     uint16_t id;
     param_value_t value;
@@ -51,7 +52,7 @@ typedef struct {
  * answered (list: the one found, PARAM_ID_NONE past the last); value the
  * parameter's after the request (read, write, list), else 0. */
 typedef struct {
-    param_op_t op;
+    uint8_t op;
     param_status_t status;
     uint8_t seq;
     uint16_t id;

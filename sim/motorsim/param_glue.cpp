@@ -146,7 +146,7 @@ void ParamGlue::answer(void* ctx, const can_cmd_t* req, can_param_answer_t* ans)
     auto* self = static_cast<ParamGlue*>(ctx);
     Impl& g = *self->impl_;
     param_request_t r{};
-    r.op = static_cast<param_op_t>(req->param_op);
+    r.op = req->param_op;
     r.seq = req->param_seq;
     r.id = req->param_id;
     r.value.u32 = req->param_value;

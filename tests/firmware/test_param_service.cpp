@@ -76,7 +76,7 @@ struct Rig {
         EXPECT_EQ(refused, 0u);
         return ok;
     }
-    param_reply_t req(param_op_t op, uint16_t id = 0, uint32_t bits = 0, bool enabled = false, uint8_t seq = 7)
+    param_reply_t req(uint8_t op, uint16_t id = 0, uint32_t bits = 0, bool enabled = false, uint8_t seq = 7)
     {
         param_request_t r{};
         r.op = op;
@@ -150,7 +150,7 @@ TEST(ParamService, EveryRefusalIsNamed)
     EXPECT_EQ(r.req(PARAM_OP_WRITE, PAPER001_PARAMS_R_OHM, bits(0.3f), true).status, PARAM_ERR_NOT_WHILE_ENABLED);
     EXPECT_EQ(r.req(PARAM_OP_SAVE, 0, 0, true).status, PARAM_ERR_NOT_WHILE_ENABLED);
     EXPECT_EQ(r.req(PARAM_OP_DEFAULTS, 0, 0, true).status, PARAM_ERR_NOT_WHILE_ENABLED);
-    EXPECT_EQ(r.req(static_cast<param_op_t>(9)).status, PARAM_ERR_BAD_REQUEST);
+    EXPECT_EQ(r.req(9).status, PARAM_ERR_BAD_REQUEST);
     EXPECT_EQ(r.b.input.motor.R_ohm, 0.225);  // nothing of the refused written
     EXPECT_EQ(r.s->refused, 9u);
     // a live parameter may change while enabled

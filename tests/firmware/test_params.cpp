@@ -18,6 +18,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "host_drives/host_drive.h"
 #include "scenario/scenario.h"
@@ -27,6 +28,7 @@ extern "C" {
 #include "config/board_params.h"
 #include "config/generated/board_params.h"
 #include "config/params.h"
+#include "design/ops/drive_design_ops.h"
 #include "design/paper000_design.h"
 #include "design/paper001_design.h"
 #include "design/paper002_design.h"
@@ -395,6 +397,35 @@ TEST(Params, DefaultsDesignTheSensoredFocBenchmark)
     char err[256] = {0};
     ASSERT_TRUE(sfoc_design(&in, &got->sensored_foc, err, sizeof err)) << err;
     expect_same_config(got.get(), want.get(), "sensored_foc", "defaults");
+}
+
+// Each drive's design as an image runs it (design/ops/drive_design_ops.h):
+// its sizes the drive's, and the defaults it derives designed into what
+// the drive's board file designs on the host (what the STM32 images
+// compare their design on the board with).
+TEST(Params, DesignOpsDesignEachDrivesDefaults)
+{
+    const struct {
+        const drive_design_ops_t* ops;
+        const char* board;  // nullptr: no board runs it
+    } cases[] = {{&paper000_design_ops, "firmware/drives/paper000/boards/odrive36.toml"},
+                 {&paper001_design_ops, "firmware/drives/paper001/boards/vesc6.toml"},
+                 {&paper002_design_ops, "firmware/drives/paper002/boards/vesc6.toml"},
+                 {&sensored_foc_design_ops, nullptr}};
+    for (const auto& c : cases) {
+        const drive_ops_t* ops = drive_find(c.ops->name);
+        ASSERT_NE(ops, nullptr) << c.ops->name;
+        EXPECT_EQ(c.ops->config_bytes, ops->config_bytes) << c.ops->name;
+        if (c.board == nullptr) continue;
+        std::vector<unsigned char> in(c.ops->input_bytes);
+        param_error_t e{};
+        ASSERT_TRUE(drive_design_defaults_input(c.ops, in.data(), &e)) << e.text;
+        auto got = std::make_unique<drive_config_storage_t>();
+        std::memset(got.get(), 0, sizeof *got);
+        char err[256] = {0};
+        ASSERT_TRUE(c.ops->design(in.data(), got.get(), err, sizeof err)) << c.ops->name << ": " << err;
+        expect_same_config(got.get(), scenario_config(c.board).get(), c.ops->name, "design ops");
+    }
 }
 
 TEST(Params, AChangedParameterReachesTheDesign)

@@ -5,7 +5,7 @@
 // such frames. Checked for every frame: no crash or sanitizer report; a
 // refused frame yields CAN_CMD_NONE and a known reason; an accepted one is
 // a command of our node, in the command space, with the DBC's length and
-// in-range fields; parsing twice gives the same answer (the parser keeps no
+// in-range fields (a ParamRequest's signals as the frame carries them); parsing twice gives the same answer (the parser keeps no
 // state: a bad frame cannot change anything).
 //
 // Then the same frame reaches a drive's node (comm/can_node.h) on node 0:
@@ -182,6 +182,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         case CAN_CMD_STOP:
         case CAN_CMD_CLEAR_FAULTS:
             check(f.dlc == 1u && f.data[0] == 0u);
+            break;
+        case CAN_CMD_PARAM:  // the signals as they travel (answered by the node's handler: none here)
+            check(f.dlc == DRIVE_CAN_PARAM_REQUEST_LENGTH && (f.data[0] & 0xF0u) == 0u &&
+                  c1.param_op == (f.data[0] & 0x0Fu) && c1.param_seq == f.data[1] &&
+                  c1.param_id == static_cast<uint16_t>(f.data[2] | (f.data[3] << 8)) &&
+                  c1.param_value == static_cast<uint32_t>(f.data[4] | (f.data[5] << 8) | (f.data[6] << 16) |
+                                                          (static_cast<uint32_t>(f.data[7]) << 24)));
             break;
         default:
             check(false);

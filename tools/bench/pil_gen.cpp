@@ -53,6 +53,9 @@
 
 extern "C" {
 #include "drives/registry.h"
+#if MC_HAS_PARAMS
+#include "design/ops/drive_design_ops.h"
+#endif
 #include "pil_vectors.h"
 }
 
@@ -120,6 +123,33 @@ void write_cfg_words(FILE* f, const drive_config_storage_t& cfg, std::uint32_t b
     std::fprintf(f, "const uint32_t %s[%zu] = {", name, nw);
     for (std::size_t i = 0; i < nw; ++i) std::fprintf(f, "%s0x%08" PRIx32 "u,", (i % 8) ? "" : "\n  ", w[i]);
     std::fprintf(f, "\n};\n");
+}
+
+// The reference an image that designs on the board compares its own design
+// with (hal/backends/stm32f405/main_qemu.c): the drive's configuration
+// designed here from its parameters' defaults (design/ops/), as
+// pil_design_cfg_bytes and pil_design_cfg_words; nothing for a drive or a
+// build without parameters (fixed point).
+void write_design_reference(FILE* f, const std::string& name)
+{
+#if MC_HAS_PARAMS
+    const drive_design_ops_t* d = drive_design_ops_find(name.c_str());
+    if (d == nullptr) return;
+    std::vector<std::max_align_t> in((d->input_bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t));
+    auto cfg = std::make_unique<drive_config_storage_t>();
+    std::memset(cfg.get(), 0, sizeof *cfg);
+    param_error_t perr{};
+    char err[256] = {0};
+    if (!drive_design_defaults_input(d, in.data(), &perr) || !d->design(in.data(), cfg.get(), err, sizeof err)) {
+        throw std::runtime_error("the " + name + " drive's parameters' defaults do not design: " +
+                                 (err[0] != '\0' ? err : perr.text));
+    }
+    std::fprintf(f, "const uint32_t pil_design_cfg_bytes = %uu;\n", static_cast<unsigned>(d->config_bytes));
+    write_cfg_words(f, *cfg, d->config_bytes, "pil_design_cfg_words");
+#else
+    (void)f;
+    (void)name;
+#endif
 }
 
 struct Rec {
@@ -251,6 +281,7 @@ int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const cha
     std::fprintf(f, "const uint32_t pil_control_hz = %luu;\n", std::lround(1.0 / sc.ts_s));
     std::fprintf(f, "const uint32_t pil_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
     write_cfg_words(f, *cfg, ops->config_bytes, "pil_cfg_words");
+    write_design_reference(f, name);
     std::fprintf(f, "const uint32_t pil_n = %zuu;\n", n);
     std::fprintf(f, "const uint32_t pil_in_varying = 0x%" PRIx32 "u, pil_out_varying = 0x%" PRIx32 "u;\n", in_var,
                  out_var);

@@ -157,6 +157,13 @@ def run_image(a, facts, board, variant, gen, scenario):
            "control_period_us_max": round(period_us[1], 2), "control_period_us_mean": round(mean_us, 3),
            "crystal_missing_gives_fault_1": hse_ok,
            "pass": ok}
+    # the drive designed on the board from its parameters' defaults
+    # (main_qemu.c): its bytes against the host's design of them, its time
+    if "design_bytes" in info:
+        ticks = int(info.get("design_ticks_hi", "0")) * 2 ** 32 + int(info.get("design_ticks", "0"))
+        res.update({"design_on_board_config_bytes": int(info["design_bytes"]),
+                    "design_on_board_bytes_differing": int(info.get("design_differ", "-1")),
+                    "design_on_board_instr": round(ticks / ticks_per_instr) if ticks_per_instr else None})
     res.update(stats(isr, "isr"))
     res.update(stats(step, "drive_step"))
     if "isr_instr_mean" in res and "drive_step_instr_mean" in res:

@@ -23,6 +23,76 @@
 #include "stm32_backend.h"
 #include "stm32f405_regs.h"
 
+#ifdef MC_DESIGN_OPS
+#include "design/ops/drive_design_ops.h"
+
+/* The drive's design on the board from its parameters' defaults
+ * (design/ops/drive_design_ops.h: the host's design code in double, the
+ * Cortex-M4F's soft double and newlib's libm), compared byte for byte with
+ * the configuration the host designs from the same parameters with the
+ * same code (the vectors' pil_design_cfg_words, tools/bench/pil_gen.cpp).
+ * Static: the input and the configuration are a few kB. */
+extern const uint32_t pil_design_cfg_words[];
+extern const uint32_t pil_design_cfg_bytes;
+static uint8_t design_input[2048] __attribute__((aligned(8)));
+static volatile uint32_t systick_wraps; /* SysTick's interrupt, on during the design only */
+
+void SysTick_Handler(void);
+void SysTick_Handler(void) { systick_wraps = systick_wraps + 1u; }
+static uint8_t design_cfg[2048] __attribute__((aligned(8)));
+
+static void check_design_on_board(void)
+{
+    const drive_design_ops_t *d = &MC_DESIGN_OPS;
+    param_error_t perr;
+    char err[96] = {0};
+    mcu_puts("STM32QEMU design ");
+    mcu_puts(d->name);
+    if (d->input_bytes > sizeof design_input || d->config_bytes > sizeof design_cfg ||
+        d->config_bytes != pil_design_cfg_bytes) {
+        mcu_puts(": sizes do not fit\nSTM32QEMU FAIL\n");
+        mcu_exit(1);
+    }
+    memset(design_cfg, 0, sizeof design_cfg);
+    /* timed across SysTick's wraps (24 bits: 0.1 s at 168 MHz): its
+     * interrupt counts them while the design runs */
+    systick_wraps = 0u;
+    SYST_CVR = 0u;
+    SYST_CSR = 7u;
+    const uint32_t c0 = SYST_CVR;
+    const bool ok = drive_design_defaults_input(d, design_input, &perr) && d->design(design_input, design_cfg, err,
+                                                                                       sizeof err);
+    const uint32_t c1 = SYST_CVR;
+    SYST_CSR = 5u;
+    /* ticks = wraps * 2^24 + c0 - c1 (counting down from c0 after the reload) */
+    const uint64_t ticks = (uint64_t)systick_wraps * 0x01000000u + c0 - c1;
+    if (!ok) {
+        mcu_puts(" refused: ");
+        mcu_puts(err);
+        mcu_puts("\nSTM32QEMU FAIL\n");
+        mcu_exit(1);
+    }
+    uint32_t differ = 0u, first = 0xFFFFFFFFu;
+    const uint8_t *host = (const uint8_t *)pil_design_cfg_words;
+    for (uint32_t k = 0; k < d->config_bytes; ++k) {
+        if (design_cfg[k] != host[k]) {
+            if (differ == 0u) first = k;
+            differ += 1u;
+        }
+    }
+    mcu_put_kv("design_bytes", d->config_bytes);
+    mcu_put_kv("design_differ", differ);
+    mcu_put_kv("design_first", first);
+    mcu_put_kv("design_ticks_hi", (uint32_t)(ticks >> 32));
+    mcu_put_kv("design_ticks", (uint32_t)ticks);
+    mcu_puts("\n");
+    if (differ != 0u) {
+        mcu_puts("STM32QEMU the configuration designed on the board differs from the host's\nSTM32QEMU FAIL\n");
+        mcu_exit(1);
+    }
+}
+#endif
+
 /* The QEMU board has no encoder port (its timer model counts its clock
  * only): an encoder-reading drive gets the recorded sample's angle. */
 const uint32_t board_encoder_counts_per_turn = 0u;
@@ -133,6 +203,9 @@ int main(void)
         mcu_puts(", not this image's (MC_DRIVE)\nSTM32QEMU FAIL\n");
         mcu_exit(1);
     }
+#ifdef MC_DESIGN_OPS
+    check_design_on_board();
+#endif
     if (!stm32_backend_init(&stm32_hw)) {
         mcu_puts("STM32QEMU init failed: ");
         mcu_puts(hal_last_error());
