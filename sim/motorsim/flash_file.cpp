@@ -9,7 +9,7 @@
 namespace mcsim {
 
 namespace {
-constexpr std::size_t kImageBytes = std::size_t{FLASH_IF_SECTORS} * FlashFile::kSectorWords * 4u;
+constexpr std::size_t kImageBytes = static_cast<std::size_t>(FLASH_IF_SECTORS) * FlashFile::kSectorWords * 4u;
 }
 
 FlashFile::FlashFile(std::string path) : path_(std::move(path))
@@ -33,7 +33,7 @@ FlashFile::FlashFile(std::string path) : path_(std::move(path))
     }
     for (std::uint32_t s = 0; s < FLASH_IF_SECTORS; ++s) {
         for (std::uint32_t i = 0; i < kSectorWords; ++i) {
-            const unsigned char* b = &bytes[(std::size_t{s} * kSectorWords + i) * 4u];
+            const unsigned char* b = &bytes[(static_cast<std::size_t>(s) * kSectorWords + i) * 4u];
             // little-endian, as the F405's flash reads
             mem_[s][i] = static_cast<std::uint32_t>(b[0]) | (static_cast<std::uint32_t>(b[1]) << 8) |
                          (static_cast<std::uint32_t>(b[2]) << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
@@ -60,7 +60,7 @@ bool FlashFile::write_back()
     std::vector<unsigned char> bytes(kImageBytes);
     for (std::uint32_t s = 0; s < FLASH_IF_SECTORS; ++s) {
         for (std::uint32_t i = 0; i < kSectorWords; ++i) {
-            unsigned char* b = &bytes[(std::size_t{s} * kSectorWords + i) * 4u];
+            unsigned char* b = &bytes[(static_cast<std::size_t>(s) * kSectorWords + i) * 4u];
             const std::uint32_t w = mem_[s][i];
             b[0] = static_cast<unsigned char>(w);
             b[1] = static_cast<unsigned char>(w >> 8);
