@@ -205,3 +205,64 @@ TEST(Stm32Backend, EncoderErrorWithholdsTheAngle)
     stm32_backend_sample(&in);
     EXPECT_FALSE(in.has_angle) << "latched";
 }
+
+// The TIM1 break at run time (the bridges' over-current comparator): the
+// next sample carries the trip to the drive, then the backend's fault
+// state, the bridges off; the control interrupt goes on with the
+// application called (its drive holds FAULT, its CAN node reports it) and
+// no duty written, the watchdog fed (no reset 10 ms later that would lose
+// the cause and restart the bridges); after hal_safe_state the application
+// is no longer called, the watchdog still fed.
+namespace {
+struct Seen {
+    int calls = 0;
+    uint32_t status = 0;
+};
+void recording_control(void* ctx, const hal_sample_t* in, hal_command_t* out)
+{
+    auto* s = static_cast<Seen*>(ctx);
+    s->calls += 1;
+    s->status |= in->status;
+    out->v_V[0] = 3.0f;  // a command the backend must not apply once in fault
+}
+}  // namespace
+
+TEST(Stm32Backend, BreakAtRunTimeReachesTheDriveAndTheBoardStaysSafeAndAlive)
+{
+    FakeChip chip(2048);
+    chip.clocks_ok();
+    ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();
+    Seen seen;
+    ASSERT_TRUE(hal_start(&recording_control, &seen)) << hal_last_error();
+    hal_sample_t in{};
+    stm32_backend_control(&in);
+    ASSERT_EQ(seen.calls, 1);
+    EXPECT_EQ(seen.status & HAL_STATUS_PWM_TRIP, 0u);
+    // the comparator trips: the hardware clears MOE, the interrupt comes
+    chip.tim1.BDTR &= ~TIM_BDTR_MOE;
+    chip.tim1.SR = TIM_SR_BIF;
+    stm32_backend_break();
+    EXPECT_TRUE(chip.gate_low());
+    in = hal_sample_t{};
+    stm32_backend_control(&in);
+    EXPECT_EQ(seen.calls, 2);
+    EXPECT_NE(seen.status & HAL_STATUS_PWM_TRIP, 0u) << "the drive saw the trip";
+    EXPECT_EQ(stm32_backend_status(), STM32_FAULT_OVERCURRENT_BREAK);
+    const uint32_t ccr[3] = {chip.tim1.CCR[0], chip.tim1.CCR[1], chip.tim1.CCR[2]};
+    for (int k = 0; k < 3; ++k) {
+        chip.iwdg.KR = 0u;
+        in = hal_sample_t{};
+        stm32_backend_control(&in);
+        EXPECT_EQ(chip.iwdg.KR, IWDG_KEY_REFRESH) << "the watchdog fed in the fault state";
+    }
+    EXPECT_EQ(seen.calls, 5) << "the application still runs";
+    EXPECT_EQ(chip.tim1.CCR[0], ccr[0]);
+    EXPECT_EQ(chip.tim1.CCR[1], ccr[1]);
+    EXPECT_EQ(chip.tim1.CCR[2], ccr[2]);
+    EXPECT_FALSE(chip.moe());
+    hal_safe_state();
+    chip.iwdg.KR = 0u;
+    stm32_backend_control(&in);
+    EXPECT_EQ(seen.calls, 5) << "stopped by the application";
+    EXPECT_EQ(chip.iwdg.KR, IWDG_KEY_REFRESH);
+}

@@ -387,7 +387,8 @@ TEST(Stm32BackendOdrive36, NFaultLowAtStartRefusesTheStart)
 // once (MOE = 0 on TIM1 and TIM8, EN_GATE low) and carries the trip
 // (HAL_STATUS_PWM_TRIP: the drive's DRIVE_FAULT_HW_TRIP, its safe state);
 // the drive is handed that sample, then the fault state (24): no more
-// steps, no more duties, hal_start refused.
+// duties, the application still called (stm32_backend_control), hal_start
+// refused.
 TEST(Stm32BackendOdrive36, NFaultWhileRunningTripsWithBridgesOff)
 {
     FakeChip chip(2048);
@@ -416,7 +417,9 @@ TEST(Stm32BackendOdrive36, NFaultWhileRunningTripsWithBridgesOff)
     EXPECT_EQ(chip.tim1.CCR[1], 1234u) << "no duties written after the trip";
     stm32_backend_sample(&in);
     stm32_backend_control(&in);
-    EXPECT_EQ(g_seen_status.size(), 2u) << "the fault state: no more steps";
+    EXPECT_EQ(g_seen_status.size(), 3u) << "the fault state: the application still called (its drive in FAULT, "
+                                           "its CAN node alive)";
+    EXPECT_EQ(chip.tim1.CCR[1], 1234u) << "and no duties written";
     EXPECT_FALSE(chip.moe1());
     EXPECT_TRUE(chip.gate_low());
     EXPECT_FALSE(hal_start(&command_control, nullptr));

@@ -74,6 +74,8 @@ static struct {
     hal_control_fn fn;
     void *ctx;
     bool running;
+    bool started;     /* hal_start succeeded: the control interrupt runs from then on, whatever happens */
+    bool app_stopped; /* hal_safe_state: the application asked for no more callbacks */
     volatile stm32_status_t fault;
     const char *error;
     uint32_t tick;
@@ -120,6 +122,11 @@ void stm32_backend_fault(stm32_status_t why)
     if (g.fault == STM32_OK) {
         g.fault = why;
         g.error = stm32_status_text(why);
+    }
+    if (g.running) {
+        /* at run time the drive hears of it at its next sample (a trip:
+         * DRIVE_FAULT_HW_TRIP), whatever the cause */
+        g.status_next |= HAL_STATUS_PWM_TRIP;
     }
     g.running = false;
     if (board.led_fault.port != 0xFFu) {
@@ -206,6 +213,8 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     g.hw = hw;
     g.fault = STM32_OK;
     g.running = false;
+    g.started = false;
+    g.app_stopped = false;
     g.error = "";
     g.encoder_on = false;
     g.step_dir_on = false;
@@ -389,6 +398,7 @@ bool hal_start(hal_control_fn fn, void *ctx)
     g.ctx = ctx;
     g.tick = 0;
     g.running = true;
+    g.app_stopped = false;
     /* the break first (highest priority), the control step, CAN below it */
     if (board.break_enable) nvic_enable(IRQ_TIM1_BRK_TIM9, 0x00u);
     if (board.control == BOARD_CONTROL_ADC) {
@@ -406,8 +416,10 @@ bool hal_start(hal_control_fn fn, void *ctx)
         } else {
             pwm_start(TIM1);
         }
+        g.started = true;
     } else {
         /* TIM2 update at control_hz */
+        g.started = true;
         TIM2->PSC = 0u;
         TIM2->ARR = board.control_timer_hz / board.control_hz - 1u;
         TIM2->DIER = TIM_DIER_UIE;
@@ -430,6 +442,7 @@ void hal_safe_state(void)
 {
     bridges_off();
     g.running = false;
+    g.app_stopped = true;
 }
 
 uint32_t hal_time_us(void) { return (uint32_t)((uint64_t)g.tick * 1000000u / board.control_hz); }
@@ -459,7 +472,17 @@ void stm32_backend_control(hal_sample_t *in)
     in->tick = g.tick;
     in->status |= g.status_next;
     g.status_next = 0u;
-    if (!g.running) {
+    if (!g.started) {
+        return;
+    }
+    /* After a fault at run time the bridges stay off and no duty is
+     * written, but the interrupt goes on: the application still runs (its
+     * drive saw the trip and holds FAULT, its CAN node reports it and
+     * takes commands) unless it stopped itself (hal_safe_state), and the
+     * watchdog is fed, so the board does not reset out of the fault state
+     * 10 ms later and lose its cause (hal/backends/stm32f405/README.md). */
+    if (g.app_stopped) {
+        if (g.watchdog) iwdg_refresh(IWDG);
         return;
     }
     hal_command_t out;
@@ -595,11 +618,20 @@ void TIM1_BRK_TIM9_IRQHandler(void) { stm32_backend_break(); }
 
 void stm32_backend_break(void)
 {
-    /* the hardware already forced the outputs off (MOE = 0) */
+    /* the hardware already forced the outputs off (MOE = 0); the gate
+     * enable too, now */
     TIM1->SR &= ~TIM_SR_BIF;
     TIM1->DIER &= ~TIM_DIER_BIE;
     g.status_next |= HAL_STATUS_PWM_TRIP;
-    stm32_backend_fault(STM32_FAULT_OVERCURRENT_BREAK);
+    bridges_off();
+    if (g.running) {
+        /* the next sample carries the trip to the drive (DRIVE_FAULT_HW_TRIP),
+         * then the fault state (stm32_backend_control), as the gate
+         * drivers' nFAULT does */
+        g.fault_pending = STM32_FAULT_OVERCURRENT_BREAK;
+    } else {
+        stm32_backend_fault(STM32_FAULT_OVERCURRENT_BREAK);
+    }
 }
 
 void CAN1_RX0_IRQHandler(void)
