@@ -5,6 +5,11 @@
 
 #include "design/ops/drive_design_ops.h"
 
+extern const drive_design_ops_t paper000_design_ops;
+extern const drive_design_ops_t paper001_design_ops;
+extern const drive_design_ops_t paper002_design_ops;
+extern const drive_design_ops_t sensored_foc_design_ops;
+
 static const drive_design_ops_t *const all_designs[] = {
     &paper000_design_ops,
     &paper001_design_ops,

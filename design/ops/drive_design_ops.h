@@ -41,10 +41,8 @@ bool drive_design_defaults_input(const drive_design_ops_t *d, void *input, param
  * or NULL: for the host's programs. */
 const drive_design_ops_t *drive_design_ops_find(const char *name);
 
-extern const drive_design_ops_t paper000_design_ops;
-extern const drive_design_ops_t paper001_design_ops;
-extern const drive_design_ops_t paper002_design_ops;
-extern const drive_design_ops_t sensored_foc_design_ops;
+/* Each drive's are <drive>_design_ops (design/ops/<drive>_design_ops.c);
+ * an image declares its own (MC_DESIGN_OPS), the registry all of them. */
 
 #ifdef __cplusplus
 }

@@ -408,11 +408,12 @@ TEST(Params, DesignOpsDesignEachDrivesDefaults)
     const struct {
         const drive_design_ops_t* ops;
         const char* board;  // nullptr: no board runs it
-    } cases[] = {{&paper000_design_ops, "firmware/drives/paper000/boards/odrive36.toml"},
-                 {&paper001_design_ops, "firmware/drives/paper001/boards/vesc6.toml"},
-                 {&paper002_design_ops, "firmware/drives/paper002/boards/vesc6.toml"},
-                 {&sensored_foc_design_ops, nullptr}};
+    } cases[] = {{drive_design_ops_find("paper000"), "firmware/drives/paper000/boards/odrive36.toml"},
+                 {drive_design_ops_find("paper001"), "firmware/drives/paper001/boards/vesc6.toml"},
+                 {drive_design_ops_find("paper002"), "firmware/drives/paper002/boards/vesc6.toml"},
+                 {drive_design_ops_find("sensored_foc"), nullptr}};
     for (const auto& c : cases) {
+        ASSERT_NE(c.ops, nullptr);
         const drive_ops_t* ops = drive_find(c.ops->name);
         ASSERT_NE(ops, nullptr) << c.ops->name;
         EXPECT_EQ(c.ops->config_bytes, ops->config_bytes) << c.ops->name;

@@ -12,6 +12,8 @@ tools/ names one (`paper001_...`, `P001_...`, `p001_...`, `sensored_foc...`,
                                    tools take from it, tools/lib/drive_facts.py)
   firmware/drives/registry.{h,c}   the firmware registry
   design/<name>_design.{h,c}       its host-side design (file named after it)
+  design/ops/<name>_design_ops.c   its design as an image runs it, and
+                                   design/ops/design_ops_registry.c
   sim/host_drives/<name>_host.{cpp,h}  its host part (the header for that
                                    drive's other host code; what motorsim does
                                    for it beyond the interface: its scoring,
@@ -113,10 +115,11 @@ def patterns(names: list[str]) -> re.Pattern:
 
 def allowed(rel: str, names: list[str]) -> bool:
     if rel in ("firmware/drives/registry.h", "firmware/drives/registry.c", "sim/host_drives/host_registry.cpp",
-               "sim/host_drives/host_drive.h"):
+               "sim/host_drives/host_drive.h", "design/ops/design_ops_registry.c"):
         return True
     for n in names:
         if rel.startswith(f"firmware/drives/{n}/") or rel.startswith(f"design/{n}_design.") or \
+                rel == f"design/ops/{n}_design_ops.c" or \
                 rel in (f"sim/host_drives/{n}_host.cpp", f"sim/host_drives/{n}_host.h"):
             return True
         if rel.startswith("tools/") and rel.rsplit("/", 1)[-1].startswith(f"{n}_"):

@@ -32,6 +32,7 @@
  * the configuration the host designs from the same parameters with the
  * same code (the vectors' pil_design_cfg_words, tools/bench/pil_gen.cpp).
  * Static: the input and the configuration are a few kB. */
+extern const drive_design_ops_t MC_DESIGN_OPS; /* the image's drive's (CMakeLists.txt) */
 extern const uint32_t pil_design_cfg_words[];
 extern const uint32_t pil_design_cfg_bytes;
 static uint8_t design_input[2048] __attribute__((aligned(8)));
