@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -17,6 +18,10 @@ FlashFile::FlashFile(std::string path) : path_(std::move(path))
     for (auto& m : mem_) {
         m.assign(kSectorWords, FLASH_IF_ERASED);
     }
+    std::error_code ec;
+    if (std::filesystem::is_directory(path_, ec)) {
+        throw std::invalid_argument("--flash-image: " + path_ + ": is a directory, not a flash image");
+    }
     std::ifstream f(path_, std::ios::binary);
     if (!f) {
         if (errno != ENOENT) {
@@ -27,7 +32,7 @@ FlashFile::FlashFile(std::string path) : path_(std::move(path))
     existed_ = true;
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     if (bytes.size() != kImageBytes) {
-        throw std::runtime_error("--flash-image: " + path_ + ": " + std::to_string(bytes.size()) +
+        throw std::invalid_argument("--flash-image: " + path_ + ": " + std::to_string(bytes.size()) +
                                  " bytes, not a flash image (" + std::to_string(kImageBytes) +
                                  " bytes: two sectors of 16 KB)");
     }

@@ -26,8 +26,9 @@ public:
     // The STM32F405 store's sector size (sectors 1 and 2: 16 KB each).
     static constexpr std::uint32_t kSectorWords = 4096;
 
-    // Reads path (absent: erased). Throws std::runtime_error naming the
-    // file when it cannot be read or is not an image of two sectors.
+    // Reads path (absent: erased). Throws std::invalid_argument naming the
+    // file when it is not an image of two sectors (a directory, another
+    // size), std::runtime_error when it cannot be read.
     explicit FlashFile(std::string path);
 
     // The interface the store is given (it points into this object).

@@ -151,11 +151,18 @@ TEST(ParamGlue, AnImageOfTheWrongSizeIsRefusedNamingIt)
     try {
         SimRun a(img);
         FAIL() << "accepted";
-    } catch (const std::runtime_error& e) {
+    } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find(img), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("17 bytes"), std::string::npos) << e.what();
     }
     fs::remove(img);
+    const std::string dir = fs::temp_directory_path().string();
+    try {
+        SimRun a(dir);
+        FAIL() << "a directory accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace
