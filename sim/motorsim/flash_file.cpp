@@ -33,8 +33,8 @@ FlashFile::FlashFile(std::string path) : path_(std::move(path))
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     if (bytes.size() != kImageBytes) {
         throw std::invalid_argument("--flash-image: " + path_ + ": " + std::to_string(bytes.size()) +
-                                 " bytes, not a flash image (" + std::to_string(kImageBytes) +
-                                 " bytes: two sectors of 16 KB)");
+                                    " bytes, not a flash image (" + std::to_string(kImageBytes) +
+                                    " bytes: two sectors of 16 KB)");
     }
     for (std::uint32_t s = 0; s < FLASH_IF_SECTORS; ++s) {
         for (std::uint32_t i = 0; i < kSectorWords; ++i) {
