@@ -473,10 +473,20 @@ def image_path(args):
     return os.path.join(os.path.abspath(args.out), "params.img")
 
 
+def quiet_telemetry(d):
+    """Every telemetry message but the heartbeat off (CmdSetRate, period 0),
+    as a host configuring a drive would: at 800 frames a second a loaded
+    VM's bus and this script's socket lost ParamReply frames (clean-clone
+    CI runs of dec378b and db116c9)."""
+    for m in range(1, 8):
+        d.send("CmdSetRate", Message=m, Period=0)
+
+
 def params_set_commander(d, answers, image):
     """Every refusal once, then R written while disabled and saved."""
     if not d.wait_for(lambda s: s["Heartbeat"]["Enabled"] == 1, 60, "the drive running"):
         return
+    quiet_telemetry(d)
 
     def ask(what, op, pid=0, bits=0):
         a = d.param(op, pid, bits)
@@ -508,6 +518,7 @@ def params_set_commander(d, answers, image):
 def params_read_commander(d, answers, image):
     if not d.wait_for(lambda s: "Heartbeat" in s, 60, "a heartbeat"):
         return
+    quiet_telemetry(d)
     a = d.param(0, R_OHM)
     answers.append({"what": "read R after the restart", "status": a[0] if a else None, "bits": a[2] if a else None})
 
