@@ -122,7 +122,8 @@ if want cppcheck; then
     # the image's drive is a configure-time option (MC_DRIVE): checked with
     # the stm32f405 preset's
     run_cppcheck "hal/backends/stm32f405 (C11, Cortex-M4F float)" "${m4f[@]}" -I hal/backends/stm32f405 \
-        -I hal/include -I firmware -DMC_DRIVE_NAME=\"paper001\" -DMC_DRIVE_OPS=paper001_drive_ops \
+        -I hal/include -I firmware -I . -DMC_DRIVE_NAME=\"paper001\" -DMC_DRIVE_OPS=paper001_drive_ops \
+        -DMC_DESIGN_OPS=paper001_design_ops -DMC_BOARD_PARAMS=board_params_vesc6 \
         hal/backends/stm32f405/*.c hal/backends/stm32f405/boards/*.c
     run_cppcheck "hal/backends/mcu (C11, Cortex-M3 fixed point)" "${m3[@]}" "${mcu[@]}"
     run_cppcheck "tools/bench/pil_probes (C11, Cortex-M3 fixed point)" "${m3[@]}" tools/bench/pil_probes/*.c
@@ -203,7 +204,7 @@ fi
 FORMAT_PENDING=scripts/clang_format_pending.txt
 format_files() {  # the checked files, generated ones left out
     find firmware hal sim design tools -type f \( -name '*.c' -o -name '*.h' -o -name '*.cpp' -o -name '*.hpp' \) \
-        ! -path 'firmware/comm/generated/*' ! -path 'firmware/drives/*/boards/*_config.c' \
+        ! -path 'firmware/comm/generated/*' ! -path 'firmware/drives/*/boards/*_params.c' \
         ! -path 'firmware/drives/*/generated/*' ! -path 'firmware/config/generated/*' | LC_ALL=C sort
 }
 if want clang-format; then

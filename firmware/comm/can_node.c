@@ -34,11 +34,18 @@ static can_reject_t answer_param(can_node_t *n, const can_cmd_t *cmd)
     }
     can_param_answer_t a = {0};
     n->param(n->param_ctx, cmd, &a);
+    if (a.status != CAN_PARAM_DEFERRED) {
+        can_node_param_reply(n, cmd->param_op, cmd->param_seq, &a);
+    }
+    return CAN_REJECT_NONE;
+}
+
+void can_node_param_reply(can_node_t *n, uint8_t op, uint8_t seq, const can_param_answer_t *a)
+{
     can_frame_t f;
-    can_link_pack_param_reply(n->tx.cfg.node, cmd->param_op, a.status, cmd->param_seq, a.id, a.value, &f);
+    can_link_pack_param_reply(n->tx.cfg.node, op, a->status, seq, a->id, a->value, &f);
     can_tx_push(&n->tx, &f);
     n->param_replies += 1u;
-    return CAN_REJECT_NONE;
 }
 
 can_reject_t can_node_receive(can_node_t *n, uint32_t tick, const can_frame_t *f, can_apply_fn apply, void *drive)

@@ -35,7 +35,11 @@ typedef can_reject_t (*can_apply_fn)(void *drive, const can_cmd_t *cmd);
 
 /* The answer to a ParamRequest (cmd->kind CAN_CMD_PARAM): the status
  * (config/params.h param_status_t), the parameter's id and its 32 bits;
- * the node echoes op and seq in the ParamReply it queues. */
+ * the node echoes op and seq in the ParamReply it queues. A handler that
+ * answers later (an image whose design and flash writes run outside the
+ * control interrupt) sets status CAN_PARAM_DEFERRED: nothing is queued
+ * now, and its owner queues the answer with can_node_param_reply. */
+#define CAN_PARAM_DEFERRED 0xFFu
 typedef struct {
     uint8_t status;
     uint16_t id;
@@ -67,6 +71,10 @@ bool can_node_init(can_node_t *n, const can_tx_config_t *cfg);
  * as telemetry is (comm/can_tx.h: the oldest frame goes when the queue is
  * full). Without one a ParamRequest is refused as an unknown id. */
 void can_node_set_params(can_node_t *n, can_param_fn fn, void *ctx);
+
+/* Queues the ParamReply to a request answered later (CAN_PARAM_DEFERRED):
+ * op and seq the request's, *a the answer (its status a param_status_t). */
+void can_node_param_reply(can_node_t *n, uint8_t op, uint8_t seq, const can_param_answer_t *a);
 
 /* One received frame: validated (can_link_parse); a CmdSetRate is carried
  * out here, a ParamRequest answered by the parameters' handler, any other

@@ -35,6 +35,7 @@ const char *params_status_name(param_status_t s)
     case PARAM_ERR_DESIGN_REFUSED: return "design_refused";
     case PARAM_ERR_STORE_FAILED: return "store_failed";
     case PARAM_ERR_BAD_REQUEST: return "bad_request";
+    case PARAM_ERR_BUSY: return "busy";
     }
     return "unknown_status";
 }

@@ -78,7 +78,8 @@ typedef enum {
     PARAM_ERR_BAD_VALUE = 5, /* not a value of the type: NaN or infinite, a bool not 0 or 1, an enum past its names */
     PARAM_ERR_DESIGN_REFUSED = 6, /* the design refused the parameters (the drive stays disabled) */
     PARAM_ERR_STORE_FAILED = 7,   /* the configuration store failed (config/config_store.h) */
-    PARAM_ERR_BAD_REQUEST = 8     /* a request that cannot be read: an unknown op, a missing argument */
+    PARAM_ERR_BAD_REQUEST = 8,    /* a request that cannot be read: an unknown op, a missing argument */
+    PARAM_ERR_BUSY = 9            /* another request is being served (a board: the design, a save): ask again */
 } param_status_t;
 
 /* A request's operation (ParamRequest's Op, ParamReply's echo; the

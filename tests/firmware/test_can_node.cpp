@@ -956,3 +956,34 @@ TEST(CanNode, ParamRequestIsAnsweredByOneParamReply)
     EXPECT_EQ(can_node_receive(&n, 2, &other, can_node_apply_drive, nullptr), CAN_REJECT_NOT_OURS);
     EXPECT_EQ(probe.seen.size(), 2u);
 }
+
+// A handler that answers later (an image whose design and flash writes run
+// in its main loop, hal/backends/stm32f405/app_params.h) queues nothing at
+// the request; its owner's can_node_param_reply queues the one reply.
+namespace {
+void param_later(void* ctx, const can_cmd_t* req, can_param_answer_t* ans)
+{
+    static_cast<ParamProbe*>(ctx)->seen.push_back(*req);
+    ans->status = CAN_PARAM_DEFERRED;
+}
+}  // namespace
+
+TEST(CanNode, ADeferredParamRequestIsAnsweredWhenItsOwnerReplies)
+{
+    can_node_t n = make_node(3);
+    ParamProbe probe;
+    can_node_set_params(&n, param_later, &probe);
+    const can_frame_t req = frame(0x283, {0x02, 0x11, 0, 0, 0, 0, 0, 0});  // save, seq 17
+    EXPECT_EQ(can_node_receive(&n, 0, &req, can_node_apply_drive, nullptr), CAN_REJECT_NONE);
+    ASSERT_EQ(probe.seen.size(), 1u);
+    can_frame_t rep{};
+    EXPECT_FALSE(can_node_peek(&n, &rep)) << "a deferred request answered at once";
+    EXPECT_EQ(n.param_replies, 0u);
+    const can_param_answer_t a = {7u, 0xFFFFu, 0u};  // store_failed
+    can_node_param_reply(&n, 0x02, 0x11, &a);
+    ASSERT_TRUE(can_node_peek(&n, &rep));
+    EXPECT_EQ(rep.id, 0x183u);
+    EXPECT_EQ(rep.data[0], 0x72);  // op 2, status 7
+    EXPECT_EQ(rep.data[1], 0x11);
+    EXPECT_EQ(n.param_replies, 1u);
+}

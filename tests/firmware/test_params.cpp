@@ -5,8 +5,8 @@
 // and the defaults designing exactly today's images: each drive's design
 // input from its table's defaults, designed by the host design (design/),
 // is the configuration its board file designs through the scenario path
-// (sim/host_drives/, what tools/bench/pil_gen.cpp --board-config writes
-// into the images), byte for byte; and again after every value went
+// (sim/host_drives/; tools/bench/pil_gen.cpp --board-params checks the
+// same for the values it writes), byte for byte; and again after every value went
 // through its 32 bits and back (a CAN read and write, the store).
 #include <gtest/gtest.h>
 
@@ -505,11 +505,11 @@ TEST(Params, StatusNamesAreTheDbcs)
     const std::string reply = m[1];
     ASSERT_TRUE(std::regex_search(dbc, m, std::regex("VAL_ " + reply + " Status ([^;]*);")));
     std::string want;
-    for (int s = PARAM_OK; s <= PARAM_ERR_BAD_REQUEST; ++s) {
+    for (int s = PARAM_OK; s <= PARAM_ERR_BUSY; ++s) {
         want += std::to_string(s) + " \"" + params_status_name(static_cast<param_status_t>(s)) + "\" ";
     }
     EXPECT_EQ(m[1].str(), want);
-    EXPECT_STREQ(params_status_name(static_cast<param_status_t>(PARAM_ERR_BAD_REQUEST + 1)), "unknown_status");
+    EXPECT_STREQ(params_status_name(static_cast<param_status_t>(PARAM_ERR_BUSY + 1)), "unknown_status");
     EXPECT_STREQ(params_type_name(PARAM_ENUM), "enum");
     EXPECT_STREQ(params_access_name(PARAM_DISABLED), "disabled");
 }

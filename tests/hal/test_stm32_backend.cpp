@@ -20,9 +20,9 @@ extern "C" {
 #include "stm32_backend.h"
 }
 
-// the motor's encoder as a drive configuration for the VESC 6 would give it
-// (firmware/drives/<drive>/boards/vesc6_config.c): 2048 lines
-extern "C" const uint32_t board_encoder_counts_per_turn = 8192u;
+// the motor's encoder as a drive's parameters on the VESC 6 would give it
+// (its encoder_counts, stm32_backend_configure before the start): 2048 lines
+const bool kEncoderConfigured = stm32_backend_configure(board.can_node, board.dead_time_ns, 8192u) == STM32_OK;
 
 namespace {
 
@@ -121,6 +121,7 @@ TEST(Stm32Backend, CurrentSensorZeroOutOfRangeIsAFaultWithBridgesOff)
 
 TEST(Stm32Backend, GoodStartThenOvercurrentBreak)
 {
+    ASSERT_TRUE(kEncoderConfigured);
     FakeChip chip(2050);
     chip.clocks_ok();
     ASSERT_TRUE(stm32_backend_init(&chip.hw)) << hal_last_error();

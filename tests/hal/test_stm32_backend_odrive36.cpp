@@ -28,8 +28,6 @@ extern "C" {
 #include "stm32_backend.h"
 }
 
-extern "C" const uint32_t board_encoder_counts_per_turn = 0u;
-
 namespace {
 
 struct Regs {

@@ -29,8 +29,8 @@
 // (HostDrive::estimator_name), written into the vectors' source line.
 //
 // Usage: mc_pil_gen [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c [MAX_SAMPLES]
-//        mc_pil_gen --board-config [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c
-//                   (an MCU board's drive configuration only, see write_board_config)
+//        mc_pil_gen --board-params [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c
+//                   (an MCU board's values of the drive's parameters, see write_board_params)
 #include <array>
 #include <cinttypes>
 #include <cmath>
@@ -313,40 +313,132 @@ int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const cha
     return 0;
 }
 
-// --board-config: only the drive's configuration, as the words of
-// board_drive_cfg_words[] for an MCU image's board
-// (hal/backends/stm32f405/boards/board.h), written to the drive's own
-// folder (firmware/drives/<drive>/boards/<board>_config.c). The scenario
-// path is written as given (relative to the repository, so that the file
-// does not depend on where the repository is).
-int write_board_config(mcsim::Scenario& sc, const Options& opt, const char* given_path, const char* out_c)
+// --board-params: the image's values of the drive's parameters for an MCU
+// board (hal/backends/stm32f405/app_params.h), written to the drive's own
+// folder (firmware/drives/<drive>/boards/<board>[_<variant>]_params.c):
+// each parameter whose value in the scenario's design input differs from
+// the table's default, as its id and 32 bits (board_drive_values[]). The
+// board designs from them (the table's defaults, these over them) with the
+// host's code; refused here, naming it, when the scenario sets a value
+// outside a parameter's range or sets something of the design input no
+// parameter carries (the design from the values differs from the one from
+// the scenario with its parameters rounded as the board holds them).
+int write_board_params(mcsim::Scenario& sc, const Options& opt, const char* given_path, const char* out_c)
 {
+#if MC_HAS_PARAMS
     const std::string name = opt.drive.empty() ? scenario_drive(sc) : opt.drive;
-    const drive_ops_t* ops = drive_find(name.c_str());
-    if (ops == nullptr) throw std::runtime_error("--drive " + name + ": not a drive of the registry");
-    auto cfg = std::make_unique<drive_config_storage_t>();
-    design(name, opt, sc, cfg.get());
+    const drive_design_ops_t* d = drive_design_ops_find(name.c_str());
+    const mcsim::HostDrive* host = mcsim::host_drive_find(name);
+    if (d == nullptr || host == nullptr || host->design_input == nullptr) {
+        throw std::runtime_error("--drive " + name + ": a drive without user parameters (design/ops/)");
+    }
+    if (sc.drive_kind != name) {
+        throw std::runtime_error(sc.path + ": --drive " + name + " needs a scenario of that drive; this one's is " +
+                                 sc.drive_kind);
+    }
+    if (!opt.estimator.empty()) {
+        if (host->select_estimator == nullptr) throw std::runtime_error("--estimator: the " + name + " drive has one estimator");
+        host->select_estimator(&sc, opt.estimator);
+    }
+    const std::size_t nw = (d->input_bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+    std::vector<std::max_align_t> in_sc(nw), in_def(nw), in_img(nw);
+    host->design_input(sc, in_sc.data());
+    param_error_t perr{};
+    if (!drive_design_defaults_input(d, in_def.data(), &perr) || !drive_design_defaults_input(d, in_img.data(), &perr)) {
+        throw std::runtime_error("the " + name + " drive's parameters' defaults: " + perr.text);
+    }
+    std::vector<std::pair<std::uint16_t, std::uint32_t>> values;
+    const param_table_t* t = d->params;
+    for (std::uint16_t k = 0; k < t->n_params; ++k) {
+        const param_desc_t& pd = t->params[k];
+        param_value_t v{}, v0{};
+        if (!params_read(t, in_sc.data(), pd.id, &v, &perr) || !params_read(t, in_def.data(), pd.id, &v0, &perr)) {
+            throw std::runtime_error(std::string("parameter ") + pd.name + ": " + perr.text);
+        }
+        if (!params_check_value(&pd, v, &perr)) {
+            throw std::runtime_error(sc.path + ": the drive's parameter " + pd.name + " as the scenario sets it: " +
+                                     perr.text);
+        }
+        if (pd.access == PARAM_RO) {
+            // fixed by the image (a phase count, a sample time): the scenario must agree
+            if (v.u32 != v0.u32) {
+                throw std::runtime_error(sc.path + ": the drive's parameter " + pd.name +
+                                         " is read-only and the scenario sets another value than the image's");
+            }
+            continue;
+        }
+        // the scenario's value as the board holds it, in both inputs
+        if (!params_write(t, in_sc.data(), pd.id, v, false, &perr) ||
+            !params_write(t, in_img.data(), pd.id, v, false, &perr)) {
+            throw std::runtime_error(std::string("parameter ") + pd.name + ": " + perr.text);
+        }
+        if (v.u32 != v0.u32) values.emplace_back(pd.id, v.u32);
+    }
+    auto cfg_sc = std::make_unique<drive_config_storage_t>();
+    auto cfg_img = std::make_unique<drive_config_storage_t>();
+    std::memset(cfg_sc.get(), 0, sizeof *cfg_sc);
+    std::memset(cfg_img.get(), 0, sizeof *cfg_img);
+    char err[256] = {0};
+    if (!d->design(in_sc.data(), cfg_sc.get(), err, sizeof err)) {
+        throw std::runtime_error(sc.path + ": the scenario's parameters do not design: " + err);
+    }
+    if (!d->design(in_img.data(), cfg_img.get(), err, sizeof err)) {
+        throw std::runtime_error(sc.path + ": the image's values do not design: " + err);
+    }
+    const auto* a = reinterpret_cast<const unsigned char*>(cfg_sc.get());
+    const auto* b = reinterpret_cast<const unsigned char*>(cfg_img.get());
+    for (std::uint32_t k = 0; k < d->config_bytes; ++k) {
+        if (a[k] != b[k]) {
+            throw std::runtime_error(sc.path + ": the scenario sets a design input no parameter of the " + name +
+                                     " drive carries (its configuration differs at byte " + std::to_string(k) +
+                                     "): give it a parameter (firmware/drives/" + name + "/params.toml) or leave it");
+        }
+    }
     const std::string tmp = std::string(out_c) + ".tmp";
     FILE* f = std::fopen(tmp.c_str(), "w");
     if (!f) throw std::runtime_error(std::string("cannot write ") + tmp);
-    std::fprintf(f, "/* Generated by tools/bench/pil_gen.cpp --board-config from %s: do not edit\n", given_path);
-    std::fprintf(f, " * (ctest mcu.board_config_current regenerates it and compares). */\n");
-    std::fprintf(f, "#include <stdint.h>\n#include \"boards/board.h\"\n#include \"drives/%s/%s_drive.h\"\n\n",
-                 name.c_str(), name.c_str());
-    std::fprintf(f, "_Static_assert(sizeof(%s_config_t) == %u, \"%s_config_t layout differs from the host's\");\n",
-                 name.c_str(), static_cast<unsigned>(ops->config_bytes), name.c_str());
-    std::fprintf(f, "_Static_assert(MC_FIXED == %d, \"made for the other numeric type\");\n\n", (int)MC_FIXED);
-    std::fprintf(f, "const char board_drive_cfg_source[] = \"%s (%s%s, %s)\";\n", given_path, name.c_str(),
-                 estimator_note(name, *cfg).c_str(), MC_FIXED ? "fixed Q14.17" : "float32");
-    std::fprintf(f, "const uint32_t board_drive_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
-    // the encoder the design assumed ([encoder]), for the board's encoder driver
-    std::fprintf(f, "const uint32_t board_encoder_counts_per_turn = %uu;\n",
-                 static_cast<unsigned>(sc.encoder.present() ? sc.encoder.counts_per_turn : 0));
-    write_cfg_words(f, *cfg, ops->config_bytes, "board_drive_cfg_words");
+    std::fprintf(f, "/* Generated by tools/bench/pil_gen.cpp --board-params from %s: do not edit\n", given_path);
+    std::fprintf(f, " * (ctest mcu.board_params_current regenerates it and compares). The %s drive's\n",
+                 name.c_str());
+    std::fprintf(f, " * parameters whose value for this board differs from the table's default\n");
+    std::fprintf(f, " * (firmware/drives/%s/params.toml, docs/parameters.md): the base the\n", name.c_str());
+    std::fprintf(f, " * board designs from and \"defaults\" restores (app_params.h). */\n");
+    std::fprintf(f, "#include <stdint.h>\n#include \"app_params.h\"\n\n");
+    std::fprintf(f, "_Static_assert(MC_FIXED == 0, \"the parameters are the float images'\");\n\n");
+    std::fprintf(f, "const char board_drive_values_source[] = \"%s (%s%s)\";\n", given_path, name.c_str(),
+                 estimator_note(name, *cfg_sc).c_str());
+    std::fprintf(f, "const uint32_t board_drive_values_count = %zuu;\n", values.size());
+    std::fprintf(f, "const app_param_value_t board_drive_values[%zu] = {\n", values.empty() ? 1 : values.size());
+    for (const auto& [id, u] : values) {
+        const param_desc_t* pd = params_find(t, id, nullptr);
+        param_value_t v{};
+        v.u32 = u;
+        std::string shown;
+        char buf[64];
+        switch (pd->type) {
+        case PARAM_F32: std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v.f32)); break;
+        case PARAM_I32: std::snprintf(buf, sizeof buf, "%" PRId32, v.i32); break;
+        case PARAM_ENUM:
+            std::snprintf(buf, sizeof buf, "%s", v.i32 >= 0 && v.i32 < pd->n_names ? pd->names[v.i32] : "?");
+            break;
+        default: std::snprintf(buf, sizeof buf, "%" PRIu32, v.u32); break;
+        }
+        std::fprintf(f, "    {0x%04xu, 0x%08" PRIx32 "u}, /* %s = %s%s%s */\n", id, u, pd->name, buf,
+                     pd->unit[0] != '\0' ? " " : "", pd->unit);
+    }
+    if (values.empty()) std::fprintf(f, "    {0u, 0u}, /* none: the defaults */\n");
+    std::fprintf(f, "};\n");
     if (std::fclose(f) != 0 || std::rename(tmp.c_str(), out_c) != 0) {
         throw std::runtime_error(std::string("cannot write ") + out_c);
     }
     return 0;
+#else
+    (void)sc;
+    (void)opt;
+    (void)given_path;
+    (void)out_c;
+    throw std::runtime_error("--board-params: the parameters are the float build's (this one is fixed point)");
+#endif
 }
 
 }  // namespace
@@ -355,7 +447,7 @@ int main(int argc, char** argv)
 {
     const char* usage =
         "usage: %s [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
-        "       %s --board-config [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c\n"
+        "       %s --board-params [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c\n"
         "--estimator: one of the drive's estimators (default: the scenario's)\n"
         "--drive: a drive of the registry (default: the scenario's):";
     Options opt;
@@ -365,7 +457,7 @@ int main(int argc, char** argv)
         const std::string s = argv[a];
         if ((s == "--drive" || s == "--estimator") && a + 1 < argc) {
             (s == "--drive" ? opt.drive : opt.estimator) = argv[++a];
-        } else if (s == "--board-config") {
+        } else if (s == "--board-params") {
             board = true;
         } else if (s.rfind("--", 0) == 0) {
             pos.clear();
@@ -384,7 +476,7 @@ int main(int argc, char** argv)
     }
     try {
         mcsim::Scenario sc = mcsim::load_scenario(pos[0]);
-        if (board) return write_board_config(sc, opt, pos[0], pos[1]);
+        if (board) return write_board_params(sc, opt, pos[0], pos[1]);
         return record(sc, opt, pos[1], pos.size() > 2 ? pos[2] : nullptr);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "error: %s\n", e.what());

@@ -358,7 +358,11 @@ def fmt_value(p, v):
 
 class ParamClient:
     """Requests to one node, each answered by the ParamReply of its Seq
-    (retried twice on a timeout)."""
+    (retried twice on a timeout or a "busy" answer: a board serves one
+    request at a time). A save waits at least SAVE_TIMEOUT_S: a board
+    erases a flash sector for it (up to 0.5 s on the STM32F405)."""
+
+    SAVE_TIMEOUT_S = 2.0
 
     def __init__(self, bus, db, node, timeout_s=0.5):
         self.bus, self.db, self.node, self.timeout_s = bus, db, node, timeout_s
@@ -370,21 +374,31 @@ class ParamClient:
     def request(self, op, pid=0, bits=0):
         """(status name, id, 32 bits) of the reply."""
         value = bits - (1 << 32) if bits & 0x80000000 else bits
+        timeout_s = max(self.timeout_s, self.SAVE_TIMEOUT_S) if op == "save" else self.timeout_s
+        answer = None
         for _ in range(3):
             self.seq = (self.seq + 1) & 0xFF
             data = self.req.encode({"Op": PARAM_OPS[op], "Seq": self.seq, "ParamId": pid, "Value": value},
                                    strict=True)
             self.bus.send(can.Message(arbitration_id=self.req.frame_id + self.node, data=data, is_extended_id=False))
-            end = time.monotonic() + self.timeout_s
+            end = time.monotonic() + timeout_s
+            answer = None
             while time.monotonic() < end:
                 m = self.bus.recv(timeout=max(0.0, end - time.monotonic()))
                 if m is None or m.arbitration_id != self.rep.frame_id + self.node or len(m.data) != 8:
                     continue
                 r = self.rep.decode(bytes(m.data), decode_choices=False)
                 if r["Seq"] == self.seq and r["Op"] == PARAM_OPS[op]:
-                    return self.status.get(int(r["Status"]), str(r["Status"])), int(r["ParamId"]), \
-                        int(r["Value"]) & 0xFFFFFFFF
-        raise ParamError(f"node {self.node}: no ParamReply to {op} within {self.timeout_s} s (3 tries)")
+                    answer = (self.status.get(int(r["Status"]), str(r["Status"])), int(r["ParamId"]),
+                              int(r["Value"]) & 0xFFFFFFFF)
+                    break
+            if answer is not None and answer[0] != "busy":
+                return answer
+            if answer is not None:
+                time.sleep(0.05)  # the node serves another request: ask again
+        if answer is not None:
+            return answer  # busy three times
+        raise ParamError(f"node {self.node}: no ParamReply to {op} within {timeout_s} s (3 tries)")
 
 
 def node_drive(bus, db, node, timeout_s=1.5):

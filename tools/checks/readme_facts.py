@@ -181,8 +181,8 @@ def check_drives(text: str, name: str) -> list[str]:
         if d not in reg:
             bad.append(f"{name}: drives table lists `{d}`, which is not in firmware/drives/registry.c")
             continue
-        boards = sorted(p.stem.removesuffix("_config") for p in (ROOT / "firmware" / "drives" / d / "boards")
-                        .glob("*_config.c"))
+        boards = sorted(p.stem.removesuffix("_params") for p in (ROOT / "firmware" / "drives" / d / "boards")
+                        .glob("*_params.c"))
         says = r[stm].lower().startswith("yes")
         if says != bool(boards):
             bad.append(f"{name}: drives table: `{d}` STM32F405 image '{r[stm]}', but firmware/drives/{d}/boards/ "

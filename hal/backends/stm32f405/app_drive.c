@@ -39,7 +39,43 @@ bool app_drive_init(app_drive_t *a, const uint32_t *cfg_words, uint32_t cfg_byte
     a->can = can;
     a->step_cycles = 0u;
     a->step_dir = false;
+    a->params = NULL;
     return drive_init(&a->drive, &cfg);
+}
+
+bool app_drive_init_params(app_drive_t *a, app_params_t *p, const drive_design_ops_t *design,
+                           const param_table_t *board_table, const app_param_value_t *values, uint32_t n_values,
+                           uint32_t control_hz, bool can, const flash_if_t *flash, const app_params_hooks_t *hooks,
+                           param_error_t *err)
+{
+    a->can = can;
+    a->step_cycles = 0u;
+    a->step_dir = false;
+    a->params = NULL;
+    if (!drive_bind(&a->drive, &MC_DRIVE_OPS, &a->storage)) {
+        err->status = PARAM_ERR_BAD_REQUEST;
+        err->id = PARAM_ID_NONE;
+        err->text = "the drive's state does not fit drive_storage_t";
+        return false;
+    }
+    if (!app_params_init(p, design, board_table, &a->drive, &a->node, flash, hooks, err) ||
+        !app_params_start(p, values, n_values, control_hz, err)) {
+        return false;
+    }
+    a->params = p;
+    return true;
+}
+
+/* can_apply_fn over the app: CmdEnable waits for the parameters to design
+ * and for nothing to be in flight (app_params_may_enable); the rest is
+ * the drive's. */
+static can_reject_t apply_command(void *ctx, const can_cmd_t *cmd)
+{
+    app_drive_t *a = (app_drive_t *)ctx;
+    if (cmd->kind == CAN_CMD_ENABLE && cmd->enable && a->params != NULL && !app_params_may_enable(a->params)) {
+        return CAN_REJECT_MODE;
+    }
+    return can_node_apply_drive(&a->drive, cmd);
 }
 
 bool app_drive_step_dir(app_drive_t *a, const step_shaper_config_t *cfg, int32_t count0)
@@ -96,7 +132,10 @@ void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
      * the heartbeat reports it and CmdClearFaults can clear it */
     hal_can_frame_t f;
     for (uint32_t k = 0; k < CAN_NODE_RX_PER_STEP && hal_can_receive(&f); ++k) {
-        (void)can_node_receive(&a->node, in->tick, &f, &can_node_apply_drive, &a->drive);
+        (void)can_node_receive(&a->node, in->tick, &f, &apply_command, a);
+    }
+    if (a->params != NULL) {
+        app_params_control(a->params, in->tick);
     }
     can_node_step_drive(&a->node, &a->drive, in->tick, in->v_bus_V, MC_ZERO);
     while (can_node_peek(&a->node, &f) && hal_can_send(&f)) {

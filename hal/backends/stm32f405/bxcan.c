@@ -51,14 +51,8 @@ static bool wait_msr(can_regs_t *can, uint32_t mask, uint32_t want, uint32_t n)
     return false;
 }
 
-stm32_status_t bxcan_init(can_regs_t *can, const bxcan_timing_t *t, uint8_t node, uint32_t timeout_polls)
+void bxcan_node_filter(can_regs_t *can, uint8_t node)
 {
-    can->MCR = CAN_MCR_INRQ; /* out of sleep, into initialisation */
-    if (!wait_msr(can, CAN_MSR_INAK | CAN_MSR_SLAK, CAN_MSR_INAK, timeout_polls)) {
-        return STM32_FAULT_CAN_TIMEOUT;
-    }
-    can->MCR = CAN_MCR_INRQ | CAN_MCR_ABOM | CAN_MCR_TXFP;
-    can->BTR = t->btr;
     /* filter bank 0, 32-bit mask mode, FIFO 0: id 0x200 | node in the
      * standard id (bits 31:21), mask 0x70F and IDE, RTR (standard data
      * frames only) */
@@ -71,6 +65,17 @@ stm32_status_t bxcan_init(can_regs_t *can, const bxcan_timing_t *t, uint8_t node
     can->FILTER[0].FR2 = CAN_TIR_STID(0x70Fu) | CAN_RIR_IDE | CAN_RIR_RTR;
     can->FA1R |= 1u;
     can->FMR &= ~CAN_FMR_FINIT;
+}
+
+stm32_status_t bxcan_init(can_regs_t *can, const bxcan_timing_t *t, uint8_t node, uint32_t timeout_polls)
+{
+    can->MCR = CAN_MCR_INRQ; /* out of sleep, into initialisation */
+    if (!wait_msr(can, CAN_MSR_INAK | CAN_MSR_SLAK, CAN_MSR_INAK, timeout_polls)) {
+        return STM32_FAULT_CAN_TIMEOUT;
+    }
+    can->MCR = CAN_MCR_INRQ | CAN_MCR_ABOM | CAN_MCR_TXFP;
+    can->BTR = t->btr;
+    bxcan_node_filter(can, node);
     can->MCR &= ~CAN_MCR_INRQ; /* normal mode after 11 recessive bits on the bus */
     if (!wait_msr(can, CAN_MSR_INAK, 0u, timeout_polls)) {
         return STM32_FAULT_CAN_TIMEOUT;

@@ -32,6 +32,11 @@ typedef struct {
  * sample_permille (75-90 %); false if none is exact. */
 bool bxcan_timing(uint32_t pclk_hz, uint32_t bitrate, uint32_t sample_permille, bxcan_timing_t *t);
 
+/* Filter bank 0 to node's commands: standard data frames 0x200-0x2FF
+ * whose low 4 bits are node (RM0090 32.7.4: a filter bank may change
+ * while the controller runs, in filter initialisation mode, FINIT). */
+void bxcan_node_filter(can_regs_t *can, uint8_t node);
+
 /* Initialisation mode, timing, automatic bus-off recovery, transmit in
  * request order, the node's filter; then normal mode. */
 stm32_status_t bxcan_init(can_regs_t *can, const bxcan_timing_t *t, uint8_t node, uint32_t timeout_polls);

@@ -94,10 +94,6 @@ static void check_design_on_board(void)
 }
 #endif
 
-/* The QEMU board has no encoder port (its timer model counts its clock
- * only): an encoder-reading drive gets the recorded sample's angle. */
-const uint32_t board_encoder_counts_per_turn = 0u;
-
 static app_drive_t app;
 static volatile uint32_t next;       /* the next recorded period */
 static hal_sample_t next_in;         /* its sample, decoded from the vectors */

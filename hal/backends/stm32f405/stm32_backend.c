@@ -69,6 +69,27 @@ const stm32_periph_t stm32_hw = {
 /* LED blink: status every 0.5 s of steps; fault code: code flashes, pause. */
 #define STM32_LED_BLINK_STEPS 5000u
 
+/* Interrupts masked around a change of state the control interrupt also
+ * makes (the bridges' outputs), the caller's mask restored after. */
+static inline uint32_t irq_mask(void)
+{
+#if defined(__arm__)
+    uint32_t primask;
+    __asm__ volatile("mrs %0, primask\n cpsid i" : "=r"(primask)::"memory");
+    return primask;
+#else
+    return 0u;
+#endif
+}
+static inline void irq_restore(uint32_t primask)
+{
+#if defined(__arm__)
+    __asm__ volatile("msr primask, %0" ::"r"(primask) : "memory");
+#else
+    (void)primask;
+#endif
+}
+
 static struct {
     const stm32_periph_t *hw;
     hal_control_fn fn;
@@ -98,6 +119,13 @@ static struct {
     encoder_t enc;
     hal_can_frame_t can_rx[16];
     uint32_t can_rx_head, can_rx_count, can_rx_dropped;
+    /* what the drive's parameters set (stm32_backend_configure) */
+    bool configured;
+    uint8_t can_node;
+    uint32_t dead_time_ns, encoder_counts;
+    uint32_t apb2_timer_hz;     /* TIM1's clock (the dead time's ticks) */
+    bool initialised;           /* stm32_backend_init succeeded */
+    bool paused;                /* stm32_backend_pause: the bridges' outputs held off */
 } g = {.hw = &stm32_hw};
 
 stm32_status_t stm32_backend_status(void) { return g.fault; }
@@ -208,6 +236,33 @@ static stm32_status_t gate_drivers_init(uint32_t apb1_hz, uint32_t core_hz)
     return STM32_OK;
 }
 
+/* The board's encoder port (TIM3, encoder_tim.h) started, or started
+ * again, at counts a turn: its count from zero. */
+static stm32_status_t encoder_start(uint32_t counts)
+{
+    g.encoder_on = false;
+    RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
+    pin_af(board.encoder_a, GPIO_PULL_UP);
+    pin_af(board.encoder_b, GPIO_PULL_UP);
+    if (board.encoder_index_enable) pin_af(board.encoder_index, GPIO_PULL_DOWN);
+    /* the largest count change between two control samples at the
+     * board's fastest motor, rounded up, one count of margin */
+    const uint64_t step = ((uint64_t)counts * board.encoder_max_rev_s + board.control_hz - 1u) / board.control_hz + 1u;
+    const encoder_config_t ec = {
+        .counts_per_turn = counts,
+        .filter = board.encoder_filter,
+        .invert = false,
+        .start_count = 0u,
+        .max_step_counts = step > ENCODER_STEP_MAX ? ENCODER_STEP_MAX + 1u : (uint32_t)step,
+        .index = board.encoder_index_enable,
+        .index_count = board.encoder_index_count,
+        .index_tolerance = board.encoder_index_tolerance,
+    };
+    const stm32_status_t st = encoder_init(&g.enc, TIM3, &ec, STM32_TIMEOUT_POLLS);
+    g.encoder_on = st == STM32_OK;
+    return st;
+}
+
 bool stm32_backend_init(const stm32_periph_t *hw)
 {
     g.hw = hw;
@@ -221,6 +276,13 @@ bool stm32_backend_init(const stm32_periph_t *hw)
     g.gate_fault_on = false;
     g.fault_pending = STM32_OK;
     g.amp_gain = board.amp_gain;
+    g.initialised = false;
+    g.paused = false;
+    if (!g.configured) {
+        g.can_node = board.can_node; /* no parameters: the board's table, no encoder */
+        g.dead_time_ns = board.dead_time_ns;
+        g.encoder_counts = 0u;
+    }
     /* 1. why the last reset: a watchdog reset stays a fault until power is cycled */
     const bool wd_reset = (RCC->CSR & RCC_CSR_IWDGRSTF) != 0u;
     RCC->CSR |= RCC_CSR_RMVF;
@@ -233,6 +295,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         apb1 = g.clocks.apb1_hz;
         apb2_timer = g.clocks.apb2_timer_hz;
     }
+    g.apb2_timer_hz = apb2_timer;
     RCC->AHB1ENR |= RCC_AHB1ENR_GPIO(0) | RCC_AHB1ENR_GPIO(1) | RCC_AHB1ENR_GPIO(2);
     RCC->APB2ENR |= RCC_APB2ENR_TIM1EN | RCC_APB2ENR_ADC1EN | RCC_APB2ENR_ADC2EN | RCC_APB2ENR_ADC3EN;
     RCC->APB1ENR |= RCC_APB1ENR_CAN1EN | RCC_APB1ENR_TIM2EN;
@@ -246,7 +309,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         gpio_config(GPIO(board.gate_enable.port), board.gate_enable.pin, GPIO_OUTPUT, 0, GPIO_PULL_DOWN);
     }
     if (!pwm_plan(apb2_timer, board.pwm_hz, board.pwm_hz >= board.control_hz ? board.control_hz : board.pwm_hz,
-                  board.dead_time_ns, &g.pwm)) {
+                  g.dead_time_ns, &g.pwm)) {
         return fail(STM32_FAULT_PWM_PLAN);
     }
     pwm_init(TIM1, &g.pwm, board.topology, board.break_enable, board.break_active_high);
@@ -303,29 +366,10 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         }
     }
     /* 5. the encoder, when the board has its port and the drive's
-     * configuration gives its counts per turn */
-    if (board.encoder_port && board_encoder_counts_per_turn > 0u) {
-        RCC->APB1ENR |= RCC_APB1ENR_TIM3EN;
-        pin_af(board.encoder_a, GPIO_PULL_UP);
-        pin_af(board.encoder_b, GPIO_PULL_UP);
-        if (board.encoder_index_enable) pin_af(board.encoder_index, GPIO_PULL_DOWN);
-        /* the largest count change between two control samples at the
-         * board's fastest motor, rounded up, one count of margin */
-        const uint64_t step = ((uint64_t)board_encoder_counts_per_turn * board.encoder_max_rev_s + board.control_hz - 1u) /
-                              board.control_hz + 1u;
-        const encoder_config_t ec = {
-            .counts_per_turn = board_encoder_counts_per_turn,
-            .filter = board.encoder_filter,
-            .invert = false,
-            .start_count = 0u,
-            .max_step_counts = step > ENCODER_STEP_MAX ? ENCODER_STEP_MAX + 1u : (uint32_t)step,
-            .index = board.encoder_index_enable,
-            .index_count = board.encoder_index_count,
-            .index_tolerance = board.encoder_index_tolerance,
-        };
-        const stm32_status_t st = encoder_init(&g.enc, TIM3, &ec, STM32_TIMEOUT_POLLS);
+     * parameters give its counts per turn */
+    if (board.encoder_port && g.encoder_counts > 0u) {
+        const stm32_status_t st = encoder_start(g.encoder_counts);
         if (st != STM32_OK) return fail(st);
-        g.encoder_on = true;
     }
     /* 5b. the step/dir input: STEP on TIM5_CH1, DIR's line 0-4 (each its
      * own interrupt; lines 5-15 share theirs: not taken) */
@@ -354,7 +398,7 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         if (!bxcan_timing(apb1, board.can_bitrate, BXCAN_SAMPLE_PERMILLE, &t)) return fail(STM32_FAULT_CAN_TIMING);
         pin_af(board.can_rx, GPIO_PULL_UP);
         pin_af(board.can_tx, GPIO_NO_PULL);
-        const stm32_status_t st = bxcan_init(CAN1, &t, board.can_node, STM32_TIMEOUT_POLLS);
+        const stm32_status_t st = bxcan_init(CAN1, &t, g.can_node, STM32_TIMEOUT_POLLS);
         if (st != STM32_OK) return fail(st);
     }
     /* 7. the watchdog, last: from here the control step must come */
@@ -365,7 +409,73 @@ bool stm32_backend_init(const stm32_periph_t *hw)
         if (st != STM32_OK) return fail(st);
         g.watchdog = true;
     }
+    g.initialised = true;
     return true;
+}
+
+stm32_status_t stm32_backend_configure(uint8_t can_node, uint32_t dead_time_ns, uint32_t encoder_counts)
+{
+    if (can_node > 15u) return STM32_FAULT_CAN_TIMING;
+    if (encoder_counts > 0u && !board.encoder_port) return STM32_FAULT_ENCODER_CONFIG;
+    if (!g.initialised) {
+        /* before the start: what stm32_backend_init sets up */
+        g.configured = true;
+        g.can_node = can_node;
+        g.dead_time_ns = dead_time_ns;
+        g.encoder_counts = encoder_counts;
+        return STM32_OK;
+    }
+    /* at run time, each part only when it changes: the dead time's ticks
+     * (DTG: RM0090 17.4.18, writable while LOCK = 0, as pwm_init leaves
+     * it; taken at the next edge), the encoder counted again from zero,
+     * the receive filter */
+    if (dead_time_ns != g.dead_time_ns) {
+        pwm_plan_t p;
+        if (!pwm_plan(g.apb2_timer_hz, board.pwm_hz, board.pwm_hz >= board.control_hz ? board.control_hz : board.pwm_hz,
+                      dead_time_ns, &p) ||
+            p.arr != g.pwm.arr) {
+            return STM32_FAULT_PWM_PLAN;
+        }
+        g.pwm = p;
+        TIM1->BDTR = (TIM1->BDTR & ~TIM_BDTR_DTG_MASK) | (p.dtg & TIM_BDTR_DTG_MASK);
+        if (two_timers()) TIM8->BDTR = (TIM8->BDTR & ~TIM_BDTR_DTG_MASK) | (p.dtg & TIM_BDTR_DTG_MASK);
+        g.dead_time_ns = dead_time_ns;
+    }
+    if (encoder_counts != g.encoder_counts || (encoder_counts > 0u && !g.encoder_on)) {
+        g.encoder_counts = encoder_counts;
+        g.encoder_on = false;
+        if (encoder_counts > 0u) {
+            const stm32_status_t st = encoder_start(encoder_counts);
+            if (st != STM32_OK) return st;
+        }
+    }
+    if (can_node != g.can_node && board.can_enable) {
+        bxcan_node_filter(CAN1, can_node);
+    }
+    g.can_node = can_node;
+    return STM32_OK;
+}
+
+bool stm32_backend_pause(bool pause)
+{
+    const uint32_t primask = irq_mask();
+    bool ok = true;
+    if (pause) {
+        pwm_outputs(TIM1, false);
+        if (two_timers()) pwm_outputs(TIM8, false);
+        g.paused = g.started;
+    } else if (g.paused) {
+        /* outputs back on only while nothing stopped them meanwhile (a
+         * fault, the application's safe state) */
+        ok = g.running && !g.app_stopped && g.fault == STM32_OK;
+        if (ok) {
+            pwm_outputs(TIM1, true);
+            if (two_timers()) pwm_outputs(TIM8, true);
+        }
+        g.paused = false;
+    }
+    irq_restore(primask);
+    return ok;
 }
 
 static void nvic_enable(uint32_t irq, uint8_t prio)

@@ -52,6 +52,26 @@ extern const stm32_periph_t stm32_hw;
 /* Start-up of the board on hw; false (and the fault state) on any failure. */
 bool stm32_backend_init(const stm32_periph_t *hw);
 
+/* What the image's parameters set in the backend (config/board_params.h
+ * and the drive's encoder_counts): the node's CAN id (the receive
+ * filter), the bridges' dead time, the encoder port's counts a turn (0:
+ * not read). Before stm32_backend_init: what it starts with (never
+ * called: the board's table, no encoder). After: each part that changed
+ * applied at once (the dead time's DTG, the encoder counted again from
+ * zero, the filter), for the control interrupt to call while the drive is
+ * disabled. STM32_OK, or why not: STM32_FAULT_PWM_PLAN (a dead time the
+ * timer cannot make), STM32_FAULT_ENCODER_CONFIG (counts the encoder
+ * cannot run, or a board without the port), STM32_FAULT_CAN_TIMING (a
+ * node above 15); a refusal is not the fault state. */
+stm32_status_t stm32_backend_configure(uint8_t can_node, uint32_t dead_time_ns, uint32_t encoder_counts);
+
+/* pause: the bridges' outputs off (MOE = 0: every switch off, the gate
+ * drivers kept configured) while the control interrupt goes on, as a
+ * flash write needs (flash.h: refused while MOE is set); !pause: back on,
+ * unless a fault or hal_safe_state stopped them meanwhile (then false).
+ * Callable from the main loop (interrupts masked around the change). */
+bool stm32_backend_pause(bool pause);
+
 /* TIM1's break: what its interrupt does (the hardware already turned the
  * outputs off): the fault state with STM32_FAULT_OVERCURRENT_BREAK. */
 void stm32_backend_break(void);

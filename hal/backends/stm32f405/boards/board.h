@@ -2,10 +2,11 @@
  * board.h - what differs between boards with an STM32F405: one constant
  * table per board (boards/<name>.c), chosen at link time. Pins, the
  * current and bus-voltage signal chains, the power stage (topology, PWM
- * frequency, dead time, break input), CAN, the watchdog. The drive's
- * configuration for the board is the drive's (the generated words of
- * firmware/drives/<drive>/boards/<board>_config.c, designed on the host
- * from the scenario file beside it), linked for the image's drive MC_DRIVE.
+ * frequency, dead time, break input), CAN, the watchdog. The node id and
+ * the dead time here are the defaults of the board's parameters
+ * (firmware/config/board_params.toml, checked against this table); the
+ * drive's configuration is designed on the board from the drive's
+ * parameters (app_params.h).
  */
 #ifndef STM32_BOARD_H
 #define STM32_BOARD_H
@@ -79,9 +80,9 @@ typedef struct {
     /* an incremental encoder's port on TIM3 (encoder_tim.h; the one
      * encoder timer this backend drives): A on CH1, B on CH2, the index on
      * CH3 (captured). Run when the board has the port and the image's
-     * drive configuration gives counts per turn
-     * (board_encoder_counts_per_turn > 0); each control sample then
-     * carries its angle (has_angle, angle_rad). */
+     * drive's parameters give counts per turn (encoder_counts > 0,
+     * stm32_backend_configure); each control sample then carries its
+     * angle (has_angle, angle_rad). */
     bool encoder_port;
     gpio_pin_t encoder_a, encoder_b, encoder_index;
     uint8_t encoder_filter;           /* ICxF, 0..15 */
@@ -104,16 +105,5 @@ typedef struct {
 } board_t;
 
 extern const board_t board;
-
-/* The image's drive's configuration for this board: its config type as raw
- * words, board_drive_cfg_bytes long (checked against the drive's
- * config_bytes when the image starts), and where it was designed from. */
-extern const uint32_t board_drive_cfg_words[];
-extern const uint32_t board_drive_cfg_bytes;
-extern const char board_drive_cfg_source[];
-/* The motor's encoder as the drive's configuration was designed for it
- * (the scenario's [encoder] counts_per_turn; 0: the drive reads none),
- * from the same generated file. */
-extern const uint32_t board_encoder_counts_per_turn;
 
 #endif /* STM32_BOARD_H */

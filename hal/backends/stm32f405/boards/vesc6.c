@@ -21,9 +21,10 @@
  * the DRV8301's nOCTW to it; leave it unconnected and it never fires.
  * Dead time 500 ns (the DRV8301's own minimum is 50 ns; 500 ns covers
  * the VESC 6's MOSFETs' turn-off). 20 kHz PWM, control at 10 kHz.
- * The drive is the image's (MC_DRIVE); its configuration for this board,
- * firmware/drives/<drive>/boards/vesc6[_<variant>]_config.c, is designed on
- * the host from the scenario beside it.
+ * The drive is the image's (MC_DRIVE), designed on the board from its
+ * parameters: their values for this board,
+ * firmware/drives/<drive>/boards/vesc6[_<variant>]_params.c, come from the
+ * scenario beside it; over CAN they change and are saved (app_params.h).
  */
 #include "boards/board.h"
 
