@@ -85,6 +85,8 @@ bool can_link_pack(can_tlm_msg_t m, uint8_t node, const can_telemetry_t *t, can_
         s.fault_events = t->drive.fault_events;
         s.rejected_commands = t->rejected_commands;
         s.counter = t->counter;
+        s.config_source = (uint8_t)(t->config_source & 0x7u);
+        s.params_refused = t->params_refused ? 1u : 0u;
         id = DRIVE_CAN_HEARTBEAT_FRAME_ID;
         n = drive_can_heartbeat_pack(f->data, &s, sizeof f->data);
         break;

@@ -24,7 +24,7 @@
 extern "C" {
 #endif
 
-#define CAN_LINK_MSG_SET_VERSION 4u   /* the DBC's MsgSetVersion; VERSION "drive-can 4" (1 + Version + ExcessSteps + ParamRequest, ParamReply) */
+#define CAN_LINK_MSG_SET_VERSION 5u   /* the DBC's MsgSetVersion; VERSION "drive-can 5" (1 + Version + ExcessSteps + ParamRequest, ParamReply + ConfigSource, ParamsRefused) */
 #define CAN_LINK_NODE_MAX 15u          /* node ids 0-15 are added to the DBC's (node 0) ids */
 
 /* One classic CAN frame: the HAL's (hal/hal_types.h). */
@@ -55,6 +55,8 @@ typedef struct {
     uint16_t counter;            /* the heartbeat's */
     mc_t v_bus_V, step_time_us;  /* the backend's */
     uint16_t excess_steps;       /* the step/dir input's (trajectory/step_shaper.h), wrapping; 0 without one */
+    uint8_t config_source;       /* the heartbeat's ConfigSource (param_service_config_source), 0 without a store */
+    bool params_refused;         /* the parameters do not design: CmdEnable refused */
 } can_telemetry_t;
 
 /* Packs telemetry message m of node into *f. Returns false for an unknown m

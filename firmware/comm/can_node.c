@@ -14,6 +14,8 @@ bool can_node_init(can_node_t *n, const can_tx_config_t *cfg)
     n->last_reject_id = 0;
     n->heartbeats = 0;
     n->excess_steps = 0;
+    n->config_source = 0u;
+    n->params_refused = false;
     n->param = NULL;
     n->param_ctx = NULL;
     n->param_replies = 0;
@@ -146,5 +148,7 @@ void can_node_step_drive(can_node_t *n, const drive_t *d, uint32_t tick, mc_t v_
     can_telemetry_t t;
     can_node_drive_telemetry(d, v_bus_V, step_time_us, &t);
     t.excess_steps = (uint16_t)(n->excess_steps & 0xFFFFu);
+    t.config_source = n->config_source;
+    t.params_refused = n->params_refused;
     can_node_transmit(n, tick, &t);
 }

@@ -56,6 +56,8 @@ typedef struct {
     uint32_t last_reject_id;    /* and its identifier */
     uint32_t heartbeats;        /* the heartbeat's Counter (wrapping at 16 bits on the bus) */
     uint32_t excess_steps;      /* the step/dir input's excess steps, set by its owner (0 without one) */
+    uint8_t config_source;      /* where the parameters came from (ConfigSource), set by their owner (0: none) */
+    bool params_refused;        /* the parameters do not design (ParamsRefused), set by their owner */
     can_param_fn param;         /* the parameters' handler (can_node_set_params), NULL: none */
     void *param_ctx;
     uint32_t param_replies;     /* ParamReply frames queued */

@@ -252,3 +252,14 @@ void param_service_request(param_service_t *s, const param_request_t *req, bool 
         s->last_error = err;
     }
 }
+
+uint8_t param_service_config_source(const param_service_t *s)
+{
+    if (s->store == NULL) return 0u;
+    switch (s->store->source) {
+    case CONFIG_SOURCE_RECORD: return 1u;
+    case CONFIG_SOURCE_MIGRATED: return 2u;
+    case CONFIG_SOURCE_DEFAULTS: return s->store->defaults_reason == CONFIG_ERR_NO_RECORD ? 3u : 4u;
+    default: return 0u;
+    }
+}

@@ -107,6 +107,12 @@ void param_service_request(param_service_t *s, const param_request_t *req, bool 
  * enabled. */
 static inline bool param_service_ready(const param_service_t *s) { return s->ready; }
 
+/* Where the parameters came from at the start, as the heartbeat's
+ * ConfigSource gives it (tools/can/drive.dbc): 0 no store, 1 the store's
+ * record, 2 a record of another schema, 3 the defaults (nothing stored),
+ * 4 the defaults (nothing whole and valid stored). */
+uint8_t param_service_config_source(const param_service_t *s);
+
 /* The table of id (the board's range or the drives'), or NULL. */
 const param_table_t *param_service_table(const param_service_t *s, uint16_t id, void **target);
 

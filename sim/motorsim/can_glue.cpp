@@ -75,6 +75,10 @@ void can_drive_control_callback(void* vctx, const hal_sample_t* in, hal_command_
     // telemetry of this step, then the queue onto the bus
     const mc_t v_bus = in->v_bus_V;
     const mc_t step_time = to_mc(step_us);
+    if (ctx->params != nullptr) {
+        ctx->node.config_source = ctx->params->config_source();
+        ctx->node.params_refused = !ctx->params->ready();
+    }
     can_node_step_drive(&ctx->node, &ctx->drive, in->tick, v_bus, step_time);
     while (can_node_peek(&ctx->node, &f)) {
         if (!hal_can_send(&f)) {

@@ -160,6 +160,7 @@ void ParamGlue::answer(void* ctx, const can_cmd_t* req, can_param_answer_t* ans)
 }
 
 bool ParamGlue::ready() const { return param_service_ready(&impl_->service); }
+std::uint8_t ParamGlue::config_source() const { return param_service_config_source(&impl_->service); }
 
 #else  // the build has no parameters (fixed point)
 
@@ -176,6 +177,7 @@ drive_t ParamGlue::start(drive_storage_t* /*storage*/, drive_config_storage_t* /
 std::string ParamGlue::summary() const { return std::string(); }
 void ParamGlue::answer(void* /*ctx*/, const can_cmd_t* /*req*/, can_param_answer_t* ans) { ans->status = 1; }
 bool ParamGlue::ready() const { return false; }
+std::uint8_t ParamGlue::config_source() const { return 0; }
 
 #endif
 

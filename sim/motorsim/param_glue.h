@@ -13,6 +13,7 @@
 #ifndef MCSIM_MOTORSIM_PARAM_GLUE_H
 #define MCSIM_MOTORSIM_PARAM_GLUE_H
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -48,6 +49,9 @@ public:
     static void answer(void* ctx, const can_cmd_t* req, can_param_answer_t* ans);
     // True while the parameters design (else CmdEnable is refused).
     bool ready() const;
+    // Where the parameters came from at start, the heartbeat's ConfigSource
+    // (param_service_config_source).
+    std::uint8_t config_source() const;
 
     struct Impl;
 

@@ -54,6 +54,8 @@ int tlm()
         t.drive.relocks = 3;
         t.drive.first_fault = 11;
         t.excess_steps = 4321;
+        t.config_source = 4;
+        t.params_refused = true;
         for (int m = 0; m < CAN_TLM_COUNT; ++m) {
             can_frame_t f;
             if (!can_link_pack(static_cast<can_tlm_msg_t>(m), 3, &t, &f)) {

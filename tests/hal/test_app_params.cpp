@@ -179,7 +179,8 @@ TEST(AppParams, StartDesignsFromTheImageValuesAndTheBoardPartIsSet)
     ASSERT_TRUE(im.start({{kR, f32(0.3f)}}, &err)) << err.text;
     EXPECT_TRUE(app_params_may_enable(im.p.get()));
     EXPECT_FALSE(im.p->start_refused);
-    EXPECT_EQ(im.p->store.source, CONFIG_SOURCE_DEFAULTS);  // a new board: nothing stored
+    EXPECT_EQ(im.p->store.source, CONFIG_SOURCE_DEFAULTS);       // a new board: nothing stored
+    EXPECT_EQ(param_service_config_source(&im.p->service), 3u);  // the heartbeat's defaults_empty
     EXPECT_EQ(next_config(*im.p), host_design(*im.p));
     ASSERT_EQ(im.log.size(), 1u);
     EXPECT_EQ(im.log[0], "board 0 0");  // node 0, no encoder (paper 001 reads none)
@@ -277,6 +278,7 @@ TEST(AppParams, SaveRunsBetweenPauseAndResumeAndARestartKeepsTheValue)
     again.flash = im.flash;
     ASSERT_TRUE(again.start({}, &err)) << err.text;
     EXPECT_EQ(again.p->store.source, CONFIG_SOURCE_RECORD);
+    EXPECT_EQ(param_service_config_source(&again.p->service), 1u);  // the heartbeat's record
     EXPECT_EQ(again.request(PARAM_OP_READ, kR).value, f32(0.35f));
     EXPECT_EQ(again.request(PARAM_OP_READ, kTlmPosition).value, 50u);
     EXPECT_EQ(next_config(*again.p), host_design(*again.p));

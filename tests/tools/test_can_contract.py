@@ -39,7 +39,7 @@ def telemetry_frames():
 FW = project_version()
 INTS = {"DriveKind": 1, "Mode": 2, "State": 4, "Enabled": 1, "MsgSetVersion": dbc_msg_set_version(),
         "FaultCode": 5, "FaultEvents": 7, "RejectedCommands": 9, "Counter": 65535, "Saturated": 1,
-        "Overruns": 1234, "Relocks": 3, "FirstFault": 11, "ExcessSteps": 4321, "FwMajor": FW[0], "FwMinor": FW[1], "FwPatch": FW[2],
+        "Overruns": 1234, "Relocks": 3, "FirstFault": 11, "ExcessSteps": 4321, "ConfigSource": 4, "ParamsRefused": 1, "FwMajor": FW[0], "FwMinor": FW[1], "FwPatch": FW[2],
         "FixedPoint": int(os.environ.get("CAN_VECTORS_FIXED", "0"))}
 
 

@@ -174,7 +174,7 @@ class MockParamNode(threading.Thread):
         next_hb = 0.0
         while not self.stop:
             if time.monotonic() >= next_hb:
-                data = hb.encode({s.name: 0 for s in hb.signals} | {"DriveKind": self.kind, "MsgSetVersion": 4})
+                data = hb.encode({s.name: 0 for s in hb.signals} | {"DriveKind": self.kind, "MsgSetVersion": 5})
                 self.bus.send(can.Message(arbitration_id=hb.frame_id + self.node, data=data, is_extended_id=False))
                 next_hb = time.monotonic() + 0.05
             m = self.bus.recv(timeout=0.01)

@@ -492,6 +492,11 @@ def params_set_commander(d, answers, image):
         a = d.param(op, pid, bits)
         answers.append({"what": what, "status": a[0] if a else None, "bits": a[2] if a else None})
 
+    def heartbeat(what, signal):
+        d.wait_sim(0.2)  # two heartbeats after the last request
+        answers.append({"what": what, "status": int(d.last["Heartbeat"][signal]), "bits": None})
+
+    heartbeat("heartbeat ConfigSource of a new image", "ConfigSource")
     ask("write R while enabled", 1, R_OHM, f32_bits(R_NEW))
     ask("save while enabled", 2)
     d.send("CmdEnable", Enable=0)
@@ -503,11 +508,13 @@ def params_set_commander(d, answers, image):
     ask("write R = NaN", 1, R_OHM, 0x7FC00000)
     ask("op 9", 9)
     ask("write i_trip below i_max", 1, I_TRIP_A, f32_bits(4.0))
+    heartbeat("heartbeat ParamsRefused after the refused design", "ParamsRefused")
     d.send("CmdEnable", Enable=1)  # refused: the parameters do not design
     d.wait_sim(0.3)  # three heartbeats after it
     answers.append({"what": "enabled after CmdEnable while not designed",
                     "status": int(d.last["Heartbeat"]["Enabled"]), "bits": None})
     ask("write i_trip back to 12 A", 1, I_TRIP_A, f32_bits(12.0))
+    heartbeat("heartbeat ParamsRefused once it designs", "ParamsRefused")
     os.mkdir(image + ".tmp")  # the image cannot be replaced: the store fails
     ask("save with the image's folder refusing", 2)
     os.rmdir(image + ".tmp")
@@ -521,14 +528,18 @@ def params_read_commander(d, answers, image):
     quiet_telemetry(d)
     a = d.param(0, R_OHM)
     answers.append({"what": "read R after the restart", "status": a[0] if a else None, "bits": a[2] if a else None})
+    answers.append({"what": "heartbeat ConfigSource after the restart",
+                    "status": int(d.last["Heartbeat"]["ConfigSource"]), "bits": None})
 
 
 PARAMS_SET_EXPECT = [
+    ("heartbeat ConfigSource of a new image", 3),  # defaults_empty (tools/can/drive.dbc)
     ("write R while enabled", "not_while_enabled"), ("save while enabled", "not_while_enabled"),
     ("read an unknown id", "unknown_id"), ("write the read-only Ts", "read_only"),
     ("write R = 1000 ohm", "out_of_range"), ("write R = NaN", "bad_value"), ("op 9", "bad_request"),
-    ("write i_trip below i_max", "design_refused"), ("enabled after CmdEnable while not designed", 0),
-    ("write i_trip back to 12 A", "done"), ("save with the image's folder refusing", "store_failed"),
+    ("write i_trip below i_max", "design_refused"), ("heartbeat ParamsRefused after the refused design", 1),
+    ("enabled after CmdEnable while not designed", 0),
+    ("write i_trip back to 12 A", "done"), ("heartbeat ParamsRefused once it designs", 0), ("save with the image's folder refusing", "store_failed"),
     ("write R", "done"), ("save", "done"),
 ]
 
@@ -577,6 +588,8 @@ def params_read_checks(metrics, cols, rows, frames, answers, case_out=None):
     check(got["status"] == "done" and got["bits"] == f32_bits(R_NEW),
           f"params: after the restart R reads {f32_of(got['bits']) if got['bits'] is not None else None} ohm "
           f"({got['status']}; {R_NEW} written and saved)")
+    src = answers[1]["status"] if len(answers) > 1 else None
+    check(src == 1, f"params: after the restart the heartbeat's ConfigSource is {src} (1, record, expected)")
 
 
 def params_native_checks(args):

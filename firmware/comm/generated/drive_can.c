@@ -134,6 +134,8 @@ int drive_can_heartbeat_pack(
     dst_p[4] |= pack_left_shift_u8(src_p->rejected_commands, 0u, 0xffu);
     dst_p[5] |= pack_left_shift_u16(src_p->counter, 0u, 0xffu);
     dst_p[6] |= pack_right_shift_u16(src_p->counter, 8u, 0xffu);
+    dst_p[7] |= pack_left_shift_u8(src_p->config_source, 0u, 0x07u);
+    dst_p[7] |= pack_left_shift_u8(src_p->params_refused, 3u, 0x08u);
 
     return (8);
 }
@@ -157,6 +159,8 @@ int drive_can_heartbeat_unpack(
     dst_p->rejected_commands = unpack_right_shift_u8(src_p[4], 0u, 0xffu);
     dst_p->counter = unpack_right_shift_u16(src_p[5], 0u, 0xffu);
     dst_p->counter |= unpack_left_shift_u16(src_p[6], 8u, 0xffu);
+    dst_p->config_source = unpack_right_shift_u8(src_p[7], 0u, 0x07u);
+    dst_p->params_refused = unpack_right_shift_u8(src_p[7], 3u, 0x08u);
 
     return (0);
 }
@@ -213,6 +217,14 @@ bool drive_can_heartbeat_counter_is_in_range(uint16_t value)
     (void)value;
 
     return (true);
+}
+bool drive_can_heartbeat_config_source_is_in_range(uint8_t value)
+{
+    return (value <= 7u);
+}
+bool drive_can_heartbeat_params_refused_is_in_range(uint8_t value)
+{
+    return (value <= 1u);
 }
 int drive_can_position_pack(
     uint8_t *dst_p,

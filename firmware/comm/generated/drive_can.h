@@ -114,6 +114,12 @@ extern "C" {
 #define DRIVE_CAN_HEARTBEAT_MODE_CLOSED_LOOP_CHOICE (1u)
 #define DRIVE_CAN_HEARTBEAT_MODE_FAULT_CHOICE (2u)
 
+#define DRIVE_CAN_HEARTBEAT_CONFIG_SOURCE_NONE_CHOICE (0u)
+#define DRIVE_CAN_HEARTBEAT_CONFIG_SOURCE_RECORD_CHOICE (1u)
+#define DRIVE_CAN_HEARTBEAT_CONFIG_SOURCE_MIGRATED_CHOICE (2u)
+#define DRIVE_CAN_HEARTBEAT_CONFIG_SOURCE_DEFAULTS_EMPTY_CHOICE (3u)
+#define DRIVE_CAN_HEARTBEAT_CONFIG_SOURCE_DEFAULTS_INVALID_CHOICE (4u)
+
 #define DRIVE_CAN_PARAM_REPLY_OP_READ_CHOICE (0u)
 #define DRIVE_CAN_PARAM_REPLY_OP_WRITE_CHOICE (1u)
 #define DRIVE_CAN_PARAM_REPLY_OP_SAVE_CHOICE (2u)
@@ -175,6 +181,8 @@ extern "C" {
 #define DRIVE_CAN_HEARTBEAT_FAULT_EVENTS_NAME "FaultEvents"
 #define DRIVE_CAN_HEARTBEAT_REJECTED_COMMANDS_NAME "RejectedCommands"
 #define DRIVE_CAN_HEARTBEAT_COUNTER_NAME "Counter"
+#define DRIVE_CAN_HEARTBEAT_CONFIG_SOURCE_NAME "ConfigSource"
+#define DRIVE_CAN_HEARTBEAT_PARAMS_REFUSED_NAME "ParamsRefused"
 #define DRIVE_CAN_POSITION_THETA_REF_NAME "ThetaRef"
 #define DRIVE_CAN_POSITION_THETA_EST_NAME "ThetaEst"
 #define DRIVE_CAN_VELOCITY_OMEGA_REF_NAME "OmegaRef"
@@ -304,6 +312,24 @@ struct drive_can_heartbeat_t {
      * Offset: 0
      */
     uint16_t counter;
+
+    /**
+     * where the parameters came from at start (firmware/config/config_store.h): 0 an image without a store, 1 the store's newest record, 2 a record of another schema (the parameters whose definition changed at their defaults), 3 the defaults: nothing stored (a new board), 4 the defaults: nothing stored is whole and valid
+     *
+     * Range: 0..7 (0..7 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t config_source;
+
+    /**
+     * 1 while the parameters do not design (a write the design refused, or a stored record that no longer designs): CmdEnable is refused until a change designs
+     *
+     * Range: 0..1 (0..1 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t params_refused;
 };
 
 /**
@@ -899,6 +925,24 @@ bool drive_can_heartbeat_rejected_commands_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool drive_can_heartbeat_counter_is_in_range(uint16_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_heartbeat_config_source_is_in_range(uint8_t value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool drive_can_heartbeat_params_refused_is_in_range(uint8_t value);
 
 /**
  * Pack message Position.

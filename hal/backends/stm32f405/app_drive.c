@@ -136,6 +136,8 @@ void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
     }
     if (a->params != NULL) {
         app_params_control(a->params, in->tick);
+        a->node.config_source = param_service_config_source(&a->params->service);
+        a->node.params_refused = !param_service_ready(&a->params->service);
     }
     can_node_step_drive(&a->node, &a->drive, in->tick, in->v_bus_V, MC_ZERO);
     while (can_node_peek(&a->node, &f) && hal_can_send(&f)) {
