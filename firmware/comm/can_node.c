@@ -46,7 +46,7 @@ void can_node_param_reply(can_node_t *n, uint8_t op, uint8_t seq, const can_para
 {
     can_frame_t f;
     can_link_pack_param_reply(n->tx.cfg.node, op, a->status, seq, a->id, a->value, &f);
-    can_tx_push(&n->tx, &f);
+    can_tx_push(&n->tx, &f, true);
     n->param_replies += 1u;
 }
 

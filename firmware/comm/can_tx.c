@@ -67,18 +67,39 @@ void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm)
     if (!can_link_pack((can_tlm_msg_t)m, t->cfg.node, tlm, &f)) {
         return;
     }
-    can_tx_push(t, &f);
+    can_tx_push(t, &f, false);
 }
 
-void can_tx_push(can_tx_t *t, const can_frame_t *f)
+/* The full queue's oldest telemetry frame removed (the oldest frame if
+ * all are replies), the order of the others kept. */
+static void drop_one(can_tx_t *t)
+{
+    const uint32_t mask = CAN_TX_QUEUE - 1u;
+    uint32_t k = 0u;
+    while (k < t->count && t->reply[(t->head + k) & mask]) {
+        ++k;
+    }
+    if (k == t->count) {
+        k = 0u;
+    }
+    /* the frames before it move one place on, over it */
+    for (uint32_t j = k; j > 0u; --j) {
+        t->q[(t->head + j) & mask] = t->q[(t->head + j - 1u) & mask];
+        t->reply[(t->head + j) & mask] = t->reply[(t->head + j - 1u) & mask];
+    }
+    t->head = (t->head + 1u) & mask;
+    t->count -= 1u;
+    t->dropped += 1u;
+}
+
+void can_tx_push(can_tx_t *t, const can_frame_t *f, bool reply)
 {
     if (t->count >= CAN_TX_QUEUE) {
-        /* full: the oldest frame goes, the newest stays */
-        t->head = (t->head + 1u) & (CAN_TX_QUEUE - 1u);
-        t->count -= 1u;
-        t->dropped += 1u;
+        drop_one(t);
     }
-    t->q[(t->head + t->count) & (CAN_TX_QUEUE - 1u)] = *f;
+    const uint32_t at = (t->head + t->count) & (CAN_TX_QUEUE - 1u);
+    t->q[at] = *f;
+    t->reply[at] = reply;
     t->count += 1u;
     t->sent += 1u;
 }

@@ -38,6 +38,7 @@ typedef struct {
     can_tx_config_t cfg;
     uint32_t due[CAN_TLM_COUNT];               /* sample at which each is next due */
     can_frame_t q[CAN_TX_QUEUE];
+    bool reply[CAN_TX_QUEUE];                  /* q[k] answers a request (kept over telemetry) */
     uint32_t head;                             /* next frame to pop */
     uint32_t count;
     uint32_t sent;                             /* queued since init */
@@ -56,9 +57,12 @@ bool can_tx_init(can_tx_t *t, const can_tx_config_t *cfg);
  * pushing out the oldest frame when the queue is full. */
 void can_tx_step(can_tx_t *t, uint32_t tick, const can_telemetry_t *tlm);
 
-/* Queues frame f (a reply: comm/can_node.h), pushing out the oldest frame
- * when the queue is full, as can_tx_step does. */
-void can_tx_push(can_tx_t *t, const can_frame_t *f);
+/* Queues frame f: a reply (a ParamReply, comm/can_node.h) or telemetry.
+ * When the queue is full the oldest telemetry frame goes (the newest
+ * telemetry stays, and a reply is never pushed out by telemetry: a host
+ * waits for it, while the next telemetry frame replaces the lost one);
+ * only a queue of replies loses its oldest reply. */
+void can_tx_push(can_tx_t *t, const can_frame_t *f, bool reply);
 
 /* The message can_tx_step would queue at tick (the first due one), or -1. */
 int32_t can_tx_next_due(const can_tx_t *t, uint32_t tick);

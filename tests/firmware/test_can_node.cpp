@@ -987,3 +987,34 @@ TEST(CanNode, ADeferredParamRequestIsAnsweredWhenItsOwnerReplies)
     EXPECT_EQ(rep.data[1], 0x11);
     EXPECT_EQ(n.param_replies, 1u);
 }
+
+// A ParamReply in a queue that telemetry keeps full (a slow bus, every
+// message at 10 ms) is not pushed out: the telemetry around it goes, the
+// reply reaches the bus in its turn. Broken once: telemetry dropping the
+// oldest frame whatever it is (the reply lost after 16 more frames, as
+// tools.vcan_e2e saw under load).
+TEST(CanNode, AParamReplyIsNotPushedOutByTelemetry)
+{
+    can_node_t n = make_node(2);
+    ParamProbe probe;
+    can_node_set_params(&n, param_probe, &probe);
+    can_telemetry_t t{};
+    uint32_t k = 0;
+    for (; k < 1050; ++k) transmit_at(&n, k, &t);  // the queue full of telemetry
+    ASSERT_EQ(n.tx.count, CAN_TX_QUEUE);
+    const can_frame_t req = frame(0x282, {0x00, 0x33, 0x01, 0x01, 0, 0, 0, 0});  // read, seq 51
+    ASSERT_EQ(can_node_receive(&n, k, &req, can_node_apply_drive, nullptr), CAN_REJECT_NONE);
+    const uint32_t dropped = n.tx.dropped;
+    for (const uint32_t end = k + 1000; k < end; ++k) transmit_at(&n, k, &t);  // 100 ms more, nothing sent
+    EXPECT_GT(n.tx.dropped, dropped + CAN_TX_QUEUE) << "the telemetry did not go round the queue";
+    int replies = 0;
+    can_frame_t f;
+    while (can_node_peek(&n, &f)) {
+        can_node_pop(&n);
+        if (f.id == 0x182u) {
+            ++replies;
+            EXPECT_EQ(f.data[1], 0x33);
+        }
+    }
+    EXPECT_EQ(replies, 1);
+}
