@@ -77,6 +77,7 @@ std::uint32_t bits(mc_t v)
 struct Options {
     std::string drive;      // registry name; empty: the scenario's
     std::string estimator;  // one of the drive's estimators; empty: the scenario's
+    std::string board_scenario;  // a board's scenario: its values over the design reference's defaults
 };
 
 // The scenario's own drive: its [drive] kind, or the drive its table chose.
@@ -125,12 +126,97 @@ void write_cfg_words(FILE* f, const drive_config_storage_t& cfg, std::uint32_t b
     std::fprintf(f, "\n};\n");
 }
 
+#if MC_HAS_PARAMS
+// A board's values of the drive's parameters (what --board-params writes):
+// each parameter whose value in the scenario's design input differs from
+// the table's default, as its id and 32 bits, checked to design what the
+// scenario designs with its values rounded as the board holds them (a
+// scenario that sets something no parameter carries, or a value outside a
+// parameter's range, is refused naming it). *estimator_note: the design's.
+std::vector<std::pair<std::uint16_t, std::uint32_t>> board_values(mcsim::Scenario& sc, const std::string& name,
+                                                                  const std::string& estimator,
+                                                                  std::string* estimator_note_out)
+{
+    const drive_design_ops_t* d = drive_design_ops_find(name.c_str());
+    const mcsim::HostDrive* host = mcsim::host_drive_find(name);
+    if (d == nullptr || host == nullptr || host->design_input == nullptr) {
+        throw std::runtime_error("--drive " + name + ": a drive without user parameters (design/ops/)");
+    }
+    if (sc.drive_kind != name) {
+        throw std::runtime_error(sc.path + ": --drive " + name + " needs a scenario of that drive; this one's is " +
+                                 sc.drive_kind);
+    }
+    if (!estimator.empty()) {
+        if (host->select_estimator == nullptr) throw std::runtime_error("--estimator: the " + name + " drive has one estimator");
+        host->select_estimator(&sc, estimator);
+    }
+    const std::size_t nw = (d->input_bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+    std::vector<std::max_align_t> in_sc(nw), in_def(nw), in_img(nw);
+    host->design_input(sc, in_sc.data());
+    param_error_t perr{};
+    if (!drive_design_defaults_input(d, in_def.data(), &perr) || !drive_design_defaults_input(d, in_img.data(), &perr)) {
+        throw std::runtime_error("the " + name + " drive's parameters' defaults: " + perr.text);
+    }
+    std::vector<std::pair<std::uint16_t, std::uint32_t>> values;
+    const param_table_t* t = d->params;
+    for (std::uint16_t k = 0; k < t->n_params; ++k) {
+        const param_desc_t& pd = t->params[k];
+        param_value_t v{}, v0{};
+        if (!params_read(t, in_sc.data(), pd.id, &v, &perr) || !params_read(t, in_def.data(), pd.id, &v0, &perr)) {
+            throw std::runtime_error(std::string("parameter ") + pd.name + ": " + perr.text);
+        }
+        if (!params_check_value(&pd, v, &perr)) {
+            throw std::runtime_error(sc.path + ": the drive's parameter " + pd.name + " as the scenario sets it: " +
+                                     perr.text);
+        }
+        if (pd.access == PARAM_RO) {
+            // fixed by the image (a phase count, a sample time): the scenario must agree
+            if (v.u32 != v0.u32) {
+                throw std::runtime_error(sc.path + ": the drive's parameter " + pd.name +
+                                         " is read-only and the scenario sets another value than the image's");
+            }
+            continue;
+        }
+        // the scenario's value as the board holds it, in both inputs
+        if (!params_write(t, in_sc.data(), pd.id, v, false, &perr) ||
+            !params_write(t, in_img.data(), pd.id, v, false, &perr)) {
+            throw std::runtime_error(std::string("parameter ") + pd.name + ": " + perr.text);
+        }
+        if (v.u32 != v0.u32) values.emplace_back(pd.id, v.u32);
+    }
+    auto cfg_sc = std::make_unique<drive_config_storage_t>();
+    auto cfg_img = std::make_unique<drive_config_storage_t>();
+    std::memset(cfg_sc.get(), 0, sizeof *cfg_sc);
+    std::memset(cfg_img.get(), 0, sizeof *cfg_img);
+    char err[256] = {0};
+    if (!d->design(in_sc.data(), cfg_sc.get(), err, sizeof err)) {
+        throw std::runtime_error(sc.path + ": the scenario's parameters do not design: " + err);
+    }
+    if (!d->design(in_img.data(), cfg_img.get(), err, sizeof err)) {
+        throw std::runtime_error(sc.path + ": the image's values do not design: " + err);
+    }
+    const auto* a = reinterpret_cast<const unsigned char*>(cfg_sc.get());
+    const auto* b = reinterpret_cast<const unsigned char*>(cfg_img.get());
+    for (std::uint32_t k = 0; k < d->config_bytes; ++k) {
+        if (a[k] != b[k]) {
+            throw std::runtime_error(sc.path + ": the scenario sets a design input no parameter of the " + name +
+                                     " drive carries (its configuration differs at byte " + std::to_string(k) +
+                                     "): give it a parameter (firmware/drives/" + name + "/params.toml) or leave it");
+        }
+    }
+    if (estimator_note_out != nullptr) *estimator_note_out = estimator_note(name, *cfg_sc);
+    return values;
+}
+#endif
+
 // The reference an image that designs on the board compares its own design
 // with (hal/backends/stm32f405/main_qemu.c): the drive's configuration
-// designed here from its parameters' defaults (design/ops/), as
-// pil_design_cfg_bytes and pil_design_cfg_words; nothing for a drive or a
-// build without parameters (fixed point).
-void write_design_reference(FILE* f, const std::string& name)
+// designed here from its parameters' defaults (design/ops/), with a
+// board's values over them (--board-scenario: what the flashable image of
+// that board starts from), as pil_design_cfg_bytes and
+// pil_design_cfg_words; nothing for a drive or a build without parameters
+// (fixed point).
+void write_design_reference(FILE* f, const std::string& name, const Options& opt)
 {
 #if MC_HAS_PARAMS
     const drive_design_ops_t* d = drive_design_ops_find(name.c_str());
@@ -140,9 +226,22 @@ void write_design_reference(FILE* f, const std::string& name)
     std::memset(cfg.get(), 0, sizeof *cfg);
     param_error_t perr{};
     char err[256] = {0};
-    if (!drive_design_defaults_input(d, in.data(), &perr) || !d->design(in.data(), cfg.get(), err, sizeof err)) {
-        throw std::runtime_error("the " + name + " drive's parameters' defaults do not design: " +
-                                 (err[0] != '\0' ? err : perr.text));
+    if (!drive_design_defaults_input(d, in.data(), &perr)) {
+        throw std::runtime_error("the " + name + " drive's parameters' defaults: " + perr.text);
+    }
+    if (!opt.board_scenario.empty()) {
+        // the board's values over the defaults, as its flashable image starts
+        mcsim::Scenario bsc = mcsim::load_scenario(opt.board_scenario);
+        for (const auto& [id, u] : board_values(bsc, name, "", nullptr)) {
+            param_value_t v{};
+            v.u32 = u;
+            if (!params_write(d->params, in.data(), id, v, false, &perr)) {
+                throw std::runtime_error(opt.board_scenario + ": " + perr.text);
+            }
+        }
+    }
+    if (!d->design(in.data(), cfg.get(), err, sizeof err)) {
+        throw std::runtime_error("the " + name + " drive's parameters do not design: " + std::string(err));
     }
     std::fprintf(f, "const uint32_t pil_design_cfg_bytes = %uu;\n", static_cast<unsigned>(d->config_bytes));
     write_cfg_words(f, *cfg, d->config_bytes, "pil_design_cfg_words");
@@ -281,7 +380,7 @@ int record(mcsim::Scenario& sc, const Options& opt, const char* out_c, const cha
     std::fprintf(f, "const uint32_t pil_control_hz = %luu;\n", std::lround(1.0 / sc.ts_s));
     std::fprintf(f, "const uint32_t pil_cfg_bytes = %uu;\n", static_cast<unsigned>(ops->config_bytes));
     write_cfg_words(f, *cfg, ops->config_bytes, "pil_cfg_words");
-    write_design_reference(f, name);
+    write_design_reference(f, name, opt);
     std::fprintf(f, "const uint32_t pil_n = %zuu;\n", n);
     std::fprintf(f, "const uint32_t pil_in_varying = 0x%" PRIx32 "u, pil_out_varying = 0x%" PRIx32 "u;\n", in_var,
                  out_var);
@@ -327,73 +426,9 @@ int write_board_params(mcsim::Scenario& sc, const Options& opt, const char* give
 {
 #if MC_HAS_PARAMS
     const std::string name = opt.drive.empty() ? scenario_drive(sc) : opt.drive;
-    const drive_design_ops_t* d = drive_design_ops_find(name.c_str());
-    const mcsim::HostDrive* host = mcsim::host_drive_find(name);
-    if (d == nullptr || host == nullptr || host->design_input == nullptr) {
-        throw std::runtime_error("--drive " + name + ": a drive without user parameters (design/ops/)");
-    }
-    if (sc.drive_kind != name) {
-        throw std::runtime_error(sc.path + ": --drive " + name + " needs a scenario of that drive; this one's is " +
-                                 sc.drive_kind);
-    }
-    if (!opt.estimator.empty()) {
-        if (host->select_estimator == nullptr) throw std::runtime_error("--estimator: the " + name + " drive has one estimator");
-        host->select_estimator(&sc, opt.estimator);
-    }
-    const std::size_t nw = (d->input_bytes + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
-    std::vector<std::max_align_t> in_sc(nw), in_def(nw), in_img(nw);
-    host->design_input(sc, in_sc.data());
-    param_error_t perr{};
-    if (!drive_design_defaults_input(d, in_def.data(), &perr) || !drive_design_defaults_input(d, in_img.data(), &perr)) {
-        throw std::runtime_error("the " + name + " drive's parameters' defaults: " + perr.text);
-    }
-    std::vector<std::pair<std::uint16_t, std::uint32_t>> values;
-    const param_table_t* t = d->params;
-    for (std::uint16_t k = 0; k < t->n_params; ++k) {
-        const param_desc_t& pd = t->params[k];
-        param_value_t v{}, v0{};
-        if (!params_read(t, in_sc.data(), pd.id, &v, &perr) || !params_read(t, in_def.data(), pd.id, &v0, &perr)) {
-            throw std::runtime_error(std::string("parameter ") + pd.name + ": " + perr.text);
-        }
-        if (!params_check_value(&pd, v, &perr)) {
-            throw std::runtime_error(sc.path + ": the drive's parameter " + pd.name + " as the scenario sets it: " +
-                                     perr.text);
-        }
-        if (pd.access == PARAM_RO) {
-            // fixed by the image (a phase count, a sample time): the scenario must agree
-            if (v.u32 != v0.u32) {
-                throw std::runtime_error(sc.path + ": the drive's parameter " + pd.name +
-                                         " is read-only and the scenario sets another value than the image's");
-            }
-            continue;
-        }
-        // the scenario's value as the board holds it, in both inputs
-        if (!params_write(t, in_sc.data(), pd.id, v, false, &perr) ||
-            !params_write(t, in_img.data(), pd.id, v, false, &perr)) {
-            throw std::runtime_error(std::string("parameter ") + pd.name + ": " + perr.text);
-        }
-        if (v.u32 != v0.u32) values.emplace_back(pd.id, v.u32);
-    }
-    auto cfg_sc = std::make_unique<drive_config_storage_t>();
-    auto cfg_img = std::make_unique<drive_config_storage_t>();
-    std::memset(cfg_sc.get(), 0, sizeof *cfg_sc);
-    std::memset(cfg_img.get(), 0, sizeof *cfg_img);
-    char err[256] = {0};
-    if (!d->design(in_sc.data(), cfg_sc.get(), err, sizeof err)) {
-        throw std::runtime_error(sc.path + ": the scenario's parameters do not design: " + err);
-    }
-    if (!d->design(in_img.data(), cfg_img.get(), err, sizeof err)) {
-        throw std::runtime_error(sc.path + ": the image's values do not design: " + err);
-    }
-    const auto* a = reinterpret_cast<const unsigned char*>(cfg_sc.get());
-    const auto* b = reinterpret_cast<const unsigned char*>(cfg_img.get());
-    for (std::uint32_t k = 0; k < d->config_bytes; ++k) {
-        if (a[k] != b[k]) {
-            throw std::runtime_error(sc.path + ": the scenario sets a design input no parameter of the " + name +
-                                     " drive carries (its configuration differs at byte " + std::to_string(k) +
-                                     "): give it a parameter (firmware/drives/" + name + "/params.toml) or leave it");
-        }
-    }
+    std::string note;
+    const auto values = board_values(sc, name, opt.estimator, &note);
+    const param_table_t* t = drive_design_ops_find(name.c_str())->params;
     const std::string tmp = std::string(out_c) + ".tmp";
     FILE* f = std::fopen(tmp.c_str(), "w");
     if (!f) throw std::runtime_error(std::string("cannot write ") + tmp);
@@ -406,7 +441,7 @@ int write_board_params(mcsim::Scenario& sc, const Options& opt, const char* give
     std::fprintf(f, "#include <stdint.h>\n#include \"app_params.h\"\n\n");
     std::fprintf(f, "_Static_assert(MC_FIXED == 0, \"the parameters are the float images'\");\n\n");
     std::fprintf(f, "const char board_drive_values_source[] = \"%s (%s%s)\";\n", given_path, name.c_str(),
-                 estimator_note(name, *cfg_sc).c_str());
+                 note.c_str());
     std::fprintf(f, "const uint32_t board_drive_values_count = %zuu;\n", values.size());
     std::fprintf(f, "const app_param_value_t board_drive_values[%zu] = {\n", values.empty() ? 1 : values.size());
     for (const auto& [id, u] : values) {
@@ -446,9 +481,10 @@ int write_board_params(mcsim::Scenario& sc, const Options& opt, const char* give
 int main(int argc, char** argv)
 {
     const char* usage =
-        "usage: %s [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
+        "usage: %s [--drive NAME] [--estimator NAME] [--board-scenario BOARD.toml] SCENARIO.toml OUT.c [MAX_SAMPLES]\n"
         "       %s --board-params [--drive NAME] [--estimator NAME] SCENARIO.toml OUT.c\n"
         "--estimator: one of the drive's estimators (default: the scenario's)\n"
+        "--board-scenario: the design reference (pil_design_cfg_words) with that board's values\n"
         "--drive: a drive of the registry (default: the scenario's):";
     Options opt;
     bool board = false;
@@ -457,6 +493,8 @@ int main(int argc, char** argv)
         const std::string s = argv[a];
         if ((s == "--drive" || s == "--estimator") && a + 1 < argc) {
             (s == "--drive" ? opt.drive : opt.estimator) = argv[++a];
+        } else if (s == "--board-scenario" && a + 1 < argc) {
+            opt.board_scenario = argv[++a];
         } else if (s == "--board-params") {
             board = true;
         } else if (s.rfind("--", 0) == 0) {

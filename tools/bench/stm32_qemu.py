@@ -82,8 +82,10 @@ def run_image(a, facts, board, variant, gen, scenario):
     os.makedirs(build_root, exist_ok=True)
     estimator, config_toml = config_estimator(drive, board, variant)
     vec = os.path.join(build_root, "pil_vectors_%s.c" % image)
+    # the design reference: the defaults with the board's values, as the
+    # flashable image of the pair starts (its <board>[_<variant>]_params.c)
     cb.run([gen, "--drive", drive] + (["--estimator", estimator] if estimator else []) +
-           [scenario, vec, str(a.max_samples)])
+           ["--board-scenario", config_toml, scenario, vec, str(a.max_samples)])
     bdir = os.path.join(build_root, "stm32f405")
     defs = {"MC_PIL_VECTORS": vec, "MC_DRIVE": drive, "MC_BOARD": board, "MC_DRIVE_VARIANT": variant}
     try:

@@ -26,14 +26,18 @@
 #ifdef MC_DESIGN_OPS
 #include "design/ops/drive_design_ops.h"
 
-/* The drive's design on the board from its parameters' defaults
+/* The drive's design on the board from its parameters' defaults with the
+ * pair's values over them, as the flashable image starts
  * (design/ops/drive_design_ops.h: the host's design code in double, the
  * Cortex-M4F's soft double and newlib's libm), compared byte for byte with
  * the configuration the host designs from the same parameters with the
- * same code (the vectors' pil_design_cfg_words, tools/bench/pil_gen.cpp).
+ * same code (the vectors' pil_design_cfg_words, tools/bench/pil_gen.cpp
+ * --board-scenario).
  * Static: the input and the configuration are a few kB. */
 extern const drive_design_ops_t MC_DESIGN_OPS; /* the image's drive's (CMakeLists.txt) */
 extern const uint32_t pil_design_cfg_words[];
+extern const app_param_value_t board_drive_values[]; /* the pair's values (CMakeLists.txt) */
+extern const uint32_t board_drive_values_count;
 extern const uint32_t pil_design_cfg_bytes;
 static uint8_t design_input[2048] __attribute__((aligned(8)));
 static volatile uint32_t systick_wraps; /* SysTick's interrupt, on during the design only */
@@ -61,8 +65,14 @@ static void check_design_on_board(void)
     SYST_CVR = 0u;
     SYST_CSR = 7u;
     const uint32_t c0 = SYST_CVR;
-    const bool ok = drive_design_defaults_input(d, design_input, &perr) && d->design(design_input, design_cfg, err,
-                                                                                       sizeof err);
+    bool ok = drive_design_defaults_input(d, design_input, &perr);
+    /* the board's values over the defaults, as the flashable image starts
+     * (firmware/drives/<drive>/boards/<board>[_<variant>]_params.c) */
+    for (uint32_t k = 0; ok && k < board_drive_values_count; ++k) {
+        const param_value_t v = {.u32 = board_drive_values[k].value};
+        ok = params_write(d->params, design_input, board_drive_values[k].id, v, false, &perr);
+    }
+    ok = ok && d->design(design_input, design_cfg, err, sizeof err);
     const uint32_t c1 = SYST_CVR;
     SYST_CSR = 5u;
     /* ticks = wraps * 2^24 + c0 - c1 (counting down from c0 after the reload) */
