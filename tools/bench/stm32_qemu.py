@@ -169,7 +169,11 @@ def run_image(a, facts, board, variant, gen, scenario):
         ticks = int(info.get("design_ticks_hi", "0")) * 2 ** 32 + int(info.get("design_ticks", "0"))
         res.update({"design_on_board_config_bytes": int(info["design_bytes"]),
                     "design_on_board_bytes_differing": int(info.get("design_differ", "-1")),
-                    "design_on_board_instr": round(ticks / ticks_per_instr) if ticks_per_instr else None})
+                    "design_on_board_instr": round(ticks / ticks_per_instr) if ticks_per_instr else None,
+                    # the drive's init from it: what the flashable image's
+                    # control interrupt runs when it takes a configuration
+                    "design_on_board_init_instr": round(int(info.get("design_init_ticks", "0")) / ticks_per_instr)
+                    if ticks_per_instr else None})
     res.update(stats(isr, "isr"))
     res.update(stats(step, "drive_step"))
     if "isr_instr_mean" in res and "drive_step_instr_mean" in res:

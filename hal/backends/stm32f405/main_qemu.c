@@ -23,6 +23,8 @@
 #include "stm32_backend.h"
 #include "stm32f405_regs.h"
 
+static app_drive_t app;
+
 #ifdef MC_DESIGN_OPS
 #include "design/ops/drive_design_ops.h"
 
@@ -35,6 +37,7 @@
  * --board-scenario).
  * Static: the input and the configuration are a few kB. */
 extern const drive_design_ops_t MC_DESIGN_OPS; /* the image's drive's (CMakeLists.txt) */
+extern const drive_ops_t MC_DRIVE_OPS;          /* its drive (app_drive.c binds the same) */
 extern const uint32_t pil_design_cfg_words[];
 extern const app_param_value_t board_drive_values[]; /* the pair's values (CMakeLists.txt) */
 extern const uint32_t board_drive_values_count;
@@ -91,6 +94,19 @@ static void check_design_on_board(void)
             differ += 1u;
         }
     }
+    /* the drive initialised from it, as the flashable image's control
+     * interrupt does when it takes a new configuration (app_params.c):
+     * timed alone (well within SysTick's 24 bits) */
+    drive_t probe;
+    uint32_t init_ticks = 0u;
+    if (drive_bind(&probe, &MC_DRIVE_OPS, &app.storage)) {
+        SYST_CVR = 0u;
+        const uint32_t i0 = SYST_CVR;
+        const bool init_ok = drive_init(&probe, design_cfg);
+        const uint32_t i1 = SYST_CVR;
+        init_ticks = init_ok ? ((i0 - i1) & 0x00FFFFFFu) : 0u;
+    }
+    mcu_put_kv("design_init_ticks", init_ticks);
     mcu_put_kv("design_bytes", d->config_bytes);
     mcu_put_kv("design_differ", differ);
     mcu_put_kv("design_first", first);
@@ -104,7 +120,6 @@ static void check_design_on_board(void)
 }
 #endif
 
-static app_drive_t app;
 static volatile uint32_t next;       /* the next recorded period */
 static hal_sample_t next_in;         /* its sample, decoded from the vectors */
 static volatile uint32_t mismatches;
