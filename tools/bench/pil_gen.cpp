@@ -248,6 +248,7 @@ void write_design_reference(FILE* f, const std::string& name, const Options& opt
 #else
     (void)f;
     (void)name;
+    (void)opt;
 #endif
 }
 
