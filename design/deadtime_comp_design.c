@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "design/inverter_fit.h"
 #include "math/mc_convert.h"
 
 bool deadtime_comp_design(const deadtime_comp_design_input_t *in, deadtime_comp_config_t *out, char *err, size_t n)
@@ -42,6 +43,26 @@ bool deadtime_comp_design(const deadtime_comp_design_input_t *in, deadtime_comp_
     out->k_bus = mc_from_double(k_bus);
     out->v_drop_V = mc_from_double(f_s * in->v_switch_V + f_d * in->v_diode_V);
     out->r_drop_ohm = mc_from_double(f_s * in->r_switch_Ohm + f_d * in->r_diode_Ohm);
+    out->inv_i_band_per_A = i_band > 0.0 ? mc_from_double(1.0 / i_band) : mc_from_double(0.0);
+    return true;
+}
+
+bool deadtime_comp_from_fit(const struct inverter_fit *f, double v_bus_V, double i_noise_A, deadtime_comp_config_t *out,
+                            char *err, size_t n)
+{
+    memset(out, 0, sizeof(*out));
+    if (!(v_bus_V > 0.0) || !isfinite(v_bus_V) || !(f->v_err_V > 0.0) || !isfinite(f->v_err_V) || !(f->i_tr_A >= 0.0) ||
+        !(i_noise_A >= 0.0)) {
+        snprintf(err, n,
+                 "deadtime compensation from a measurement: the bus and the error voltage must be > 0, "
+                 "the transition and noise currents >= 0");
+        return false;
+    }
+    const double i_band = fmax(f->i_tr_A, DTC_NOISE_BANDS * i_noise_A);
+    out->enabled = true;
+    out->k_bus = mc_from_double(f->v_err_V / v_bus_V);
+    out->v_drop_V = mc_from_double(0.0);
+    out->r_drop_ohm = mc_from_double(0.0);
     out->inv_i_band_per_A = i_band > 0.0 ? mc_from_double(1.0 / i_band) : mc_from_double(0.0);
     return true;
 }

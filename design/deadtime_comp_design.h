@@ -47,6 +47,19 @@ typedef struct {
  * time of half a period or more). */
 bool deadtime_comp_design(const deadtime_comp_design_input_t *in, deadtime_comp_config_t *out, char *err, size_t n);
 
+/* The compensation from an inverter measured on its board
+ * (design/inverter_fit.h: firmware/startup/inverter_id.h's levels, issue
+ * 45) rather than from a datasheet: the leg's error voltage V, measured
+ * on a bus of v_bus_V, as the share of the bus k_bus = V / v_bus_V (the
+ * dead time's part, which scales with the bus, is most of it; the body
+ * diodes' constant drop is lumped in at that bus), no separate drop or
+ * slope (the fitted R already holds the devices' slope: the drive's model
+ * carries it), i_band = max(i_tr, DTC_NOISE_BANDS i_noise_A). False with
+ * a reason for a fit without an error voltage or a bus <= 0. */
+struct inverter_fit;
+bool deadtime_comp_from_fit(const struct inverter_fit *f, double v_bus_V, double i_noise_A, deadtime_comp_config_t *out,
+                            char *err, size_t n);
+
 #ifdef __cplusplus
 }
 #endif

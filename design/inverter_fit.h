@@ -42,7 +42,7 @@ extern "C" {
  * levels always fit exactly, whatever the truth). */
 #define INVERTER_FIT_MIN_LEVELS 4
 
-typedef struct {
+typedef struct inverter_fit {
     double R_ohm;       /* as the current loops see it: winding and devices */
     double v_err_V;     /* a leg's error voltage well above the transition */
     double i_tr_A;      /* the transition current (0: none seen) */
