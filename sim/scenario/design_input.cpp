@@ -31,18 +31,11 @@ double adc_rail_A(const SensorParams& p)
     return p.adc_full_scale_A - 1.5 * lsb;
 }
 
-deadtime_comp_config_t deadtime_comp_config(const Scenario& sc)
+deadtime_comp_design_input_t deadtime_comp_input(const InverterParams& p, double i_noise_A)
 {
-    deadtime_comp_config_t c{};
-    if (!sc.inverter_given || !sc.inverter_compensation) {
-        return c;
-    }
-    const InverterParams& p = sc.inverter;
     deadtime_comp_design_input_t in{};
     in.f_pwm_Hz = p.f_pwm_Hz;
-    // what the drive believes: the plant's, unless the scenario says (a
-    // Monte Carlo of the board's dead time keeps the drive's nominal)
-    in.dead_time_s = sc.compensation_dead_time_s >= 0.0 ? sc.compensation_dead_time_s : p.dead_time_s;
+    in.dead_time_s = p.dead_time_s;
     in.t_on_s = p.t_on_s;
     in.t_off_s = p.t_off_s;
     in.v_switch_V = p.v_switch_V;
@@ -51,7 +44,23 @@ deadtime_comp_config_t deadtime_comp_config(const Scenario& sc)
     in.r_diode_Ohm = p.r_diode_Ohm;
     in.i_transition_A = p.i_transition_A;
     in.synchronous = p.synchronous;
-    in.i_noise_A = sc.sensor.noise == NoiseKind::kNone ? 0.0 : sc.sensor.noise_A;
+    in.i_noise_A = i_noise_A;
+    return in;
+}
+
+deadtime_comp_config_t deadtime_comp_config(const Scenario& sc)
+{
+    deadtime_comp_config_t c{};
+    if (!sc.inverter_given || !sc.inverter_compensation) {
+        return c;
+    }
+    deadtime_comp_design_input_t in =
+        deadtime_comp_input(sc.inverter, sc.sensor.noise == NoiseKind::kNone ? 0.0 : sc.sensor.noise_A);
+    // what the drive believes: the plant's, unless the scenario says (a
+    // Monte Carlo of the board's dead time keeps the drive's nominal)
+    if (sc.compensation_dead_time_s >= 0.0) {
+        in.dead_time_s = sc.compensation_dead_time_s;
+    }
     char err[256] = {0};
     if (!deadtime_comp_design(&in, &c, err, sizeof(err))) {
         throw ScenarioError(sc.path + ": inverter: " + err);

@@ -51,6 +51,11 @@ void shared_design_input(const Scenario& sc, DesignInput* in)
 // refuses it.
 deadtime_comp_config_t deadtime_comp_config(const Scenario& sc);
 
+// The dead-time compensation's design input (design/deadtime_comp_design.h)
+// of an inverter as the simulator describes it (model/inverter.h), with the
+// current sensor's noise i_noise_A (0: none).
+deadtime_comp_design_input_t deadtime_comp_input(const InverterParams& p, double i_noise_A);
+
 template <typename DesignInput>
 void speed_points_design_input(const Scenario& sc, DesignInput* in)
 {

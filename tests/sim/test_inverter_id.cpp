@@ -23,6 +23,8 @@
 #include "model/inverter.h"
 #include "model/load_profile.h"
 #include "model/pm_plant.h"
+#include "scenario/design_input.h"
+#include "scenario/scenario.h"
 #include "test_motors.h"
 
 extern "C" {
@@ -37,17 +39,12 @@ namespace {
 constexpr double kVdc = 48.0;
 constexpr double kTs = 1e-4;
 
-// sim/inverters/vesc6.toml
+// The VESC 6's inverter as the shipped file gives it (sim/inverters/vesc6.toml,
+// through paper 001's hardware-like scenario: the one source of its values)
 mcsim::InverterParams vesc6()
 {
-    mcsim::InverterParams p;
-    p.f_pwm_Hz = 20000.0;
-    p.dead_time_s = 500e-9;
-    p.r_switch_Ohm = 1.6e-3;
-    p.v_diode_V = 0.8;
-    p.r_diode_Ohm = 0.5e-3;
-    p.i_transition_A = 0.4;
-    p.synchronous = true;
+    static const mcsim::InverterParams p =
+        mcsim::load_scenario(MC_SOURCE_DIR "/sim/scenarios/paper001_benchmark_hw.toml").inverter;
     return p;
 }
 
@@ -173,15 +170,7 @@ TEST(InverterId, RAndTheVesc6ErrorOnPaper001sMotorWhereOneLevelErrsR)
     // within 2 % at the rated current and at 1 A, on the same bus
     deadtime_comp_config_t measured{}, datasheet{};
     ASSERT_TRUE(deadtime_comp_from_fit(&f, kVdc, 0.0, &measured, err, sizeof err)) << err;
-    const mcsim::InverterParams ip = vesc6();
-    deadtime_comp_design_input_t din{};
-    din.f_pwm_Hz = ip.f_pwm_Hz;
-    din.dead_time_s = ip.dead_time_s;
-    din.r_switch_Ohm = ip.r_switch_Ohm;
-    din.v_diode_V = ip.v_diode_V;
-    din.r_diode_Ohm = ip.r_diode_Ohm;
-    din.i_transition_A = ip.i_transition_A;
-    din.synchronous = ip.synchronous;
+    const deadtime_comp_design_input_t din = mcsim::deadtime_comp_input(vesc6(), 0.0);
     ASSERT_TRUE(deadtime_comp_design(&din, &datasheet, err, sizeof err)) << err;
     deadtime_comp_t dm{}, dd{};
     ASSERT_TRUE(deadtime_comp_init(&dm, &measured));

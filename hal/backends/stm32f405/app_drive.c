@@ -63,6 +63,7 @@ bool app_drive_init_params(app_drive_t *a, app_params_t *p, const drive_design_o
         return false;
     }
     a->params = p;
+    a->node.config_source = param_service_config_source(&p->service); /* fixed at the start */
     return true;
 }
 
@@ -136,7 +137,6 @@ void app_drive_control(void *ctx, const hal_sample_t *in, hal_command_t *out)
     }
     if (a->params != NULL) {
         app_params_control(a->params, in->tick);
-        a->node.config_source = param_service_config_source(&a->params->service);
         a->node.params_refused = !param_service_ready(&a->params->service);
     }
     can_node_step_drive(&a->node, &a->drive, in->tick, in->v_bus_V, MC_ZERO);

@@ -2,6 +2,8 @@
 
 #include <stddef.h>
 
+#include "irq.h"
+
 /* Register accesses: the chip's, or (host tests) a model of the flash
  * interface that answers them (tests/hal/test_stm32_flash.cpp). */
 #ifdef STM32_FLASH_FAKE_IO
@@ -23,27 +25,6 @@ void stm32_flash_fake_write(volatile uint32_t *reg, uint32_t v);
 #else
 #define FLASH_RAMFUNC __attribute__((noinline))
 #endif
-
-/* Interrupts masked around a wait (their vectors and code are in flash),
- * the caller's mask restored after. */
-static inline uint32_t irq_mask(void)
-{
-#if defined(__arm__)
-    uint32_t primask;
-    __asm__ volatile("mrs %0, primask\n cpsid i" : "=r"(primask)::"memory");
-    return primask;
-#else
-    return 0;
-#endif
-}
-static inline void irq_restore(uint32_t primask)
-{
-#if defined(__arm__)
-    __asm__ volatile("msr primask, %0" ::"r"(primask) : "memory");
-#else
-    (void)primask;
-#endif
-}
 
 /* Stores value at addr (the word to program, or FLASH_CR with STRT), then
  * polls BSY at most polls times, refreshing the watchdog at each: the

@@ -9,6 +9,7 @@
 #include "drv8301.h"
 #include "encoder_tim.h"
 #include "gpio.h"
+#include "irq.h"
 #include "iwdg.h"
 #include "pwm_tim1.h"
 #include "stm32f405_regs.h"
@@ -68,27 +69,6 @@ const stm32_periph_t stm32_hw = {
 #define STM32_DUTY_MAX 0.98f
 /* LED blink: status every 0.5 s of steps; fault code: code flashes, pause. */
 #define STM32_LED_BLINK_STEPS 5000u
-
-/* Interrupts masked around a change of state the control interrupt also
- * makes (the bridges' outputs), the caller's mask restored after. */
-static inline uint32_t irq_mask(void)
-{
-#if defined(__arm__)
-    uint32_t primask;
-    __asm__ volatile("mrs %0, primask\n cpsid i" : "=r"(primask)::"memory");
-    return primask;
-#else
-    return 0u;
-#endif
-}
-static inline void irq_restore(uint32_t primask)
-{
-#if defined(__arm__)
-    __asm__ volatile("msr primask, %0" ::"r"(primask) : "memory");
-#else
-    (void)primask;
-#endif
-}
 
 static struct {
     const stm32_periph_t *hw;
